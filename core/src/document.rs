@@ -1,0 +1,279 @@
+//! The cage document: what a designer saves in a `.taut` file.
+//!
+//! A cage (positions and polygons), a fixed flag and a tension τ per vertex, a tension τ per
+//! edge, and the solver settings. Tensions are dimensionless (spec: "Scale-free tension"). The
+//! file is JSON with a format name and version; floating-point values are written in their
+//! shortest exact form, so saving and loading reproduces the document bit for bit.
+
+use crate::mesh::{EdgeId, PolyMesh, VertexId};
+use crate::nusd::SolverSettings;
+use crate::{DVec3, Error, Result};
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+/// The `format` field of a `.taut` file.
+pub const FORMAT_NAME: &str = "taut-cage";
+/// The newest `.taut` version this build writes and reads.
+pub const FORMAT_VERSION: u32 = 1;
+
+/// A cage with its per-vertex and per-edge controls.
+#[derive(Clone, Debug)]
+pub struct Document {
+    /// The control cage.
+    pub cage: PolyMesh,
+    /// Per vertex: true when the surface must pass through it.
+    pub fixed: Vec<bool>,
+    /// Per vertex: dimensionless tension τ ≥ 0.
+    pub vertex_tension: Vec<f64>,
+    /// Per cage edge (indexed by [`EdgeId`]): dimensionless tension τ ≥ 0.
+    pub edge_tension: Vec<f64>,
+    /// Solver settings.
+    pub settings: SolverSettings,
+}
+
+impl Document {
+    /// A document for a cage: every vertex fixed, no tension, default settings.
+    pub fn new(cage: PolyMesh) -> Self {
+        let n = cage.vertex_count();
+        let e = cage.edge_count();
+        Document {
+            cage,
+            fixed: vec![true; n],
+            vertex_tension: vec![0.0; n],
+            edge_tension: vec![0.0; e],
+            settings: SolverSettings::default(),
+        }
+    }
+
+    /// Sets the tension of the cage edge between `a` and `b`.
+    pub fn set_edge_tension(&mut self, a: VertexId, b: VertexId, tau: f64) -> Result<()> {
+        let e = self.edge_between(a, b)?;
+        check_tension(tau, || format!("edge {}-{}", a.0, b.0))?;
+        self.edge_tension[e.index()] = tau;
+        Ok(())
+    }
+
+    /// Sets the tension of a cage vertex.
+    pub fn set_vertex_tension(&mut self, v: VertexId, tau: f64) -> Result<()> {
+        self.check_vertex(v)?;
+        check_tension(tau, || format!("vertex {}", v.0))?;
+        self.vertex_tension[v.index()] = tau;
+        Ok(())
+    }
+
+    /// Marks a cage vertex fixed (interpolated) or moving (approximated).
+    pub fn set_fixed(&mut self, v: VertexId, fixed: bool) -> Result<()> {
+        self.check_vertex(v)?;
+        self.fixed[v.index()] = fixed;
+        Ok(())
+    }
+
+    /// The cage edge joining two vertices, or a clear error.
+    pub fn edge_between(&self, a: VertexId, b: VertexId) -> Result<EdgeId> {
+        self.check_vertex(a)?;
+        self.check_vertex(b)?;
+        self.cage
+            .find_halfedge(a, b)
+            .map(|h| h.edge())
+            .ok_or_else(|| Error::Input(format!("vertices {} and {} are not joined by a cage edge", a.0, b.0)))
+    }
+
+    fn check_vertex(&self, v: VertexId) -> Result<()> {
+        if v.index() < self.cage.vertex_count() {
+            Ok(())
+        } else {
+            Err(Error::Input(format!(
+                "vertex {} does not exist (the cage has {} vertices, numbered from 0)",
+                v.0,
+                self.cage.vertex_count()
+            )))
+        }
+    }
+
+    /// Checks that every array matches the cage and every value is allowed.
+    pub fn validate(&self) -> Result<()> {
+        let n = self.cage.vertex_count();
+        if self.fixed.len() != n || self.vertex_tension.len() != n {
+            return Err(Error::Input(format!(
+                "the cage has {n} vertices but {} fixed flags and {} vertex tensions",
+                self.fixed.len(),
+                self.vertex_tension.len()
+            )));
+        }
+        if self.edge_tension.len() != self.cage.edge_count() {
+            return Err(Error::Input(format!(
+                "the cage has {} edges but {} edge tensions",
+                self.cage.edge_count(),
+                self.edge_tension.len()
+            )));
+        }
+        for (v, &t) in self.vertex_tension.iter().enumerate() {
+            check_tension(t, || format!("vertex {v}"))?;
+        }
+        for e in self.cage.edges() {
+            let (a, b) = self.cage.edge_vertices(e);
+            check_tension(self.edge_tension[e.index()], || format!("edge {}-{}", a.0, b.0))?;
+        }
+        self.settings.validate()
+    }
+
+    /// The document as `.taut` JSON text.
+    pub fn to_json(&self) -> String {
+        let file = TautFile {
+            format: FORMAT_NAME.to_string(),
+            version: FORMAT_VERSION,
+            positions: self.cage.positions().iter().map(|p| p.to_array()).collect(),
+            faces: self.cage.polygons(),
+            fixed: self.fixed.clone(),
+            vertex_tension: self.vertex_tension.clone(),
+            edge_tension: self
+                .cage
+                .edges()
+                .filter(|e| self.edge_tension[e.index()] != 0.0)
+                .map(|e| {
+                    let (a, b) = self.cage.edge_vertices(e);
+                    EdgeTension(a.0, b.0, self.edge_tension[e.index()])
+                })
+                .collect(),
+            settings: self.settings,
+        };
+        serde_json::to_string_pretty(&file).expect("a document always serialises")
+    }
+
+    /// Parses `.taut` JSON text; `origin` names the source in messages.
+    pub fn from_json(text: &str, origin: &Path) -> Result<Self> {
+        let file: TautFile =
+            serde_json::from_str(text).map_err(|e| Error::format(origin, format!("not a valid .taut file: {e}")))?;
+        if file.format != FORMAT_NAME {
+            return Err(Error::format(origin, format!("format is '{}', expected '{FORMAT_NAME}'", file.format)));
+        }
+        if file.version == 0 || file.version > FORMAT_VERSION {
+            return Err(Error::format(
+                origin,
+                format!(
+                    "format version {} is not supported by this Taut (it reads versions 1 to {FORMAT_VERSION})",
+                    file.version
+                ),
+            ));
+        }
+        let positions = file.positions.iter().map(|&p| DVec3::from_array(p)).collect();
+        let cage = PolyMesh::from_polygons(positions, &file.faces).map_err(|e| Error::format(origin, e.to_string()))?;
+        let n = cage.vertex_count();
+        let mut doc = Document::new(cage);
+        if !file.fixed.is_empty() {
+            doc.fixed = file.fixed;
+        }
+        if !file.vertex_tension.is_empty() {
+            doc.vertex_tension = file.vertex_tension;
+        }
+        doc.settings = file.settings;
+        if doc.fixed.len() != n || doc.vertex_tension.len() != n {
+            return Err(Error::format(
+                origin,
+                format!(
+                    "{n} vertices but {} fixed flags and {} vertex tensions",
+                    doc.fixed.len(),
+                    doc.vertex_tension.len()
+                ),
+            ));
+        }
+        for EdgeTension(a, b, tau) in file.edge_tension {
+            doc.set_edge_tension(VertexId(a), VertexId(b), tau).map_err(|e| Error::format(origin, e.to_string()))?;
+        }
+        doc.validate().map_err(|e| Error::format(origin, e.to_string()))?;
+        Ok(doc)
+    }
+
+    /// Reads a `.taut` file.
+    pub fn load(path: &Path) -> Result<Self> {
+        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+        Self::from_json(&text, path)
+    }
+
+    /// Writes a `.taut` file atomically: a half-written file never replaces a good one.
+    pub fn save(&self, path: &Path) -> Result<()> {
+        crate::io::write_atomic(path, self.to_json().as_bytes())
+    }
+}
+
+impl PartialEq for Document {
+    fn eq(&self, other: &Self) -> bool {
+        self.cage.positions() == other.cage.positions()
+            && self.cage.polygons() == other.cage.polygons()
+            && self.fixed == other.fixed
+            && self.vertex_tension == other.vertex_tension
+            && self.edge_tension == other.edge_tension
+            && self.settings == other.settings
+    }
+}
+
+fn check_tension(tau: f64, what: impl Fn() -> String) -> Result<()> {
+    if tau.is_finite() && tau >= 0.0 {
+        Ok(())
+    } else {
+        Err(Error::Input(format!("tension of {} must be a finite number ≥ 0, not {tau}", what())))
+    }
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct TautFile {
+    format: String,
+    version: u32,
+    positions: Vec<[f64; 3]>,
+    faces: Vec<Vec<u32>>,
+    #[serde(default)]
+    fixed: Vec<bool>,
+    #[serde(default)]
+    vertex_tension: Vec<f64>,
+    #[serde(default)]
+    edge_tension: Vec<EdgeTension>,
+    #[serde(default)]
+    settings: SolverSettings,
+}
+
+#[derive(Serialize, Deserialize)]
+struct EdgeTension(u32, u32, f64);
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn tetra() -> Document {
+        let p = vec![DVec3::new(0.1, 0.2, 0.3), DVec3::new(1.0 / 3.0, 0.0, 0.0), DVec3::Y, DVec3::new(0.0, 0.0, 1e-17)];
+        let cage = PolyMesh::from_polygons(p, &[[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]]).unwrap();
+        Document::new(cage)
+    }
+
+    #[test]
+    fn json_round_trip_is_exact() {
+        let mut doc = tetra();
+        doc.fixed[2] = false;
+        doc.vertex_tension[1] = 0.1 + 0.2;
+        doc.set_edge_tension(VertexId(3), VertexId(1), std::f64::consts::PI).unwrap();
+        doc.settings.levels = 2;
+        doc.settings.spacing = crate::nusd::Spacing::Centripetal;
+        let text = doc.to_json();
+        let back = Document::from_json(&text, Path::new("mem.taut")).unwrap();
+        assert_eq!(back, doc);
+        assert_eq!(back.to_json(), text);
+    }
+
+    #[test]
+    fn bad_documents_are_explained() {
+        let good = tetra().to_json();
+        let cases = [
+            (good.replace("taut-cage", "other"), "expected 'taut-cage'"),
+            (good.replace("\"version\": 1", "\"version\": 9"), "not supported"),
+            (good[..good.len() / 2].to_string(), "not a valid .taut file"),
+            (good.replace("\"settings\"", "\"bogus\": 1, \"settings\""), "unknown field"),
+            (good.replace("\"lambda\": 0.6", "\"lambda\": 1.5"), "lambda"),
+            (good.replace("\"edge_tension\": []", "\"edge_tension\": [[0, 9, 1.0]]"), "does not exist"),
+            (good.replace("\"edge_tension\": []", "\"edge_tension\": [[0, 1, -1.0]]"), "tension"),
+        ];
+        for (text, expected) in cases {
+            let err = Document::from_json(&text, Path::new("x.taut")).unwrap_err().to_string();
+            assert!(err.contains(expected), "expected '{expected}' in: {err}");
+        }
+    }
+}

@@ -1,0 +1,145 @@
+//! One NUSD iteration on a level (spec: "One iteration"), in parallel and deterministic.
+//!
+//! 1. fixed `i`: `R_i ← ΔP_i / K_i` (eq. 4), written in place: no later read of this pass
+//!    depends on another fixed vertex's R;
+//! 2. moving `i`: `R_i' ← R_i + λ ΔR_i` (eq. 2), with tensioned neighbours' R replaced
+//!    (sec. 5 / eq. 5), then `P_i' ← P_i + λ ΔP_i − λ K_i R_i'` (eq. 3), written to the second
+//!    buffer.
+//!
+//! Every vertex reads only the previous iterate and writes only its own entries, so the result
+//! is bit-identical for any number of threads; the largest step is a max-reduction, which is
+//! order-independent too.
+
+use super::operator::{Operator, Role, TensionOverride};
+use crate::DVec3;
+use crate::mesh::{PolyMesh, VertexId};
+use rayon::prelude::*;
+
+/// Vertices per parallel task; below twice this a level is iterated on one thread.
+const CHUNK: usize = 4096;
+
+/// Current and next iterate of a level.
+#[derive(Clone, Debug, Default)]
+pub struct State {
+    pub p: Vec<DVec3>,
+    pub r: Vec<DVec3>,
+    p_next: Vec<DVec3>,
+    r_next: Vec<DVec3>,
+}
+
+impl State {
+    pub fn new(p: Vec<DVec3>, r: Vec<DVec3>) -> Self {
+        let n = p.len();
+        State { p, r, p_next: vec![DVec3::ZERO; n], r_next: vec![DVec3::ZERO; n] }
+    }
+}
+
+#[inline]
+fn laplacian(op: &Operator, p: &[DVec3], i: usize) -> DVec3 {
+    let (a, b) = (op.offsets[i] as usize, op.offsets[i + 1] as usize);
+    let mut avg = DVec3::ZERO;
+    for s in a..b {
+        avg += op.weight_p[s] * p[op.neighbors[s] as usize];
+    }
+    avg - p[i]
+}
+
+/// Recomputes `R = ΔP/K` of the fixed vertices (eq. 4).
+pub fn update_fixed(op: &Operator, state: &mut State) {
+    for &i in &op.fixed {
+        let i = i as usize;
+        state.r[i] = laplacian(op, &state.p, i) / op.k[i];
+    }
+}
+
+/// The second derivative of `o.source` as seen across the slot, with tension.
+fn tensioned_r(op: &Operator, mesh: &PolyMesh, p: &[DVec3], seer: usize, o: &TensionOverride) -> DVec3 {
+    let j = o.source as usize;
+    let lap = laplacian(op, p, j);
+    let base = lap / op.k[j];
+    let toward = p[seer] - p[j];
+    if o.other != u32::MAX {
+        // Polyline rule along an open boundary (eq. 5): R± = ΔP/K ± (β/2) Ṗ, with the seer on
+        // the + side.
+        let tangent = 0.5 * (toward / o.spacing + (p[j] - p[o.other as usize]) / o.other_spacing);
+        return base + 0.5 * o.beta * tangent;
+    }
+    let len = lap.length();
+    let scale = toward.length();
+    let n = if len > 1e-9 * scale && len.is_finite() { lap / len } else { area_normal(mesh, p, j) };
+    let tangential = toward - toward.dot(n) * n;
+    base + o.beta * tangential / o.spacing
+}
+
+/// Area-weighted normal of vertex `j` at positions `p`: the fallback direction when `ΔP_j` is
+/// too small to give one (a flat neighbourhood).
+fn area_normal(mesh: &PolyMesh, p: &[DVec3], j: usize) -> DVec3 {
+    let mut sum = DVec3::ZERO;
+    for h in mesh.outgoing(VertexId(j as u32)) {
+        let f = mesh.face(h);
+        if f.is_valid() {
+            for g in mesh.face_halfedges(f) {
+                sum += p[mesh.from_vertex(g).index()].cross(p[mesh.to_vertex(g).index()]);
+            }
+        }
+    }
+    sum.normalize_or_zero()
+}
+
+/// One iteration. Returns the largest position step of a moving vertex (NaN if any value
+/// became non-finite).
+pub fn iterate(op: &Operator, mesh: &PolyMesh, state: &mut State, lambda: f64) -> f64 {
+    update_fixed(op, state);
+    let State { p, r, p_next, r_next } = state;
+    let (p, r) = (&p[..], &r[..]);
+    let n = p.len();
+    let run = |start: usize, pn: &mut [DVec3], rn: &mut [DVec3]| -> f64 {
+        let mut step = 0.0f64;
+        for (k, (pi_out, ri_out)) in pn.iter_mut().zip(rn.iter_mut()).enumerate() {
+            let i = start + k;
+            if op.role[i] != Role::Moving {
+                *pi_out = p[i];
+                *ri_out = r[i];
+                continue;
+            }
+            let (a, b) = (op.offsets[i] as usize, op.offsets[i + 1] as usize);
+            let mut avg_p = DVec3::ZERO;
+            let mut avg_r = DVec3::ZERO;
+            for s in a..b {
+                let j = op.neighbors[s] as usize;
+                avg_p += op.weight_p[s] * p[j];
+                avg_r += op.weight_r[s] * r[j];
+            }
+            if !op.override_offsets.is_empty() {
+                let (oa, ob) = (op.override_offsets[i] as usize, op.override_offsets[i + 1] as usize);
+                for o in &op.overrides[oa..ob] {
+                    let w = op.weight_r[o.slot as usize];
+                    if w != 0.0 {
+                        avg_r += w * (tensioned_r(op, mesh, p, i, o) - r[o.source as usize]);
+                    }
+                }
+            }
+            let r_new = r[i] + lambda * (avg_r - r[i]);
+            let delta = lambda * (avg_p - p[i]) - lambda * op.k[i] * r_new;
+            *pi_out = p[i] + delta;
+            *ri_out = r_new;
+            let d = delta.length();
+            // NaN must win the reduction so divergence is seen.
+            step = if d.is_nan() || step.is_nan() { f64::NAN } else { step.max(d) };
+        }
+        step
+    };
+    let step = if n < 2 * CHUNK {
+        run(0, p_next, r_next)
+    } else {
+        p_next
+            .par_chunks_mut(CHUNK)
+            .zip(r_next.par_chunks_mut(CHUNK))
+            .enumerate()
+            .map(|(c, (pn, rn))| run(c * CHUNK, pn, rn))
+            .reduce(|| 0.0, |a, b| if a.is_nan() || b.is_nan() { f64::NAN } else { a.max(b) })
+    };
+    std::mem::swap(&mut state.p, &mut state.p_next);
+    std::mem::swap(&mut state.r, &mut state.r_next);
+    step
+}

@@ -1,0 +1,456 @@
+//! [`SurfaceSolver`]: levels, warm starts, budgets and divergence handling.
+
+use super::hierarchy::LevelTopology;
+use super::kernel::{self, State};
+use super::operator::{Controls, Operator, Role};
+use super::{DIVERGENCE_GROWTH, MIN_LAMBDA};
+use crate::document::Document;
+use crate::mesh::PolyMesh;
+use crate::nusd::SolverSettings;
+use crate::nusd::convergence::ConvergenceMonitor;
+use crate::{DVec3, Error, Result};
+use std::time::{Duration, Instant};
+
+/// How much work one [`SurfaceSolver::advance`] call may do.
+#[derive(Clone, Copy, Debug)]
+pub struct Budget {
+    /// Most iterations (summed over levels).
+    pub iterations: usize,
+    /// Wall-clock limit, checked after every iteration.
+    pub time: Option<Duration>,
+}
+
+impl Budget {
+    /// No limit: run until converged or diverged.
+    pub const UNLIMITED: Budget = Budget { iterations: usize::MAX, time: None };
+
+    /// At most `iterations` iterations.
+    pub fn iterations(iterations: usize) -> Self {
+        Budget { iterations, time: None }
+    }
+
+    /// At most `time` of work (at least one iteration).
+    pub fn time(time: Duration) -> Self {
+        Budget { iterations: usize::MAX, time: Some(time) }
+    }
+}
+
+/// Where a solve stands.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Phase {
+    /// Levels remain to be iterated.
+    Iterating,
+    /// Every level is done (converged, or stopped at the iteration cap: see the reports).
+    Done,
+    /// Even the smallest λ diverged; the state is the last good one.
+    Diverged,
+}
+
+/// What happened on one level during the latest solve of that level.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LevelReport {
+    pub level: u32,
+    pub vertices: usize,
+    pub iterations: usize,
+    /// Largest position step of the last iteration.
+    pub last_step: f64,
+    /// Estimated distance to the fixed point (see [`crate::nusd::convergence`]).
+    pub remaining: f64,
+    /// True when the estimate fell under the threshold (false: stopped at the cap).
+    pub converged: bool,
+    /// λ used.
+    pub lambda: f64,
+}
+
+/// A snapshot for the status bar.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Status {
+    pub phase: Phase,
+    /// Level being iterated (or the finest, when done).
+    pub level: u32,
+    pub levels: u32,
+    /// Iterations on the current level so far.
+    pub iterations: usize,
+    /// Iterations since the last edit, all levels.
+    pub total_iterations: usize,
+    pub last_step: f64,
+    pub remaining: f64,
+    /// `tol · bbox_diagonal`.
+    pub threshold: f64,
+    pub lambda: f64,
+}
+
+impl Status {
+    /// True when every level converged.
+    pub fn converged(&self, reports: &[LevelReport]) -> bool {
+        self.phase == Phase::Done && reports.iter().all(|r| r.converged)
+    }
+}
+
+#[derive(Clone, Debug)]
+struct Level {
+    topology: LevelTopology,
+    domain: Vec<DVec3>,
+    operator: Operator,
+    state: State,
+    /// The coarser level's P and R when this level last absorbed them.
+    synced_p: Vec<DVec3>,
+    synced_r: Vec<DVec3>,
+}
+
+impl Level {
+    fn has_moving(&self) -> bool {
+        self.operator.role.contains(&Role::Moving)
+    }
+}
+
+/// The hierarchical solver; see the [module docs](super).
+#[derive(Clone, Debug)]
+pub struct SurfaceSolver {
+    cage: PolyMesh,
+    fixed: Vec<bool>,
+    vertex_tension: Vec<f64>,
+    edge_tension: Vec<f64>,
+    settings: SolverSettings,
+    levels: Vec<Level>,
+    active: usize,
+    phase: Phase,
+    lambda: f64,
+    threshold: f64,
+    diagonal: f64,
+    monitor: ConvergenceMonitor,
+    level_iterations: usize,
+    total_iterations: usize,
+    snapshot: Option<(Vec<DVec3>, Vec<DVec3>)>,
+    reports: Vec<LevelReport>,
+    events: Vec<String>,
+}
+
+impl SurfaceSolver {
+    /// A solver for a document; nothing is iterated until [`advance`](Self::advance).
+    pub fn new(doc: &Document) -> Result<Self> {
+        doc.validate()?;
+        let cage = doc.cage.clone();
+        if cage.face_count() == 0 {
+            return Err(Error::Input("the cage has no faces to smooth".into()));
+        }
+        let diagonal = cage.bounding_diagonal();
+        if !(diagonal > 0.0) {
+            return Err(Error::Input("the cage has no extent: all its vertices are at one point".into()));
+        }
+        let mut solver = SurfaceSolver {
+            fixed: doc.fixed.clone(),
+            vertex_tension: doc.vertex_tension.clone(),
+            edge_tension: doc.edge_tension.clone(),
+            settings: doc.settings,
+            levels: Vec::new(),
+            active: 0,
+            phase: Phase::Iterating,
+            lambda: doc.settings.lambda,
+            threshold: doc.settings.tol * diagonal,
+            diagonal,
+            monitor: ConvergenceMonitor::default(),
+            level_iterations: 0,
+            total_iterations: 0,
+            snapshot: None,
+            reports: Vec::new(),
+            events: Vec::new(),
+            cage,
+        };
+        let topology = LevelTopology::cage(&solver.cage);
+        let domain = solver.cage.positions().to_vec();
+        let operator = solver.build_operator(&topology, &domain);
+        let n = domain.len();
+        solver.levels.push(Level {
+            state: State::new(domain.clone(), vec![DVec3::ZERO; n]),
+            topology,
+            domain,
+            operator,
+            synced_p: Vec::new(),
+            synced_r: Vec::new(),
+        });
+        Ok(solver)
+    }
+
+    /// Solves from the current state to the end; an error if the solve diverged at every λ.
+    pub fn solve(&mut self) -> Result<Vec<LevelReport>> {
+        match self.advance(Budget::UNLIMITED).phase {
+            Phase::Diverged => Err(Error::Solver(format!(
+                "the solve diverged even with λ = {MIN_LAMBDA}: {}; lower the tensions",
+                self.events.join("; ")
+            ))),
+            _ => Ok(self.reports.clone()),
+        }
+    }
+
+    /// Iterates within `budget`, moving on to finer levels as each converges.
+    pub fn advance(&mut self, budget: Budget) -> Status {
+        let start = Instant::now();
+        let mut done = 0usize;
+        while self.phase == Phase::Iterating && done < budget.iterations {
+            if budget.time.is_some_and(|t| done > 0 && start.elapsed() >= t) {
+                break;
+            }
+            if let Err(e) = self.ensure_active_level() {
+                self.events.push(e.to_string());
+                self.phase = Phase::Diverged;
+                break;
+            }
+            let level = &mut self.levels[self.active];
+            if !level.has_moving() {
+                kernel::update_fixed(&level.operator, &mut level.state);
+                self.finish_level(true);
+                continue;
+            }
+            if self.snapshot.is_none() {
+                self.snapshot = Some((level.state.p.clone(), level.state.r.clone()));
+                self.monitor.reset();
+                self.level_iterations = 0;
+            }
+            let step = kernel::iterate(&level.operator, &level.topology.mesh, &mut level.state, self.lambda);
+            done += 1;
+            self.level_iterations += 1;
+            self.total_iterations += 1;
+            if !step.is_finite()
+                || step > 10.0 * self.diagonal
+                || self.monitor.growing_iterations() >= DIVERGENCE_GROWTH
+            {
+                self.roll_back(step);
+                continue;
+            }
+            self.monitor.push(step);
+            if self.monitor.converged(self.threshold) {
+                self.finish_level(true);
+            } else if self.level_iterations >= self.settings.max_iterations {
+                self.finish_level(false);
+            }
+        }
+        self.status()
+    }
+
+    /// Takes the latest solve's messages (λ reductions, divergence).
+    pub fn take_events(&mut self) -> Vec<String> {
+        std::mem::take(&mut self.events)
+    }
+
+    /// Per-level reports of the levels solved since the last edit.
+    pub fn reports(&self) -> &[LevelReport] {
+        &self.reports
+    }
+
+    /// Where the solve stands.
+    pub fn status(&self) -> Status {
+        Status {
+            phase: self.phase,
+            level: self.active as u32,
+            levels: self.settings.levels,
+            iterations: self.level_iterations,
+            total_iterations: self.total_iterations,
+            last_step: self.monitor.last_step().unwrap_or(0.0),
+            remaining: self.monitor.remaining(),
+            threshold: self.threshold,
+            lambda: self.lambda,
+        }
+    }
+
+    /// The settings in force.
+    pub fn settings(&self) -> &SolverSettings {
+        &self.settings
+    }
+
+    /// The finest level built so far: its connectivity (positions are the domain's).
+    pub fn surface_topology(&self) -> &PolyMesh {
+        &self.finest().topology.mesh
+    }
+
+    /// Current positions of the finest level built so far (cage vertices first).
+    pub fn surface_positions(&self) -> &[DVec3] {
+        &self.finest().state.p
+    }
+
+    /// The finest surface as a mesh of its own.
+    pub fn surface(&self) -> PolyMesh {
+        let mut mesh = self.finest().topology.mesh.clone();
+        mesh.positions_mut().copy_from_slice(&self.finest().state.p);
+        mesh
+    }
+
+    /// Second derivatives `R` of the finest level built so far.
+    pub fn surface_second_derivatives(&self) -> &[DVec3] {
+        &self.finest().state.r
+    }
+
+    fn finest(&self) -> &Level {
+        let top = (self.settings.levels as usize).min(self.levels.len() - 1);
+        &self.levels[top]
+    }
+
+    /// Applies a changed document and warm-starts. A changed connectivity starts over.
+    pub fn update(&mut self, doc: &Document) -> Result<()> {
+        doc.validate()?;
+        let same_topology = doc.cage.vertex_count() == self.cage.vertex_count()
+            && doc.cage.face_count() == self.cage.face_count()
+            && (doc.cage.topology_generation() == self.cage.topology_generation()
+                || doc.cage.polygons() == self.cage.polygons());
+        if !same_topology {
+            *self = SurfaceSolver::new(doc)?;
+            return Ok(());
+        }
+        let moved = doc.cage.positions() != self.cage.positions();
+        let controls_changed = doc.fixed != self.fixed
+            || doc.vertex_tension != self.vertex_tension
+            || doc.edge_tension != self.edge_tension
+            || doc.settings.spacing != self.settings.spacing;
+        let settings_changed = doc.settings != self.settings;
+        if !moved && !controls_changed && !settings_changed {
+            return Ok(());
+        }
+        if moved {
+            let diagonal = doc.cage.bounding_diagonal();
+            if !(diagonal > 0.0) {
+                return Err(Error::Input("the cage has no extent: all its vertices are at one point".into()));
+            }
+            self.diagonal = diagonal;
+            let level0 = &mut self.levels[0];
+            for (v, (&new, &old)) in doc.cage.positions().iter().zip(self.cage.positions()).enumerate() {
+                if new != old {
+                    level0.state.p[v] = new;
+                }
+            }
+            self.cage.positions_mut().copy_from_slice(doc.cage.positions());
+        }
+        if doc.settings.lambda != self.settings.lambda
+            || doc.vertex_tension != self.vertex_tension
+            || doc.edge_tension != self.edge_tension
+        {
+            self.lambda = doc.settings.lambda;
+        }
+        self.fixed.clone_from(&doc.fixed);
+        self.vertex_tension.clone_from(&doc.vertex_tension);
+        self.edge_tension.clone_from(&doc.edge_tension);
+        self.settings = doc.settings;
+        self.threshold = self.settings.tol * self.diagonal;
+        self.levels.truncate(self.settings.levels as usize + 1);
+        if moved || controls_changed {
+            self.rebuild_operators();
+        }
+        self.propagate_from(0);
+        self.restart();
+        Ok(())
+    }
+
+    fn restart(&mut self) {
+        self.active = 0;
+        self.phase = Phase::Iterating;
+        self.snapshot = None;
+        self.monitor.reset();
+        self.level_iterations = 0;
+        self.total_iterations = 0;
+        self.reports.clear();
+    }
+
+    fn build_operator(&self, topology: &LevelTopology, domain: &[DVec3]) -> Operator {
+        let controls = Controls {
+            fixed: &self.fixed,
+            vertex_tension: &self.vertex_tension,
+            edge_tension: &self.edge_tension,
+            spacing: self.settings.spacing,
+        };
+        Operator::build(topology, domain, &self.cage, &controls)
+    }
+
+    /// Recomputes every level's domain (the cage prolonged without smoothing) and operator.
+    fn rebuild_operators(&mut self) {
+        self.levels[0].domain.copy_from_slice(self.cage.positions());
+        for l in 0..self.levels.len() {
+            if l > 0 {
+                let (coarse, fine) = self.levels.split_at_mut(l);
+                let fine = &mut fine[0];
+                fine.topology.prolong(&coarse[l - 1].domain, &mut fine.domain);
+            }
+            let operator = self.build_operator(&self.levels[l].topology, &self.levels[l].domain);
+            self.levels[l].operator = operator;
+        }
+    }
+
+    /// Adds the change of level `k` since the finer levels last absorbed it to every finer
+    /// level, level by level.
+    fn propagate_from(&mut self, k: usize) {
+        for l in k + 1..self.levels.len() {
+            let (coarse, fine) = self.levels.split_at_mut(l);
+            let (coarse, fine) = (&coarse[l - 1], &mut fine[0]);
+            let delta_p: Vec<DVec3> = coarse.state.p.iter().zip(&fine.synced_p).map(|(a, b)| *a - *b).collect();
+            let delta_r: Vec<DVec3> = coarse.state.r.iter().zip(&fine.synced_r).map(|(a, b)| *a - *b).collect();
+            fine.topology.prolong_add(&delta_p, &mut fine.state.p);
+            fine.topology.prolong_add(&delta_r, &mut fine.state.r);
+            fine.synced_p.clone_from(&coarse.state.p);
+            fine.synced_r.clone_from(&coarse.state.r);
+        }
+    }
+
+    /// Makes sure the active level exists, refining the finest one if needed.
+    fn ensure_active_level(&mut self) -> Result<()> {
+        while self.levels.len() <= self.active {
+            let coarse = self.levels.last().expect("level 0 always exists");
+            let topology = coarse.topology.refine()?;
+            let n = topology.vertex_count();
+            let mut domain = vec![DVec3::ZERO; n];
+            topology.prolong(&coarse.domain, &mut domain);
+            let mut p = vec![DVec3::ZERO; n];
+            let mut r = vec![DVec3::ZERO; n];
+            topology.prolong(&coarse.state.p, &mut p);
+            topology.prolong(&coarse.state.r, &mut r);
+            let (synced_p, synced_r) = (coarse.state.p.clone(), coarse.state.r.clone());
+            let operator = self.build_operator(&topology, &domain);
+            self.levels.push(Level { topology, domain, operator, state: State::new(p, r), synced_p, synced_r });
+        }
+        Ok(())
+    }
+
+    fn finish_level(&mut self, converged: bool) {
+        let level = &self.levels[self.active];
+        let report = LevelReport {
+            level: self.active as u32,
+            vertices: level.topology.vertex_count(),
+            iterations: if level.has_moving() { self.level_iterations } else { 0 },
+            last_step: if level.has_moving() { self.monitor.last_step().unwrap_or(0.0) } else { 0.0 },
+            remaining: if level.has_moving() { self.monitor.remaining() } else { 0.0 },
+            converged,
+            lambda: self.lambda,
+        };
+        self.reports.retain(|r| r.level != report.level);
+        self.reports.push(report);
+        self.propagate_from(self.active);
+        self.snapshot = None;
+        self.monitor.reset();
+        self.level_iterations = 0;
+        if self.active >= self.settings.levels as usize {
+            self.phase = Phase::Done;
+        } else {
+            self.active += 1;
+        }
+    }
+
+    fn roll_back(&mut self, step: f64) {
+        let (p, r) = self.snapshot.clone().expect("a level being iterated has a snapshot");
+        let level = &mut self.levels[self.active];
+        level.state = State::new(p, r);
+        let why = if step.is_finite() { "the step kept growing" } else { "a value became infinite" };
+        let reduced = self.lambda * 0.5;
+        self.monitor.reset();
+        self.level_iterations = 0;
+        if reduced < MIN_LAMBDA {
+            self.events.push(format!(
+                "level {}: diverged at λ = {} ({why}); kept the last good state",
+                self.active, self.lambda
+            ));
+            self.phase = Phase::Diverged;
+        } else {
+            self.events.push(format!(
+                "level {}: diverged at λ = {} ({why}); restored the last good state and retried with λ = {reduced}",
+                self.active, self.lambda
+            ));
+            self.lambda = reduced;
+        }
+    }
+}
