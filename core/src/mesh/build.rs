@@ -2,11 +2,26 @@
 
 use super::{FaceId, HalfedgeId, PolyMesh, VertexId, fresh_topology_generation};
 use crate::{DVec3, Error, Result};
-use std::collections::HashMap;
 
 pub(super) fn build<F: AsRef<[u32]>>(positions: Vec<DVec3>, faces: &[F]) -> Result<PolyMesh> {
+    let mut offsets = Vec::with_capacity(faces.len() + 1);
+    let mut indices = Vec::with_capacity(faces.len() * 4);
+    offsets.push(0u32);
+    for face in faces {
+        indices.extend_from_slice(face.as_ref());
+        offsets.push(indices.len() as u32);
+    }
+    build_flat(positions, &offsets, &indices)
+}
+
+/// Builds from faces in compressed rows: face `f` is `indices[offsets[f]..offsets[f + 1]]`.
+///
+/// Twins are matched through per-vertex lists of outgoing corners rather than a hash map, so
+/// construction is linear in the number of corners with a small constant (the refinement of a
+/// level rebuilds its mesh this way).
+pub(super) fn build_flat(positions: Vec<DVec3>, offsets: &[u32], indices: &[u32]) -> Result<PolyMesh> {
     let n = positions.len();
-    if n >= u32::MAX as usize / 2 {
+    if n >= u32::MAX as usize / 2 || indices.len() >= u32::MAX as usize / 2 {
         return Err(Error::Input(format!("{n} vertices is more than Taut can index")));
     }
     if let Some(v) = positions.iter().position(|p| !p.is_finite()) {
@@ -15,8 +30,10 @@ pub(super) fn build<F: AsRef<[u32]>>(positions: Vec<DVec3>, faces: &[F]) -> Resu
             positions[v].to_array()
         )));
     }
-    for (f, face) in faces.iter().enumerate() {
-        let face = face.as_ref();
+    let face_count = offsets.len().saturating_sub(1);
+    let face = |f: usize| &indices[offsets[f] as usize..offsets[f + 1] as usize];
+    for f in 0..face_count {
+        let face = face(f);
         if face.len() < 3 {
             return Err(Error::Topology(format!("face {f} has {} vertices; a face needs at least 3", face.len())));
         }
@@ -30,58 +47,90 @@ pub(super) fn build<F: AsRef<[u32]>>(positions: Vec<DVec3>, faces: &[F]) -> Resu
         }
     }
 
-    let corner_count: usize = faces.iter().map(|f| f.as_ref().len()).sum();
-    let mut edge_of: HashMap<(u32, u32), u32> = HashMap::with_capacity(corner_count);
-    let mut halfedge_to: Vec<VertexId> = Vec::with_capacity(corner_count + 16);
-    let mut halfedge_face: Vec<FaceId> = Vec::with_capacity(corner_count + 16);
-    let mut halfedge_next = Vec::with_capacity(corner_count + 16);
-    let mut halfedge_prev = Vec::with_capacity(corner_count + 16);
-    let mut face_halfedge = Vec::with_capacity(faces.len());
-    let mut vertex_halfedge = vec![HalfedgeId::INVALID; n];
-    let mut face_loop: Vec<HalfedgeId> = Vec::new();
-
-    for (f, face) in faces.iter().enumerate() {
-        let face = face.as_ref();
-        face_loop.clear();
-        for k in 0..face.len() {
-            let (a, b) = (face[k], face[(k + 1) % face.len()]);
-            let key = (a.min(b), a.max(b));
-            let e = *edge_of.entry(key).or_insert_with(|| {
-                let e = (halfedge_to.len() / 2) as u32;
-                // Halfedge 2e runs from the smaller index to the larger one.
-                halfedge_to.extend([VertexId(key.1), VertexId(key.0)]);
-                halfedge_face.extend([FaceId::INVALID; 2]);
-                halfedge_next.extend([HalfedgeId::INVALID; 2]);
-                halfedge_prev.extend([HalfedgeId::INVALID; 2]);
-                e
-            });
-            let h = HalfedgeId(2 * e + u32::from(a > b));
-            if halfedge_face[h.index()].is_valid() {
-                let other = halfedge_face[h.index()].0;
-                return Err(if halfedge_face[h.twin().index()].is_valid() {
-                    Error::Topology(format!(
-                        "non-manifold edge between vertices {a} and {b}: it is used by faces {other}, {} and {f}; \
-                         every edge may border at most two faces",
-                        halfedge_face[h.twin().index()].0
-                    ))
-                } else {
-                    Error::Topology(format!(
-                        "faces {other} and {f} both run from vertex {a} to vertex {b}: they are oriented \
-                         inconsistently (or the edge is non-manifold); flip one so neighbours run opposite ways"
-                    ))
-                });
-            }
-            halfedge_face[h.index()] = FaceId::from_index(f);
-            face_loop.push(h);
-            vertex_halfedge[a as usize] = h;
+    // Corner c of the flat list is the directed edge from indices[c] to the next vertex of its face.
+    let corners = indices.len();
+    let mut corner_face = vec![0u32; corners];
+    let mut corner_to = vec![0u32; corners];
+    for f in 0..face_count {
+        let (a, b) = (offsets[f] as usize, offsets[f + 1] as usize);
+        for c in a..b {
+            corner_face[c] = f as u32;
+            corner_to[c] = indices[if c + 1 == b { a } else { c + 1 }];
         }
-        for k in 0..face_loop.len() {
-            let h = face_loop[k];
-            let next = face_loop[(k + 1) % face_loop.len()];
+    }
+    let mut out_offsets = vec![0u32; n + 1];
+    for &v in indices {
+        out_offsets[v as usize + 1] += 1;
+    }
+    for v in 0..n {
+        out_offsets[v + 1] += out_offsets[v];
+    }
+    let mut fill = out_offsets.clone();
+    let mut out_corners = vec![0u32; corners];
+    for (c, &v) in indices.iter().enumerate() {
+        out_corners[fill[v as usize] as usize] = c as u32;
+        fill[v as usize] += 1;
+    }
+    let outgoing = |v: u32| &out_corners[out_offsets[v as usize] as usize..out_offsets[v as usize + 1] as usize];
+
+    let mut corner_halfedge = vec![HalfedgeId::INVALID; corners];
+    let mut halfedge_to: Vec<VertexId> = Vec::with_capacity(corners + corners / 4 + 16);
+    for c in 0..corners {
+        if corner_halfedge[c].is_valid() {
+            continue;
+        }
+        let (a, b) = (indices[c], corner_to[c]);
+        let mut same = outgoing(a).iter().filter(|&&d| corner_to[d as usize] == b);
+        let mut opposite = outgoing(b).iter().filter(|&&d| corner_to[d as usize] == a);
+        let (first_same, second_same) = (same.next().copied(), same.next().copied());
+        let (first_opposite, second_opposite) = (opposite.next().copied(), opposite.next().copied());
+        if let Some(other) = second_same.or(second_opposite) {
+            let first = if second_same.is_some() { first_same } else { first_opposite };
+            let faces_of = |d: Option<u32>| d.map(|d| corner_face[d as usize]);
+            return Err(match (first_same, first_opposite) {
+                (Some(_), Some(_)) => Error::Topology(format!(
+                    "non-manifold edge between vertices {a} and {b}: it is used by faces {}, {} and {}; \
+                     every edge may border at most two faces",
+                    faces_of(first_same).unwrap(),
+                    faces_of(first_opposite).unwrap(),
+                    corner_face[other as usize]
+                )),
+                _ => Error::Topology(format!(
+                    "faces {} and {} both run from vertex {} to vertex {}: they are oriented \
+                     inconsistently (or the edge is non-manifold); flip one so neighbours run opposite ways",
+                    faces_of(first).unwrap(),
+                    corner_face[other as usize],
+                    indices[other as usize],
+                    corner_to[other as usize]
+                )),
+            });
+        }
+        let e = (halfedge_to.len() / 2) as u32;
+        // Halfedge 2e runs from the smaller index to the larger one.
+        let (lo, hi) = (a.min(b), a.max(b));
+        halfedge_to.extend([VertexId(hi), VertexId(lo)]);
+        corner_halfedge[c] = HalfedgeId(2 * e + u32::from(a > b));
+        if let Some(d) = first_opposite {
+            corner_halfedge[d as usize] = HalfedgeId(2 * e + u32::from(b > a));
+        }
+    }
+    let nh = halfedge_to.len();
+    let mut halfedge_face = vec![FaceId::INVALID; nh];
+    let mut halfedge_next = vec![HalfedgeId::INVALID; nh];
+    let mut halfedge_prev = vec![HalfedgeId::INVALID; nh];
+    let mut face_halfedge = Vec::with_capacity(face_count);
+    let mut vertex_halfedge = vec![HalfedgeId::INVALID; n];
+    for f in 0..face_count {
+        let (a, b) = (offsets[f] as usize, offsets[f + 1] as usize);
+        for c in a..b {
+            let h = corner_halfedge[c];
+            let next = corner_halfedge[if c + 1 == b { a } else { c + 1 }];
+            halfedge_face[h.index()] = FaceId(f as u32);
             halfedge_next[h.index()] = next;
             halfedge_prev[next.index()] = h;
+            vertex_halfedge[indices[c] as usize] = h;
         }
-        face_halfedge.push(face_loop[0]);
+        face_halfedge.push(corner_halfedge[a]);
     }
 
     // Link boundary halfedges into loops: the boundary halfedge into vertex v continues with the

@@ -47,6 +47,13 @@ impl PolyMesh {
         build::build(positions, faces)
     }
 
+    /// Like [`PolyMesh::from_polygons`], with the faces in compressed rows: face `f` is
+    /// `indices[offsets[f]..offsets[f + 1]]` (`offsets` starts at 0 and has one entry more than
+    /// there are faces).
+    pub fn from_face_list(positions: Vec<DVec3>, offsets: &[u32], indices: &[u32]) -> crate::Result<Self> {
+        build::build_flat(positions, offsets, indices)
+    }
+
     /// Number of vertices (isolated ones included).
     pub fn vertex_count(&self) -> usize {
         self.positions.len()

@@ -73,32 +73,40 @@ impl LevelTopology {
             parent_offsets.push(parents.len() as u32);
         }
         let edge_vertex = |e: EdgeId| (nv + e.index()) as u32;
-        let mut faces: Vec<Vec<u32>> = Vec::with_capacity(coarse.face_count() * 4);
+        let mut offsets: Vec<u32> = Vec::with_capacity(coarse.face_count() * 4 + 1);
+        let mut indices: Vec<u32> = Vec::with_capacity(coarse.halfedge_count() * 4);
+        offsets.push(0);
         let mut next_face_vertex = (nv + ne) as u32;
+        let mut hs = Vec::new();
         for f in coarse.faces() {
-            let hs: Vec<_> = coarse.face_halfedges(f).collect();
+            hs.clear();
+            hs.extend(coarse.face_halfedges(f));
             let n = hs.len();
             let corner = |k: usize| coarse.from_vertex(hs[k]).0;
             let mid = |k: usize| edge_vertex(hs[k].edge());
+            let mut push = |face: &[u32]| {
+                indices.extend_from_slice(face);
+                offsets.push(indices.len() as u32);
+            };
             if n == 3 {
-                faces.push(vec![corner(0), mid(0), mid(2)]);
-                faces.push(vec![mid(0), corner(1), mid(1)]);
-                faces.push(vec![mid(2), mid(1), corner(2)]);
-                faces.push(vec![mid(0), mid(1), mid(2)]);
+                push(&[corner(0), mid(0), mid(2)]);
+                push(&[mid(0), corner(1), mid(1)]);
+                push(&[mid(2), mid(1), corner(2)]);
+                push(&[mid(0), mid(1), mid(2)]);
             } else {
                 let centre = next_face_vertex;
                 next_face_vertex += 1;
+                for k in 0..n {
+                    push(&[corner(k), mid(k), centre, mid((k + n - 1) % n)]);
+                }
                 parents.extend((0..n).map(corner));
                 parent_offsets.push(parents.len() as u32);
-                for k in 0..n {
-                    faces.push(vec![corner(k), mid(k), centre, mid((k + n - 1) % n)]);
-                }
             }
         }
         let count = next_face_vertex as usize;
         let mut positions = vec![DVec3::ZERO; count];
         prolong_into(&parent_offsets, &parents, coarse.positions(), &mut positions);
-        let mesh = PolyMesh::from_polygons(positions, &faces)?;
+        let mesh = PolyMesh::from_face_list(positions, &offsets, &indices)?;
 
         // Edges along a coarse edge inherit its cage edge; all others lie inside a cage face.
         let mut edge_on_cage = vec![NOT_ON_CAGE_EDGE; mesh.edge_count()];
