@@ -20,6 +20,10 @@ pub const WINDOW: usize = 8;
 pub struct ConvergenceMonitor {
     history: std::collections::VecDeque<f64>,
     growing: usize,
+    /// Largest step before the last one.
+    peak_before: f64,
+    /// Largest step so far.
+    peak: f64,
 }
 
 impl ConvergenceMonitor {
@@ -27,6 +31,8 @@ impl ConvergenceMonitor {
     pub fn reset(&mut self) {
         self.history.clear();
         self.growing = 0;
+        self.peak_before = 0.0;
+        self.peak = 0.0;
     }
 
     /// Record the largest step of one iteration.
@@ -38,6 +44,8 @@ impl ConvergenceMonitor {
                 self.growing = 0;
             }
         }
+        self.peak_before = self.peak;
+        self.peak = self.peak.max(step);
         self.history.push_back(step);
         if self.history.len() > WINDOW + 1 {
             self.history.pop_front();
@@ -52,6 +60,15 @@ impl ConvergenceMonitor {
     /// Number of consecutive iterations in which the step grew.
     pub fn growing_iterations(&self) -> usize {
         self.growing
+    }
+
+    /// Divergence by growth: the step grew for `streak` iterations in a row *and* now exceeds
+    /// every earlier step and `threshold`. A converging solve can see its step rise for hundreds
+    /// of iterations (two decaying modes cancelling, then one taking over), but not past every
+    /// earlier step, so the streak alone would reject sound solves.
+    pub fn runaway(&self, streak: usize, threshold: f64) -> bool {
+        let Some(last) = self.last_step() else { return false };
+        self.growing >= streak && last > self.peak_before && last > threshold
     }
 
     /// The observed contraction rate per iteration, once a full window has been seen.
@@ -130,5 +147,19 @@ mod tests {
         }
         assert_eq!(monitor.growing_iterations(), 4);
         assert_eq!(monitor.remaining(), f64::INFINITY);
+        assert!(monitor.runaway(4, 1.0));
+        assert!(!monitor.runaway(5, 1.0));
+        assert!(!monitor.runaway(4, 10.0));
+    }
+
+    #[test]
+    fn a_rise_below_the_earlier_peak_is_not_runaway() {
+        let mut monitor = ConvergenceMonitor::default();
+        monitor.push(1.0);
+        for k in 0..100 {
+            monitor.push(1e-3 * (1.0 + 0.01 * k as f64));
+        }
+        assert_eq!(monitor.growing_iterations(), 99);
+        assert!(!monitor.runaway(50, 1e-6));
     }
 }

@@ -12,7 +12,7 @@
 //! [`SurfaceSolver::advance`] calls bounded by an iteration count and a time budget.
 //!
 //! Divergence (a non-finite value, a step larger than the model, or a step growing for
-//! [`DIVERGENCE_GROWTH`] iterations in a row) restores the state the level started from, halves
+//! [`DIVERGENCE_GROWTH`] iterations in a row past every earlier step) restores the state the level started from, halves
 //! λ and tries again, down to [`MIN_LAMBDA`]; each retry is reported as an event.
 
 pub mod hierarchy;

@@ -211,14 +211,14 @@ impl SurfaceSolver {
             done += 1;
             self.level_iterations += 1;
             self.total_iterations += 1;
+            self.monitor.push(step);
             if !step.is_finite()
                 || step > 10.0 * self.diagonal
-                || self.monitor.growing_iterations() >= DIVERGENCE_GROWTH
+                || self.monitor.runaway(DIVERGENCE_GROWTH, self.threshold)
             {
                 self.roll_back(step);
                 continue;
             }
-            self.monitor.push(step);
             if self.monitor.converged(self.threshold) {
                 self.finish_level(true);
             } else if self.level_iterations >= self.settings.max_iterations {
