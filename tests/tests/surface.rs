@@ -298,3 +298,42 @@ fn degenerate_cages_give_clear_errors_or_finite_surfaces() {
     let empty = PolyMesh::from_polygons(vec![DVec3::ZERO, DVec3::X], &[] as &[[u32; 3]]).unwrap();
     assert!(SurfaceSolver::new(&Document::new(empty)).is_err());
 }
+
+/// Vertices of the boundary loop through `start`, in the order of its boundary halfedges.
+fn boundary_loop(mesh: &PolyMesh, start: VertexId) -> Vec<VertexId> {
+    let first = mesh.vertex_halfedge(start);
+    assert!(mesh.is_boundary_halfedge(first));
+    let mut out = vec![start];
+    let mut h = mesh.next(first);
+    while h != first {
+        out.push(mesh.from_vertex(h));
+        h = mesh.next(h);
+    }
+    out
+}
+
+#[test]
+fn an_open_boundary_is_the_nusd_polyline_of_the_boundary() {
+    use taut_core::nusd::polyline::{CurveSettings, Polyline, smooth as smooth_curve};
+    let cage = grid(4, 3, 1.0, |x, y| 0.4 * (1.3 * x).sin() + 0.2 * x * y - 0.1 * y * y);
+    let mut doc = document(cage.clone(), 3, 1e-10);
+    doc.settings.max_iterations = 200_000;
+    let (p, _, surface) = solve(&doc);
+    let refined: Vec<DVec3> = boundary_loop(&surface, VertexId(0)).iter().map(|v| p[v.index()]).collect();
+
+    let control: Vec<DVec3> = boundary_loop(&cage, VertexId(0)).iter().map(|&v| cage.position(v)).collect();
+    let settings = CurveSettings { insert: 7, tol: 1e-11, max_iterations: 1_000_000, ..Default::default() };
+    let curve = smooth_curve(&Polyline::new(control.clone(), true), &settings).unwrap();
+    assert_eq!(refined.len(), 8 * control.len());
+    assert_eq!(curve.curve.points.len(), refined.len());
+    let error = max_distance(&refined, &curve.curve.points) / cage.bounding_diagonal();
+    assert!(error < 1e-7, "boundary differs from the polyline by {error:e} of the diagonal");
+    // And the boundary really is curved (not the straight cage edges).
+    let straight: Vec<DVec3> = (0..refined.len())
+        .map(|k| {
+            let (a, b) = (control[k / 8], control[(k / 8 + 1) % control.len()]);
+            a.lerp(b, (k % 8) as f64 / 8.0)
+        })
+        .collect();
+    assert!(max_distance(&refined, &straight) > 0.01 * cage.bounding_diagonal());
+}

@@ -26,6 +26,7 @@ macro_rules! handle {
             }
 
             #[inline]
+            #[allow(dead_code)] // not every handle is made from a bare index
             pub(crate) fn from_index(i: usize) -> Self {
                 debug_assert!(i < u32::MAX as usize);
                 Self(i as u32)
