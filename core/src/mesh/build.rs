@@ -195,7 +195,7 @@ pub(super) fn build_flat(positions: Vec<DVec3>, offsets: &[u32], indices: &[u32]
 
 pub(super) fn validate(mesh: &PolyMesh) -> Result<(), String> {
     let nh = mesh.halfedge_count();
-    if nh % 2 != 0 {
+    if !nh.is_multiple_of(2) {
         return Err("odd number of halfedges".into());
     }
     for h in (0..nh).map(HalfedgeId::from_index) {

@@ -135,7 +135,7 @@ impl SurfaceSolver {
             return Err(Error::Input("the cage has no faces to smooth".into()));
         }
         let diagonal = cage.bounding_diagonal();
-        if !(diagonal > 0.0) {
+        if diagonal.is_nan() || diagonal <= 0.0 {
             return Err(Error::Input("the cage has no extent: all its vertices are at one point".into()));
         }
         let mut solver = SurfaceSolver {
@@ -307,7 +307,7 @@ impl SurfaceSolver {
         }
         if moved {
             let diagonal = doc.cage.bounding_diagonal();
-            if !(diagonal > 0.0) {
+            if diagonal.is_nan() || diagonal <= 0.0 {
                 return Err(Error::Input("the cage has no extent: all its vertices are at one point".into()));
             }
             self.diagonal = diagonal;
