@@ -1,1 +1,51 @@
-fn main(){}
+//! `taut`: the command line of the Taut surface editor.
+//!
+//! `main` only parses the arguments and hands them to one subcommand module; each returns a
+//! one-line error message, printed on stderr with a non-zero exit status.
+
+mod curve_cmd;
+mod smooth_cmd;
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+/// Taut: smooth surfaces from coarse polygon cages (NUSD smoothing with tension).
+#[derive(Debug, Parser)]
+#[command(name = "taut", version, about, long_about = None, arg_required_else_help = true)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Refine and smooth a cage (OBJ, glTF, GLB or .taut) and write the surface.
+    Smooth(smooth_cmd::SmoothArgs),
+    /// Smooth a polyline given as JSON, inserting points between the input points.
+    SmoothCurve(curve_cmd::SmoothCurveArgs),
+}
+
+fn main() -> ExitCode {
+    // A bug must still end in one readable line, not a backtrace.
+    std::panic::set_hook(Box::new(|info| {
+        let what = info
+            .payload()
+            .downcast_ref::<&str>()
+            .map(|s| s.to_string())
+            .or_else(|| info.payload().downcast_ref::<String>().cloned())
+            .unwrap_or_default();
+        eprintln!("error: internal error in taut ({what}); please report it with the input file");
+    }));
+    let cli = Cli::parse();
+    let result = match &cli.command {
+        Command::Smooth(args) => smooth_cmd::run(args),
+        Command::SmoothCurve(args) => curve_cmd::run(args),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(message) => {
+            eprintln!("error: {message}");
+            ExitCode::FAILURE
+        }
+    }
+}

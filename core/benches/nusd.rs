@@ -99,15 +99,9 @@ fn iteration_bench(label: &str, cage_cells: u32, repeats: usize) {
     let write_bytes = n * 2 * 24;
     let source = vec![1.0f64; read_bytes / 8];
     let mut sink = vec![0.0f64; write_bytes / 8];
-    let ratio = source.len() / sink.len().max(1);
     let stream = median(repeats, || {
-        sink.par_chunks_mut(4096).enumerate().for_each(|(c, out)| {
-            let base = c * 4096 * ratio;
-            for (k, o) in out.iter_mut().enumerate() {
-                let s = &source[base + k * ratio..base + (k + 1) * ratio];
-                *o = s.iter().sum::<f64>();
-            }
-        });
+        let total: f64 = source.par_chunks(1 << 14).map(|c| c.iter().sum::<f64>()).sum();
+        sink.par_chunks_mut(1 << 14).for_each(|c| c.fill(total));
         black_box(&sink);
     });
     let updates_per_s = n as f64 / iteration.as_secs_f64();
@@ -138,6 +132,24 @@ fn solve_bench(label: &str, doc: &Document, repeats: usize) {
         let mut s = SurfaceSolver::new(&doc1).unwrap();
         s.solve().unwrap();
     });
+    // A drag step: move one cage vertex by 1 % of the diagonal and re-solve warm.
+    let mut dragged = doc.clone();
+    let mut step = 0usize;
+    let mut warm_iterations = 0usize;
+    let warm = median(repeats, || {
+        step += 1;
+        let offset = 0.01 * doc.cage.bounding_diagonal() * if step.is_multiple_of(2) { 1.0 } else { -1.0 };
+        let v = taut_core::VertexId(0);
+        dragged.cage.set_position(v, doc.cage.position(v) + DVec3::new(offset, 0.5 * offset, 0.0));
+        solver.update(&dragged).unwrap();
+        solver.solve().unwrap();
+        warm_iterations = solver.status().total_iterations;
+    });
+    println!(
+        "{label}: drag step (1 % of the diagonal) re-solved warm in {:.1} ms, {warm_iterations} iterations = {:.0}% of a solve from scratch",
+        warm.as_secs_f64() * 1e3,
+        100.0 * warm.as_secs_f64() / time.as_secs_f64()
+    );
     let counts: Vec<usize> = reports.iter().map(|r| r.iterations).collect();
     println!(
         "{label}: {} cage faces → {} faces, {} vertices at level {}; full solve {:.1} ms; iterations per level {:?}; \

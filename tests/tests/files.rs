@@ -1,0 +1,379 @@
+//! Files in and out of Taut: OBJ and glTF round trips, node hierarchies, welding of split
+//! vertices, numbering, `.taut` documents, and a clear error (never a panic) for every kind of
+//! bad file. Every test writes into its own temporary folder.
+
+use glam::DVec3;
+use serde_json::json;
+use std::path::{Path, PathBuf};
+use taut_core::io::{MeshFormat, export_glb, export_mesh, export_obj, import_mesh};
+use taut_core::nusd::Spacing;
+use taut_core::{Document, PolyMesh, VertexId};
+use taut_tests::{cube, prism};
+
+/// A fresh folder for one test, removed when the test ends.
+struct TempDir(PathBuf);
+
+impl TempDir {
+    fn new(test: &str) -> Self {
+        let dir = std::env::temp_dir().join(format!("taut-files-{}-{test}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        TempDir(dir)
+    }
+
+    fn file(&self, name: &str, contents: impl AsRef<[u8]>) -> PathBuf {
+        let path = self.0.join(name);
+        std::fs::write(&path, contents).unwrap();
+        path
+    }
+
+    fn path(&self, name: &str) -> PathBuf {
+        self.0.join(name)
+    }
+}
+
+impl Drop for TempDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+fn bits(points: &[DVec3]) -> Vec<[u64; 3]> {
+    points.iter().map(|p| p.to_array().map(f64::to_bits)).collect()
+}
+
+/// Signed volume enclosed by a closed mesh (sum of fan tetrahedra): positive when every face
+/// winds counter-clockwise seen from outside.
+fn signed_volume(mesh: &PolyMesh) -> f64 {
+    let p = mesh.positions();
+    mesh.triangles().iter().map(|&[a, b, c]| p[a as usize].dot(p[b as usize].cross(p[c as usize])) / 6.0).sum()
+}
+
+/// A prism with awkward coordinates (thirds, tiny and huge values): quads and two 7-gons.
+fn awkward_prism() -> PolyMesh {
+    let mut mesh = prism(7, 1.0 / 3.0, 0.1);
+    mesh.positions_mut()[0] += DVec3::new(1e-17, -0.0, 0.0);
+    mesh.positions_mut()[8] *= 12345.678901234567;
+    mesh
+}
+
+#[test]
+fn obj_round_trip_is_exact_and_keeps_quads_and_ngons() {
+    let dir = TempDir::new("obj-round-trip");
+    let mesh = awkward_prism();
+    let path = dir.path("prism.obj");
+    export_obj(&mesh, &path).unwrap();
+    let (back, report) = import_mesh(&path).unwrap();
+    assert_eq!(bits(back.positions()), bits(mesh.positions()));
+    assert_eq!(back.polygons(), mesh.polygons());
+    assert!(back.polygons().iter().any(|f| f.len() == 7) && back.polygons().iter().any(|f| f.len() == 4));
+    assert!(report.is_clean(), "{report}: {:?}", report.warnings);
+    // The dispatch writes the same file, and upper-case extensions are recognised.
+    let upper = dir.path("PRISM.OBJ");
+    export_mesh(&mesh, &upper).unwrap();
+    assert_eq!(std::fs::read(&upper).unwrap(), std::fs::read(&path).unwrap());
+}
+
+#[test]
+fn glb_round_trip_keeps_f32_positions_and_triangles() {
+    let dir = TempDir::new("glb-round-trip");
+    let mesh = awkward_prism();
+    let path = dir.path("prism.glb");
+    export_mesh(&mesh, &path).unwrap();
+    let (back, _) = import_mesh(&path).unwrap();
+    assert_eq!(back.vertex_count(), mesh.vertex_count());
+    for (a, b) in back.positions().iter().zip(mesh.positions()) {
+        assert_eq!(*a, b.as_vec3().as_dvec3());
+        assert!((*a - *b).length() <= b.length() * f64::from(f32::EPSILON));
+    }
+    let triangles: Vec<Vec<u32>> = mesh.triangles().iter().map(|t| t.to_vec()).collect();
+    assert_eq!(back.polygons(), triangles);
+    assert!(back.is_closed());
+    export_glb(&back, &dir.path("again.glb")).unwrap();
+}
+
+/// The unit cube `[0, 1]³` as indexed triangles, outward.
+fn cube_triangles() -> (Vec<[f32; 3]>, Vec<u32>) {
+    let corners = (0..8).map(|i| [(i & 1) as f32, ((i >> 1) & 1) as f32, ((i >> 2) & 1) as f32]).collect();
+    let quads = [[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]];
+    let indices = quads.iter().flat_map(|q| [q[0], q[1], q[2], q[0], q[2], q[3]]).collect();
+    (corners, indices)
+}
+
+#[test]
+fn gltf_node_hierarchy_is_placed_and_mirrors_stay_outward() {
+    let dir = TempDir::new("gltf-hierarchy");
+    let (corners, indices) = cube_triangles();
+    let mut bin: Vec<u8> = corners.iter().flatten().flat_map(|c| c.to_le_bytes()).collect();
+    bin.extend(indices.iter().flat_map(|&i| (i as u16).to_le_bytes()));
+    dir.file("cube data.bin", &bin);
+    let s = std::f64::consts::FRAC_1_SQRT_2;
+    let gltf = json!({
+        "asset": { "version": "2.0", "generator": "hand" },
+        "scene": 0,
+        "scenes": [{ "nodes": [0, 2] }],
+        "nodes": [
+            { "name": "parent", "translation": [10, 0, 0], "children": [1] },
+            { "name": "child", "rotation": [0, 0, s, s], "scale": [2, 2, 2], "mesh": 0 },
+            { "name": "mirror", "translation": [-10, 0, 0], "scale": [-1, 1, 1], "mesh": 0 }
+        ],
+        "meshes": [{ "name": "cube", "primitives": [{ "attributes": { "POSITION": 0 }, "indices": 1 }] }],
+        "accessors": [
+            { "bufferView": 0, "componentType": 5126, "count": 8, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 1] },
+            { "bufferView": 1, "componentType": 5123, "count": 36, "type": "SCALAR" }
+        ],
+        "bufferViews": [
+            { "buffer": 0, "byteLength": 96 },
+            { "buffer": 0, "byteOffset": 96, "byteLength": 72 }
+        ],
+        "buffers": [{ "byteLength": bin.len(), "uri": "cube%20data.bin" }]
+    });
+    let path = dir.file("scene.gltf", serde_json::to_vec_pretty(&gltf).unwrap());
+    let (mesh, report) = import_mesh(&path).unwrap();
+    assert!(report.is_clean(), "{report}: {:?}", report.warnings);
+    assert_eq!((mesh.vertex_count(), mesh.face_count()), (16, 24));
+    // By hand: the child doubles, turns 90° about z ((x, y) -> (-y, x)) and moves by (10, 0, 0);
+    // the mirror negates x and moves by (-10, 0, 0).
+    for (k, c) in corners.iter().enumerate() {
+        let [x, y, z] = c.map(f64::from);
+        let child = DVec3::new(10.0 - 2.0 * y, 2.0 * x, 2.0 * z);
+        let mirror = DVec3::new(-10.0 - x, y, z);
+        assert!((mesh.positions()[k] - child).length() < 1e-12, "child corner {k}");
+        assert!((mesh.positions()[8 + k] - mirror).length() < 1e-12, "mirrored corner {k}");
+    }
+    // Volumes 8 and 1, both positive: a mirror that kept its winding would count -1.
+    assert!((signed_volume(&mesh) - 9.0).abs() < 1e-9, "{}", signed_volume(&mesh));
+    assert!(mesh.is_closed());
+}
+
+#[test]
+fn a_cube_with_split_vertices_is_welded() {
+    let dir = TempDir::new("weld");
+    // Each face on its own four vertices with its own normal, as exporters write hard edges;
+    // one corner is written as -0.
+    let corner = |i: u32| [(i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64];
+    let quads = [[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]];
+    let mut text = String::from("# split cube\nvn 0 0 1\n");
+    for (f, q) in quads.iter().enumerate() {
+        for &i in q {
+            let [x, y, z] = corner(i);
+            let x = if f == 5 && x == 0.0 { "-0".to_string() } else { x.to_string() };
+            text += &format!("v {x} {y} {z}\n");
+        }
+    }
+    for f in 0..6 {
+        text += &format!("f {}//1 {}//1 {}//1 {}//1\n", 4 * f + 1, 4 * f + 2, 4 * f + 3, 4 * f + 4);
+    }
+    let path = dir.file("split.obj", text);
+    let (mesh, report) = import_mesh(&path).unwrap();
+    assert_eq!(report.welded, 16);
+    assert_eq!(mesh.vertex_count(), 8);
+    assert!(mesh.is_closed());
+    assert_eq!(mesh.euler_characteristic(), 2);
+    assert!((signed_volume(&mesh) - 1.0).abs() < 1e-12);
+    assert!(report.to_string().contains("welded 16 vertices"), "{report}");
+    // First appearances keep their order: the first face's corners are vertices 0..4.
+    assert_eq!(mesh.polygons()[0], vec![0, 1, 2, 3]);
+}
+
+#[test]
+fn shared_obj_vertices_keep_the_file_numbering() {
+    let dir = TempDir::new("numbering");
+    // The cube's corners in a scrambled order; faces name them out of order and with negative
+    // (relative) indices; vertex 9 is used by no face and is kept.
+    let order = [5, 2, 7, 0, 3, 6, 1, 4];
+    let unit = cube();
+    let mut text = String::from("o scrambled\n");
+    for &i in &order {
+        let p = unit.positions()[i];
+        text += &format!("v {} {} {}\n", p.x, p.y, p.z);
+    }
+    text += "v 9 9 9\n";
+    let file_index = |i: u32| order.iter().position(|&o| o == i as usize).unwrap() as u32;
+    let expected: Vec<Vec<u32>> = unit.polygons().iter().map(|f| f.iter().map(|&i| file_index(i)).collect()).collect();
+    for (k, face) in expected.iter().enumerate() {
+        let corners: Vec<String> =
+            face.iter().map(|&v| if k % 2 == 0 { (v + 1).to_string() } else { format!("{}", v as i64 - 9) }).collect();
+        text += &format!("{}f {}\n", if k == 3 { "g second\n" } else { "" }, corners.join(" "));
+    }
+    let path = dir.file("scrambled.obj", &text);
+    let (mesh, report) = import_mesh(&path).unwrap();
+    assert!(report.is_clean(), "{report}");
+    assert_eq!(mesh.vertex_count(), 9);
+    assert!(mesh.is_isolated(VertexId(8)));
+    for (k, &i) in order.iter().enumerate() {
+        assert_eq!(mesh.positions()[k], unit.positions()[i]);
+    }
+    assert_eq!(mesh.polygons(), expected);
+}
+
+#[test]
+fn a_zero_length_edge_is_repaired_and_reported() {
+    let dir = TempDir::new("repair");
+    // Vertex 5 repeats vertex 2: the pentagon's edge 2-5 has zero length.
+    let text = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0\nv 1 1 0\nf 1 2 3 6 4\nf 2 5 3\n";
+    let (mesh, report) = import_mesh(&dir.file("seam.obj", text)).unwrap();
+    assert_eq!(mesh.polygons(), vec![vec![0, 1, 2, 3], vec![1, 4, 2]]);
+    assert_eq!((report.welded, report.repaired_faces, report.dropped_faces), (1, 1, 0));
+    assert!(report.warnings.iter().any(|w| w.contains("repaired face 0")), "{:?}", report.warnings);
+}
+
+#[test]
+fn taut_documents_round_trip_exactly() {
+    let dir = TempDir::new("taut");
+    let mut doc = Document::new(awkward_prism());
+    doc.set_fixed(VertexId(3), false).unwrap();
+    doc.set_vertex_tension(VertexId(1), 0.1 + 0.2).unwrap();
+    doc.set_edge_tension(VertexId(0), VertexId(1), std::f64::consts::E).unwrap();
+    doc.settings.levels = 2;
+    doc.settings.lambda = 0.55;
+    doc.settings.tol = 1e-7;
+    doc.settings.max_iterations = 777;
+    doc.settings.spacing = Spacing::Centripetal;
+    let path = dir.path("prism.taut");
+    doc.save(&path).unwrap();
+    let back = Document::load(&path).unwrap();
+    assert_eq!(back, doc);
+    assert_eq!(bits(back.cage.positions()), bits(doc.cage.positions()));
+    assert_eq!(back.to_json(), doc.to_json());
+    assert!(!back.fixed[3] && back.fixed[2]);
+}
+
+/// Imports `path` and checks the error names the file and says `expected`.
+fn refused(path: &Path, expected: &str) {
+    let name = path.file_name().unwrap().to_string_lossy();
+    match import_mesh(path) {
+        Ok((mesh, report)) => panic!("{name} was accepted: {} vertices, {report}", mesh.vertex_count()),
+        Err(e) => {
+            let message = e.to_string();
+            assert!(message.contains(&*name), "the error does not name {name}: {message}");
+            assert!(message.contains(expected), "expected '{expected}' for {name}: {message}");
+        }
+    }
+}
+
+#[test]
+fn bad_files_are_clear_errors_not_panics() {
+    let dir = TempDir::new("bad");
+    let junk: Vec<u8> = (0..4096u32).map(|i| (i.wrapping_mul(2654435761) >> 13) as u8).collect();
+    let tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+    let cases: Vec<(&str, Vec<u8>, &str)> = vec![
+        ("junk.obj", junk.clone(), "binary data"),
+        ("junk.glb", junk.clone(), "does not start with the bytes 'glTF'"),
+        ("junk.gltf", junk.clone(), "not a glTF 2.0 file"),
+        ("empty.obj", vec![], "no faces"),
+        ("points.obj", format!("{tri}p 1 2 3\n").into_bytes(), "no faces"),
+        ("empty.glb", vec![], "the file is empty"),
+        ("empty.gltf", vec![], "the file is empty"),
+        ("other.gltf", br#"{"name": "not a scene", "items": [1, 2]}"#.to_vec(), "missing field `asset`"),
+        ("nan.obj", format!("{tri}v nan 0 0\nf 1 2 3\n").into_bytes(), "line 4: vertex 3 has a non-finite coordinate"),
+        ("inf.obj", format!("{tri}v 0 -inf 0\nf 1 2 3\n").into_bytes(), "non-finite"),
+        ("range.obj", format!("{tri}f 1 2 4\n").into_bytes(), "line 4: face refers to vertex 4, but the file has 3"),
+        ("negative.obj", format!("{tri}f 1 2 -4\n").into_bytes(), "vertex -4"),
+        ("words.obj", format!("{tri}f one two three\n").into_bytes(), "cannot read face corner 'one'"),
+        (
+            "pinch.obj",
+            format!("{tri}v 2 0 0\nv 0 2 0\nf 1 2 3 1 4 5\n").into_bytes(),
+            "face 0 passes through vertex 0 twice",
+        ),
+        (
+            "nonmanifold.obj",
+            format!("{tri}v 0 0 1\nv 0 0 -1\nf 1 2 3\nf 2 1 4\nf 1 2 5\n").into_bytes(),
+            "non-manifold edge",
+        ),
+        ("flipped.obj", format!("{tri}v 1 1 0\nf 1 2 3\nf 2 3 4\n").into_bytes(), "inconsistently"),
+        (
+            "cube.stl",
+            b"solid cube\nendsolid\n".to_vec(),
+            "'.stl' is not a mesh format Taut knows; use .obj, .gltf or .glb",
+        ),
+        ("no_extension", tri.as_bytes().to_vec(), "without an extension"),
+    ];
+    for (name, bytes, expected) in cases {
+        refused(&dir.file(name, bytes), expected);
+    }
+    refused(&dir.path("missing.obj"), "missing.obj");
+
+    // A valid GLB cut short, and a .gltf whose .bin is missing.
+    let glb = dir.path("whole.glb");
+    export_glb(&cube(), &glb).unwrap();
+    let bytes = std::fs::read(&glb).unwrap();
+    refused(&dir.file("cut.glb", &bytes[..bytes.len() / 2]), "truncated binary glTF");
+    refused(&dir.file("header.glb", &bytes[..12]), "truncated");
+    let gltf = json!({
+        "asset": { "version": "2.0" },
+        "meshes": [{ "primitives": [{ "attributes": { "POSITION": 0 } }] }],
+        "accessors": [{ "bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0] }],
+        "bufferViews": [{ "buffer": 0, "byteLength": 36 }],
+        "buffers": [{ "byteLength": 36, "uri": "gone.bin" }]
+    });
+    let path = dir.file("lonely.gltf", serde_json::to_vec(&gltf).unwrap());
+    refused(&path, "buffer 0 refers to 'gone.bin', which cannot be read");
+    dir.file("gone.bin", [0u8; 20]);
+    refused(&path, "buffer 0 has 20 bytes but the file declares 36");
+}
+
+#[test]
+fn export_refuses_what_it_cannot_write() {
+    let dir = TempDir::new("export");
+    let mesh = cube();
+    for (name, expected) in [("cube.gltf", "binary .glb only"), ("cube.ply", "'.ply' is not a mesh format")] {
+        let err = export_mesh(&mesh, &dir.path(name)).unwrap_err().to_string();
+        assert!(err.contains(name) && err.contains(expected), "{err}");
+        assert!(!dir.path(name).exists());
+    }
+    let err = export_obj(&mesh, &dir.path("no/such/folder/cube.obj")).unwrap_err().to_string();
+    assert!(err.contains("cube.obj"), "{err}");
+    assert_eq!(MeshFormat::from_path(Path::new("A.GlB")).unwrap(), MeshFormat::Glb);
+}
+
+#[test]
+fn damaged_copies_of_good_files_never_panic() {
+    let dir = TempDir::new("damaged");
+    let glb = dir.path("good.glb");
+    export_glb(&prism(5, 1.0, 1.0), &glb).unwrap();
+    let obj = dir.path("good.obj");
+    export_obj(&prism(5, 1.0, 1.0), &obj).unwrap();
+    let (corners, indices) = cube_triangles();
+    let mut bin: Vec<u8> = corners.iter().flatten().flat_map(|c| c.to_le_bytes()).collect();
+    bin.extend(indices.iter().flat_map(|&i| (i as u8).to_le_bytes()));
+    dir.file("cube.bin", &bin);
+    let gltf = format!(
+        r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0]}}],"nodes":[{{"mesh":0,"scale":[1,2,3]}}],
+        "meshes":[{{"primitives":[{{"attributes":{{"POSITION":0}},"indices":1}}]}}],
+        "accessors":[{{"bufferView":0,"componentType":5126,"count":8,"type":"VEC3","min":[0,0,0],"max":[1,1,1]}},
+                     {{"bufferView":1,"componentType":5121,"count":36,"type":"SCALAR"}}],
+        "bufferViews":[{{"buffer":0,"byteLength":96}},{{"buffer":0,"byteOffset":96,"byteLength":36}}],
+        "buffers":[{{"byteLength":{},"uri":"cube.bin"}}]}}"#,
+        bin.len()
+    );
+    let gltf_path = dir.file("good.gltf", &gltf);
+    import_mesh(&gltf_path).unwrap();
+
+    let mut seed = 0x9E37_79B9_7F4A_7C15u64;
+    let mut random = move |n: usize| {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed % n as u64) as usize
+    };
+    for good in [&glb, &obj, &gltf_path] {
+        let bytes = std::fs::read(good).unwrap();
+        let name = format!("damaged.{}", good.extension().unwrap().to_string_lossy());
+        for cut in (0..bytes.len()).step_by(7) {
+            let _ = import_mesh(&dir.file(&name, &bytes[..cut]));
+        }
+        for _ in 0..400 {
+            let mut damaged = bytes.clone();
+            for _ in 0..1 + random(4) {
+                let k = random(damaged.len());
+                damaged[k] = match random(3) {
+                    0 => random(256) as u8,
+                    1 => b"0123456789-.e,:[]{}\"/ "[random(22)],
+                    _ => damaged[k] ^ (1 << random(8)),
+                };
+            }
+            let _ = import_mesh(&dir.file(&name, &damaged));
+        }
+    }
+}
