@@ -11,10 +11,10 @@ use std::process::ExitCode;
 
 /// Taut: smooth surfaces from coarse polygon cages (NUSD smoothing with tension).
 #[derive(Debug, Parser)]
-#[command(name = "taut", version, about, long_about = None, arg_required_else_help = true)]
+#[command(name = "taut", version)]
 struct Cli {
     #[command(subcommand)]
-    command: Command,
+    command: Option<Command>,
 }
 
 #[derive(Debug, Subcommand)]
@@ -38,8 +38,14 @@ fn main() -> ExitCode {
     }));
     let cli = Cli::parse();
     let result = match &cli.command {
-        Command::Smooth(args) => smooth_cmd::run(args),
-        Command::SmoothCurve(args) => curve_cmd::run(args),
+        Some(Command::Smooth(args)) => smooth_cmd::run(args),
+        Some(Command::SmoothCurve(args)) => curve_cmd::run(args),
+        None => {
+            // The editor window is not built yet: show what the command line can do.
+            use clap::CommandFactory;
+            println!("{}", Cli::command().render_help());
+            Ok(())
+        }
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
