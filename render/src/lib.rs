@@ -1,112 +1,63 @@
-//! Taut's display side. For now: the CPU half of the surface pass, turning a [`PolyMesh`] into
-//! the vertex and index arrays the wgpu passes upload.
+//! Taut's display: the wgpu passes that draw a surface shaded, as zebra stripes or in curvature
+//! colour, with overlays, into a window or off screen (`shared/spec/rendering.md`).
 //!
-//! [`SurfaceBuffers`] follows the mesh's two counters: a position-only edit (a drag) refreshes
-//! the vertex array and keeps the index array, which is rebuilt only when the connectivity
-//! changes, so the upload while dragging is positions and normals alone.
+//! Long-lived objects (pipelines, layouts: the `passes`) are apart from per-frame data (the
+//! [`FrameUniform`](frame::FrameUniform), uploaded buffers). One WGSL file per pass lives in
+//! `shaders/`, each prefixed at load time with `shaders/common.wgsl`; every `#[repr(C)]` mirror
+//! names its WGSL struct. The same [`Renderer`] draws the editor's viewport and the command
+//! line's pictures.
 
-use bytemuck::{Pod, Zeroable};
-use taut_core::PolyMesh;
+pub mod buffers;
+pub mod camera;
+pub mod colormap;
+pub mod frame;
+pub mod gpu;
+pub mod offscreen;
+pub mod passes;
+pub mod renderer;
 
-/// One vertex of the surface pass, as the shader reads it (`f32`, tightly packed).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct SurfaceVertex {
-    pub position: [f32; 3],
-    pub normal: [f32; 3],
+pub use buffers::{Changes, GpuSurface, SurfaceBuffers, SurfaceVertex};
+pub use camera::{Camera, StandardView};
+pub use gpu::{AdapterPreference, Gpu};
+pub use renderer::{Renderer, Scene};
+
+/// What can go wrong on the display side.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum RenderError {
+    /// No adapter at all: the message says what to install.
+    #[error("{0}")]
+    NoAdapter(String),
+    /// The adapter refused a device.
+    #[error("the GPU refused to open a device: {0}")]
+    Device(String),
+    /// Reading a picture back or writing it failed.
+    #[error("{0}")]
+    Output(String),
 }
 
-/// Vertex and triangle-index arrays of a mesh, kept in step with its generations.
-#[derive(Debug, Default)]
-pub struct SurfaceBuffers {
-    vertices: Vec<SurfaceVertex>,
-    indices: Vec<u32>,
-    generation: Option<u64>,
-    topology_generation: Option<u64>,
-    index_rebuilds: u64,
+/// The shared WGSL prelude (`shaders/common.wgsl`).
+pub const COMMON_WGSL: &str = include_str!("../../shaders/common.wgsl");
+
+/// A pass's WGSL with the shared prelude in front, as it is compiled.
+pub fn shader_source(pass: &str) -> String {
+    format!("{COMMON_WGSL}\n{pass}")
 }
 
-/// What [`SurfaceBuffers::update`] changed, so the caller uploads only that.
+/// Formats and sample count of the targets every pass draws into.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Changes {
-    pub vertices: bool,
-    pub indices: bool,
+pub struct TargetFormats {
+    pub color: wgpu::TextureFormat,
+    pub depth: wgpu::TextureFormat,
+    pub samples: u32,
 }
 
-impl SurfaceBuffers {
-    /// Brings the arrays up to date with `mesh` and says what changed.
-    pub fn update(&mut self, mesh: &PolyMesh) -> Changes {
-        let topology_changed = self.topology_generation != Some(mesh.topology_generation());
-        let vertices_changed = topology_changed || self.generation != Some(mesh.generation());
-        if topology_changed {
-            self.indices = mesh.triangles().into_iter().flatten().collect();
-            self.topology_generation = Some(mesh.topology_generation());
-            self.index_rebuilds += 1;
-        }
-        if vertices_changed {
-            let normals = mesh.vertex_normals();
-            self.vertices.clear();
-            self.vertices.extend(
-                mesh.positions()
-                    .iter()
-                    .zip(&normals)
-                    .map(|(p, n)| SurfaceVertex { position: p.as_vec3().to_array(), normal: n.as_vec3().to_array() }),
-            );
-            self.generation = Some(mesh.generation());
-        }
-        Changes { vertices: vertices_changed, indices: topology_changed }
-    }
-
-    /// The vertex array.
-    pub fn vertices(&self) -> &[SurfaceVertex] {
-        &self.vertices
-    }
-
-    /// The triangle list, three indices a triangle.
-    pub fn indices(&self) -> &[u32] {
-        &self.indices
-    }
-
-    /// How many times the index array was rebuilt (for tests and statistics).
-    pub fn index_rebuilds(&self) -> u64 {
-        self.index_rebuilds
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use taut_core::{DVec3, VertexId};
-
-    fn quad_pair() -> PolyMesh {
-        let p = vec![
-            DVec3::ZERO,
-            DVec3::X,
-            DVec3::new(1.0, 1.0, 0.0),
-            DVec3::Y,
-            DVec3::new(2.0, 0.0, 0.0),
-            DVec3::new(2.0, 1.0, 0.0),
-        ];
-        PolyMesh::from_polygons(p, &[[0, 1, 2, 3], [1, 4, 5, 2]]).unwrap()
-    }
-
-    #[test]
-    fn dragging_refreshes_vertices_but_not_indices() {
-        let mut mesh = quad_pair();
-        let mut buffers = SurfaceBuffers::default();
-        assert_eq!(buffers.update(&mesh), Changes { vertices: true, indices: true });
-        assert_eq!(buffers.indices(), &[0, 1, 2, 0, 2, 3, 1, 4, 5, 1, 5, 2]);
-        assert_eq!(buffers.vertices()[2].normal, [0.0, 0.0, 1.0]);
-        assert_eq!(buffers.update(&mesh), Changes { vertices: false, indices: false });
-
-        mesh.set_position(VertexId(2), DVec3::new(1.0, 1.0, 0.5));
-        assert_eq!(buffers.update(&mesh), Changes { vertices: true, indices: false });
-        assert_eq!(buffers.vertices()[2].position, [1.0, 1.0, 0.5]);
-        assert_eq!(buffers.index_rebuilds(), 1);
-
-        // A rebuilt mesh (new connectivity) rebuilds the indices.
-        let rebuilt = quad_pair();
-        assert_eq!(buffers.update(&rebuilt), Changes { vertices: true, indices: true });
-        assert_eq!(buffers.index_rebuilds(), 2);
+impl TargetFormats {
+    /// 4× MSAA when the adapter supports it for `color`, else none.
+    pub fn for_adapter(adapter: &wgpu::Adapter, color: wgpu::TextureFormat) -> Self {
+        let depth = wgpu::TextureFormat::Depth32Float;
+        let supports = |f: wgpu::TextureFormat| adapter.get_texture_format_features(f).flags.sample_count_supported(4);
+        let samples = if supports(color) && supports(depth) { 4 } else { 1 };
+        TargetFormats { color, depth, samples }
     }
 }

@@ -1,0 +1,162 @@
+//! The orbit camera shared by the editor's viewport and off-screen pictures.
+//!
+//! Z is up. The camera looks at `target` from `distance` away; `azimuth` turns it around Z
+//! (0° looks from −Y towards +Y, the front view; 90° from +X, the right view) and `elevation`
+//! lifts it (90° is the top view).
+
+use glam::{Mat4, Vec3};
+
+/// An orbiting perspective camera.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Camera {
+    pub target: Vec3,
+    pub distance: f32,
+    /// Degrees around Z.
+    pub azimuth: f32,
+    /// Degrees above the XY plane, in [−90, 90].
+    pub elevation: f32,
+    /// Vertical field of view, degrees.
+    pub fov_y: f32,
+}
+
+/// The views a designer reaches with one key.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StandardView {
+    Front,
+    Back,
+    Left,
+    Right,
+    Top,
+    Bottom,
+    Perspective,
+}
+
+impl Default for Camera {
+    fn default() -> Self {
+        Camera { target: Vec3::ZERO, distance: 5.0, azimuth: 30.0, elevation: 25.0, fov_y: 35.0 }
+    }
+}
+
+impl Camera {
+    /// Unit vector from the target towards the eye.
+    pub fn backward(&self) -> Vec3 {
+        let (az, el) = (self.azimuth.to_radians(), self.elevation.to_radians());
+        Vec3::new(az.sin() * el.cos(), -az.cos() * el.cos(), el.sin())
+    }
+
+    /// Eye position.
+    pub fn eye(&self) -> Vec3 {
+        self.target + self.distance * self.backward()
+    }
+
+    /// Screen right, in world space.
+    pub fn right(&self) -> Vec3 {
+        let az = self.azimuth.to_radians();
+        Vec3::new(az.cos(), az.sin(), 0.0)
+    }
+
+    /// Screen up, in world space.
+    pub fn up(&self) -> Vec3 {
+        self.backward().cross(self.right()).normalize()
+    }
+
+    pub fn view_from_world(&self) -> Mat4 {
+        glam::camera::rh::view::look_at_mat4(self.eye(), self.target, self.up())
+    }
+
+    /// Perspective with a near and far plane that follow the distance; depth in [0, 1].
+    pub fn clip_from_view(&self, aspect: f32) -> Mat4 {
+        let near = (self.distance * 0.01).max(1e-6);
+        // wgpu's clip space: depth in [0, 1], y up (glam's `directx` convention).
+        glam::camera::rh::proj::directx::perspective(self.fov_y.to_radians(), aspect.max(1e-6), near, self.distance * 100.0)
+    }
+
+    /// Turns the camera around the target.
+    pub fn orbit(&mut self, d_azimuth: f32, d_elevation: f32) {
+        self.azimuth = (self.azimuth + d_azimuth).rem_euclid(360.0);
+        self.elevation = (self.elevation + d_elevation).clamp(-90.0, 90.0);
+    }
+
+    /// Moves target and eye in the view plane by a number of pixels of a viewport `height`
+    /// pixels high, so the point under the cursor follows the cursor.
+    pub fn pan(&mut self, dx_pixels: f32, dy_pixels: f32, height: f32) {
+        let per_pixel = 2.0 * self.distance * (self.fov_y.to_radians() * 0.5).tan() / height.max(1.0);
+        self.target += (-dx_pixels * self.right() + dy_pixels * self.up()) * per_pixel;
+    }
+
+    /// Multiplies the distance (below 1 zooms in).
+    pub fn zoom(&mut self, factor: f32) {
+        self.distance = (self.distance * factor).clamp(1e-6, 1e9);
+    }
+
+    /// Frames a bounding box so all of it is in view with a small margin.
+    pub fn frame(&mut self, min: Vec3, max: Vec3) {
+        let radius = ((max - min).length() * 0.5).max(1e-6);
+        self.target = (min + max) * 0.5;
+        self.distance = 1.1 * radius / (self.fov_y.to_radians() * 0.5).sin();
+    }
+
+    /// Jumps to a standard view, keeping target and distance.
+    pub fn set_view(&mut self, view: StandardView) {
+        let (az, el) = match view {
+            StandardView::Front => (0.0, 0.0),
+            StandardView::Back => (180.0, 0.0),
+            StandardView::Right => (90.0, 0.0),
+            StandardView::Left => (270.0, 0.0),
+            StandardView::Top => (0.0, 90.0),
+            StandardView::Bottom => (0.0, -90.0),
+            StandardView::Perspective => (30.0, 25.0),
+        };
+        self.azimuth = az;
+        self.elevation = el;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn views_look_where_their_names_say() {
+        let mut c = Camera { distance: 10.0, ..Default::default() };
+        c.set_view(StandardView::Front);
+        assert!((c.eye() - Vec3::new(0.0, -10.0, 0.0)).length() < 1e-5);
+        c.set_view(StandardView::Right);
+        assert!((c.eye() - Vec3::new(10.0, 0.0, 0.0)).length() < 1e-4);
+        c.set_view(StandardView::Top);
+        assert!((c.eye() - Vec3::new(0.0, 0.0, 10.0)).length() < 1e-4);
+        // The top view still has a well-defined up (screen up is +Y).
+        assert!((c.up() - Vec3::Y).length() < 1e-5);
+    }
+
+    #[test]
+    fn target_projects_to_the_centre_and_frame_fits_the_box() {
+        let mut c = Camera::default();
+        let (lo, hi) = (Vec3::new(-1.0, 2.0, 0.0), Vec3::new(3.0, 4.0, 5.0));
+        c.frame(lo, hi);
+        let clip = c.clip_from_view(1.6) * c.view_from_world();
+        let centre = clip.project_point3((lo + hi) * 0.5);
+        assert!(centre.truncate().length() < 1e-5);
+        for corner in 0..8 {
+            let p = Vec3::new(
+                if corner & 1 == 0 { lo.x } else { hi.x },
+                if corner & 2 == 0 { lo.y } else { hi.y },
+                if corner & 4 == 0 { lo.z } else { hi.z },
+            );
+            let q = clip.project_point3(p);
+            assert!(q.x.abs() <= 1.0 && q.y.abs() <= 1.0 && (0.0..=1.0).contains(&q.z), "{corner}: {q}");
+        }
+    }
+
+    #[test]
+    fn pan_moves_the_target_by_the_pixels_dragged() {
+        let mut c = Camera::default();
+        let before = c.clip_from_view(1.0) * c.view_from_world();
+        let start = c.target;
+        c.pan(100.0, 0.0, 800.0);
+        // The old target now sits 100 px to the right of the centre (NDC 2·100/800).
+        let ndc = (c.clip_from_view(1.0) * c.view_from_world()).project_point3(start);
+        assert!((ndc.x - 0.25).abs() < 1e-4 && ndc.y.abs() < 1e-4, "{ndc}");
+        let _ = before;
+    }
+}

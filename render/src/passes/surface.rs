@@ -1,0 +1,220 @@
+//! The surface pass (`shaders/surface.wgsl`): shaded, zebra or curvature colour.
+
+use crate::colormap::{self, ColorMap};
+use crate::{SurfaceVertex, shader_source};
+use bytemuck::{Pod, Zeroable};
+use wgpu::util::DeviceExt;
+
+/// What the surface shows.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SurfaceMode {
+    Shaded,
+    Zebra { stripes: f32, angle_degrees: f32, width_ratio: f32 },
+    Curvature { map: ColorMap, min: f32, max: f32 },
+}
+
+/// Mirror of WGSL `SurfaceStyle` in `shaders/surface.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct SurfaceStyle {
+    pub mode: u32,
+    pub stripes: f32,
+    pub stripe_angle: f32,
+    pub stripe_width: f32,
+    pub range_min: f32,
+    pub range_max: f32,
+    pub _pad0: f32,
+    pub _pad1: f32,
+    pub base_color: [f32; 4],
+    pub stripe_dark: [f32; 4],
+    pub stripe_light: [f32; 4],
+}
+
+impl SurfaceStyle {
+    pub fn new(mode: SurfaceMode) -> Self {
+        let mut style = SurfaceStyle {
+            mode: 0,
+            stripes: 8.0,
+            stripe_angle: 0.0,
+            stripe_width: 0.5,
+            range_min: -1.0,
+            range_max: 1.0,
+            _pad0: 0.0,
+            _pad1: 0.0,
+            // A neutral clay grey, linear.
+            base_color: [0.50, 0.52, 0.56, 1.0],
+            stripe_dark: [0.0, 0.0, 0.0, 1.0],
+            stripe_light: [1.0, 1.0, 1.0, 1.0],
+        };
+        match mode {
+            SurfaceMode::Shaded => {}
+            SurfaceMode::Zebra { stripes, angle_degrees, width_ratio } => {
+                style.mode = 1;
+                style.stripes = stripes.max(0.5);
+                style.stripe_angle = angle_degrees.to_radians();
+                style.stripe_width = width_ratio.clamp(0.02, 0.98);
+            }
+            SurfaceMode::Curvature { min, max, .. } => {
+                style.mode = 2;
+                style.range_min = min;
+                style.range_max = max;
+            }
+        }
+        style
+    }
+}
+
+/// Pipeline, style uniform and colour-map textures of the surface pass.
+#[derive(Debug)]
+pub struct SurfacePass {
+    pipeline: wgpu::RenderPipeline,
+    style_buffer: wgpu::Buffer,
+    bind_groups: [wgpu::BindGroup; 2],
+    map: ColorMap,
+}
+
+impl SurfacePass {
+    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, targets: &crate::TargetFormats, frame_layout: &wgpu::BindGroupLayout) -> Self {
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("surface.wgsl"),
+            source: wgpu::ShaderSource::Wgsl(shader_source(include_str!("../../../shaders/surface.wgsl")).into()),
+        });
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("surface style"),
+            entries: &[
+                wgpu::BindGroupLayoutEntry {
+                    binding: 0,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                    count: None,
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 1,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
+                    count: None,
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 2,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                    count: None,
+                },
+            ],
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("surface"),
+            bind_group_layouts: &[Some(frame_layout), Some(&layout)],
+            immediate_size: 0,
+        });
+        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("surface"),
+            layout: Some(&pipeline_layout),
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some("vs_main"),
+                compilation_options: Default::default(),
+                buffers: &[Some(wgpu::VertexBufferLayout {
+                    array_stride: std::mem::size_of::<SurfaceVertex>() as u64,
+                    step_mode: wgpu::VertexStepMode::Vertex,
+                    attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32],
+                })],
+            },
+            primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: targets.depth,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::Less),
+                stencil: Default::default(),
+                // Push the surface back a little so lines drawn on it win the depth test.
+                bias: wgpu::DepthBiasState { constant: 2, slope_scale: 1.0, clamp: 0.0 },
+            }),
+            multisample: wgpu::MultisampleState { count: targets.samples, ..Default::default() },
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some("fs_main"),
+                compilation_options: Default::default(),
+                targets: &[Some(targets.color.into())],
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
+        let style_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("surface style"),
+            contents: bytemuck::bytes_of(&SurfaceStyle::new(SurfaceMode::Shaded)),
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        });
+        let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("colour map"),
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            ..Default::default()
+        });
+        let bind_groups = [ColorMap::Diverging, ColorMap::Sequential].map(|map| {
+            let view = colormap_texture(device, queue, map).create_view(&Default::default());
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("surface style"),
+                layout: &layout,
+                entries: &[
+                    wgpu::BindGroupEntry { binding: 0, resource: style_buffer.as_entire_binding() },
+                    wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(&view) },
+                    wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::Sampler(&sampler) },
+                ],
+            })
+        });
+        SurfacePass { pipeline, style_buffer, bind_groups, map: ColorMap::Diverging }
+    }
+
+    /// Sets what the next draws show.
+    pub fn set_mode(&mut self, queue: &wgpu::Queue, mode: SurfaceMode) {
+        if let SurfaceMode::Curvature { map, .. } = mode {
+            self.map = map;
+        }
+        queue.write_buffer(&self.style_buffer, 0, bytemuck::bytes_of(&SurfaceStyle::new(mode)));
+    }
+
+    /// Draws a surface whose vertex and index buffers are bound by the caller's `mesh`.
+    pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>, frame: &wgpu::BindGroup, mesh: &crate::GpuSurface) {
+        if mesh.index_count == 0 {
+            return;
+        }
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, frame, &[]);
+        let group = match self.map {
+            ColorMap::Diverging => &self.bind_groups[0],
+            ColorMap::Sequential => &self.bind_groups[1],
+        };
+        pass.set_bind_group(1, group, &[]);
+        pass.set_vertex_buffer(0, mesh.vertices.slice(..));
+        pass.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
+        pass.draw_indexed(0..mesh.index_count, 0, 0..1);
+    }
+}
+
+/// A colour map as a 256 × 1 sRGB texture (shared with the legend).
+pub fn colormap_texture(device: &wgpu::Device, queue: &wgpu::Queue, map: ColorMap) -> wgpu::Texture {
+    let table = map.table();
+    device.create_texture_with_data(
+        queue,
+        &wgpu::TextureDescriptor {
+            label: Some("colour map"),
+            size: wgpu::Extent3d { width: colormap::SIZE as u32, height: 1, depth_or_array_layers: 1 },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: wgpu::TextureFormat::Rgba8UnormSrgb,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING,
+            view_formats: &[],
+        },
+        wgpu::util::TextureDataOrder::LayerMajor,
+        bytemuck::cast_slice(&table),
+    )
+}
