@@ -8,12 +8,21 @@ need=()
 # The tests build gltf's image support and the app's dependencies with the system C compiler.
 command -v cc >/dev/null 2>&1 || need+=(gcc)
 command -v pkg-config >/dev/null 2>&1 || need+=(pkg-config)
+# The render tests draw on Mesa's software Vulkan driver (lavapipe) through the Vulkan loader.
+installed() { dpkg-query -W -f='${Status}' "$1" 2>/dev/null | grep -q "install ok installed"; }
+installed mesa-vulkan-drivers || need+=(mesa-vulkan-drivers)
+installed libvulkan1 || need+=(libvulkan1)
 if [ ${#need[@]} -gt 0 ]; then
     echo "installing: ${need[*]}"
     SUDO=""
     [ "$(id -u)" -ne 0 ] && SUDO="sudo"
     $SUDO apt-get update -qq
     DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq "${need[@]}"
+fi
+
+# Software rendering needs a runtime directory; a CI shell may not have one.
+if [ -z "${XDG_RUNTIME_DIR:-}" ]; then
+    export XDG_RUNTIME_DIR="$(mktemp -d)"
 fi
 
 cargo test --workspace --locked "$@"

@@ -18,6 +18,13 @@ pub struct SmoothArgs {
     /// Where to write: .obj or .glb (the surface), or .taut (the cage document).
     #[arg(short, long)]
     pub output: PathBuf,
+    #[command(flatten)]
+    pub smoothing: SmoothingFlags,
+}
+
+/// The smoothing flags shared by `smooth` and `render`.
+#[derive(Debug, Args)]
+pub struct SmoothingFlags {
     /// Refinement levels [default: 3, or the .taut file's].
     #[arg(long)]
     pub levels: Option<u32>,
@@ -45,9 +52,23 @@ pub struct SmoothArgs {
     pub unfix: Vec<u32>,
 }
 
+impl SmoothingFlags {
+    /// True when any smoothing flag was given.
+    pub fn any(&self) -> bool {
+        self.levels.is_some()
+            || self.lambda.is_some()
+            || self.tol.is_some()
+            || self.max_iter.is_some()
+            || self.spacing.is_some()
+            || !self.tension_vertex.is_empty()
+            || !self.tension_edge.is_empty()
+            || !self.unfix.is_empty()
+    }
+}
+
 pub fn run(args: &SmoothArgs) -> Result<(), String> {
     let mut doc = load_document(&args.input)?;
-    apply_flags(&mut doc, args)?;
+    apply_flags(&mut doc, &args.smoothing)?;
     doc.validate().map_err(|e| e.to_string())?;
     let output_kind = extension(&args.output);
     if output_kind == "taut" {
@@ -58,7 +79,16 @@ pub fn run(args: &SmoothArgs) -> Result<(), String> {
     if output_kind != "obj" && output_kind != "glb" {
         return Err(format!("{}: unsupported output; use .obj, .glb or .taut", args.output.display()));
     }
-    let mut solver = SurfaceSolver::new(&doc).map_err(|e| e.to_string())?;
+    let solver = solve_reporting(&doc)?;
+    let surface = solver.surface();
+    io::export_mesh(&surface, &args.output).map_err(|e| e.to_string())?;
+    println!("wrote {} ({} vertices, {} faces)", args.output.display(), surface.vertex_count(), surface.face_count());
+    Ok(())
+}
+
+/// Solves a document, printing per level the iterations, final step and estimate.
+pub fn solve_reporting(doc: &Document) -> Result<SurfaceSolver, String> {
+    let mut solver = SurfaceSolver::new(doc).map_err(|e| e.to_string())?;
     let started = std::time::Instant::now();
     let result = solver.solve();
     for event in solver.take_events() {
@@ -85,10 +115,7 @@ pub fn run(args: &SmoothArgs) -> Result<(), String> {
         doc.settings.tol,
         elapsed.as_secs_f64() * 1e3
     );
-    let surface = solver.surface();
-    io::export_mesh(&surface, &args.output).map_err(|e| e.to_string())?;
-    println!("wrote {} ({} vertices, {} faces)", args.output.display(), surface.vertex_count(), surface.face_count());
-    Ok(())
+    Ok(solver)
 }
 
 /// Reads a cage document from any supported file, reporting what the import repaired.
@@ -103,7 +130,7 @@ pub fn load_document(path: &Path) -> Result<Document, String> {
     Ok(Document::new(mesh))
 }
 
-fn apply_flags(doc: &mut Document, args: &SmoothArgs) -> Result<(), String> {
+pub fn apply_flags(doc: &mut Document, args: &SmoothingFlags) -> Result<(), String> {
     let s = &mut doc.settings;
     if let Some(levels) = args.levels {
         s.levels = levels;
@@ -152,6 +179,6 @@ fn parse_index(text: &str, spec: &str, flag: &str) -> Result<VertexId, String> {
         .map_err(|_| format!("{flag} {spec}: '{text}' is not a vertex index (0-based)"))
 }
 
-fn extension(path: &Path) -> String {
+pub fn extension(path: &Path) -> String {
     path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase()
 }
