@@ -4,6 +4,7 @@
 //! one-line error message, printed on stderr with a non-zero exit status.
 
 mod curve_cmd;
+mod render_cmd;
 mod smooth_cmd;
 
 use clap::{Parser, Subcommand};
@@ -23,6 +24,8 @@ enum Command {
     Smooth(smooth_cmd::SmoothArgs),
     /// Smooth a polyline given as JSON, inserting points between the input points.
     SmoothCurve(curve_cmd::SmoothCurveArgs),
+    /// Draw a surface shaded, as zebra stripes or in curvature colour into a PNG.
+    Render(render_cmd::RenderArgs),
 }
 
 fn main() -> ExitCode {
@@ -40,6 +43,7 @@ fn main() -> ExitCode {
     let result = match &cli.command {
         Some(Command::Smooth(args)) => smooth_cmd::run(args),
         Some(Command::SmoothCurve(args)) => curve_cmd::run(args),
+        Some(Command::Render(args)) => render_cmd::run(args),
         None => {
             // The editor window is not built yet: show what the command line can do.
             use clap::CommandFactory;

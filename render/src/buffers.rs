@@ -53,12 +53,11 @@ impl SurfaceBuffers {
         if geometry_changed {
             let normals = mesh.vertex_normals();
             self.vertices.clear();
-            self.vertices.extend(
-                mesh.positions()
-                    .iter()
-                    .zip(&normals)
-                    .map(|(p, n)| SurfaceVertex { position: p.as_vec3().to_array(), normal: n.as_vec3().to_array(), value: 0.0 }),
-            );
+            self.vertices.extend(mesh.positions().iter().zip(&normals).map(|(p, n)| SurfaceVertex {
+                position: p.as_vec3().to_array(),
+                normal: n.as_vec3().to_array(),
+                value: 0.0,
+            }));
             self.generation = Some(mesh.generation());
         }
         Changes { vertices: vertices_changed, indices: topology_changed }
@@ -103,7 +102,12 @@ impl GpuSurface {
     pub fn new(device: &wgpu::Device, buffers: &SurfaceBuffers) -> Self {
         let vertex_bytes: &[u8] = bytemuck::cast_slice(buffers.vertices());
         let vertices = create_buffer(device, "surface vertices", vertex_bytes, wgpu::BufferUsages::VERTEX);
-        let indices = create_buffer(device, "surface indices", bytemuck::cast_slice(buffers.indices()), wgpu::BufferUsages::INDEX);
+        let indices = create_buffer(
+            device,
+            "surface indices",
+            bytemuck::cast_slice(buffers.indices()),
+            wgpu::BufferUsages::INDEX,
+        );
         GpuSurface {
             vertices,
             indices,
@@ -117,8 +121,12 @@ impl GpuSurface {
     /// rewritten in place when it fits, the index buffer only recreated for new indices.
     pub fn upload(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, buffers: &SurfaceBuffers, changes: Changes) {
         if changes.indices {
-            self.indices =
-                create_buffer(device, "surface indices", bytemuck::cast_slice(buffers.indices()), wgpu::BufferUsages::INDEX);
+            self.indices = create_buffer(
+                device,
+                "surface indices",
+                bytemuck::cast_slice(buffers.indices()),
+                wgpu::BufferUsages::INDEX,
+            );
             self.index_count = buffers.indices().len() as u32;
             self.index_uploads += 1;
         }

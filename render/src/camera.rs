@@ -68,7 +68,12 @@ impl Camera {
     pub fn clip_from_view(&self, aspect: f32) -> Mat4 {
         let near = (self.distance * 0.01).max(1e-6);
         // wgpu's clip space: depth in [0, 1], y up (glam's `directx` convention).
-        glam::camera::rh::proj::directx::perspective(self.fov_y.to_radians(), aspect.max(1e-6), near, self.distance * 100.0)
+        glam::camera::rh::proj::directx::perspective(
+            self.fov_y.to_radians(),
+            aspect.max(1e-6),
+            near,
+            self.distance * 100.0,
+        )
     }
 
     /// Turns the camera around the target.

@@ -13,12 +13,14 @@ pub mod colormap;
 pub mod frame;
 pub mod gpu;
 pub mod offscreen;
+pub mod overlay;
 pub mod passes;
 pub mod renderer;
 
 pub use buffers::{Changes, GpuSurface, SurfaceBuffers, SurfaceVertex};
 pub use camera::{Camera, StandardView};
 pub use gpu::{AdapterPreference, Gpu};
+pub use overlay::{CageSelection, CombStyle, Legend, LineSegment, OverlayData, PointMark, PointStyle};
 pub use renderer::{Renderer, Scene};
 
 /// What can go wrong on the display side.

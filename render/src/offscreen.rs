@@ -5,7 +5,13 @@ use crate::renderer::{Attachments, Renderer, Scene};
 use crate::{Gpu, RenderError};
 
 /// Renders `scene` at `width × height` and reads it back as tightly packed RGBA8 (sRGB) rows.
-pub fn render_image(gpu: &Gpu, renderer: &mut Renderer, scene: &Scene<'_>, width: u32, height: u32) -> Result<image::RgbaImage, RenderError> {
+pub fn render_image(
+    gpu: &Gpu,
+    renderer: &mut Renderer,
+    scene: &Scene<'_>,
+    width: u32,
+    height: u32,
+) -> Result<image::RgbaImage, RenderError> {
     if width == 0 || height == 0 || width > 16384 || height > 16384 {
         return Err(RenderError::Output(format!("picture size {width}x{height} is out of range (1 to 16384)")));
     }
@@ -31,12 +37,21 @@ pub fn render_image(gpu: &Gpu, renderer: &mut Renderer, scene: &Scene<'_>, width
         mapped_at_creation: false,
     });
     let mut encoder = device.create_command_encoder(&Default::default());
-    renderer.encode(&gpu.queue, &mut encoder, &view, &attachments, scene);
+    renderer.encode(device, &gpu.queue, &mut encoder, &view, &attachments, scene);
     encoder.copy_texture_to_buffer(
-        wgpu::TexelCopyTextureInfo { texture: &texture, mip_level: 0, origin: wgpu::Origin3d::ZERO, aspect: wgpu::TextureAspect::All },
+        wgpu::TexelCopyTextureInfo {
+            texture: &texture,
+            mip_level: 0,
+            origin: wgpu::Origin3d::ZERO,
+            aspect: wgpu::TextureAspect::All,
+        },
         wgpu::TexelCopyBufferInfo {
             buffer: &readback,
-            layout: wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(padded), rows_per_image: Some(height) },
+            layout: wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(padded),
+                rows_per_image: Some(height),
+            },
         },
         wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
     );
@@ -46,7 +61,9 @@ pub fn render_image(gpu: &Gpu, renderer: &mut Renderer, scene: &Scene<'_>, width
     slice.map_async(wgpu::MapMode::Read, move |r| {
         let _ = sender.send(r);
     });
-    device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| RenderError::Output(format!("waiting for the GPU: {e}")))?;
+    device
+        .poll(wgpu::PollType::wait_indefinitely())
+        .map_err(|e| RenderError::Output(format!("waiting for the GPU: {e}")))?;
     receiver
         .recv()
         .map_err(|_| RenderError::Output("the GPU never finished the picture".into()))?

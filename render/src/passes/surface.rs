@@ -74,7 +74,12 @@ pub struct SurfacePass {
 }
 
 impl SurfacePass {
-    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, targets: &crate::TargetFormats, frame_layout: &wgpu::BindGroupLayout) -> Self {
+    pub fn new(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        targets: &crate::TargetFormats,
+        frame_layout: &wgpu::BindGroupLayout,
+    ) -> Self {
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("surface.wgsl"),
             source: wgpu::ShaderSource::Wgsl(shader_source(include_str!("../../../shaders/surface.wgsl")).into()),

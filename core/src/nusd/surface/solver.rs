@@ -280,6 +280,33 @@ impl SurfaceSolver {
         &self.finest().state.r
     }
 
+    /// The finest level's vertices along each cage edge, in order from the edge's first end
+    /// vertex to its second: the surface's curve network (patch boundaries).
+    pub fn cage_edge_curves(&self) -> Vec<(crate::mesh::EdgeId, Vec<crate::mesh::VertexId>)> {
+        let topology = &self.finest().topology;
+        let mesh = &topology.mesh;
+        self.cage
+            .edges()
+            .map(|e| {
+                let (a, b) = self.cage.edge_vertices(e);
+                let mut chain = vec![a];
+                let mut current = a;
+                let mut previous = crate::mesh::VertexId::INVALID;
+                while current != b {
+                    let next = mesh
+                        .outgoing(current)
+                        .map(|h| (h, mesh.to_vertex(h)))
+                        .find(|&(h, v)| topology.edge_on_cage[h.edge().index()] == e.0 && v != previous);
+                    let Some((_, v)) = next else { break };
+                    previous = current;
+                    current = v;
+                    chain.push(v);
+                }
+                (e, chain)
+            })
+            .collect()
+    }
+
     fn finest(&self) -> &Level {
         let top = (self.settings.levels as usize).min(self.levels.len() - 1);
         &self.levels[top]

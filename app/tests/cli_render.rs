@@ -1,0 +1,172 @@
+//! `taut render` run as a designer would: pictures of the bundled cages on the software
+//! rasteriser, and clear one-line errors for bad arguments.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn taut(args: &[&str]) -> Output {
+    // Mesa's software rasteriser wants a runtime directory, as a desktop session has.
+    let runtime = std::env::temp_dir().join(format!("taut-cli-render-runtime-{}", std::process::id()));
+    std::fs::create_dir_all(&runtime).unwrap();
+    Command::new(env!("CARGO_BIN_EXE_taut"))
+        .args(args)
+        .env("XDG_RUNTIME_DIR", runtime)
+        .output()
+        .expect("the taut binary runs")
+}
+
+fn asset(name: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets").join(name).to_string_lossy().into_owned()
+}
+
+fn scratch(test: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("taut-cli-render-{}-{test}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn render(args: &[&str]) -> image::RgbaImage {
+    let out = taut(args);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let path = args.iter().position(|&a| a == "-o").map(|k| args[k + 1]).unwrap();
+    image::open(path).expect("a PNG was written").to_rgba8()
+}
+
+/// Fraction of pixels that are neither the background nor grey: coloured pixels.
+fn coloured_fraction(image: &image::RgbaImage) -> f64 {
+    let coloured = image.pixels().filter(|p| {
+        let (r, g, b) = (p[0] as i32, p[1] as i32, p[2] as i32);
+        (r - g).abs().max((g - b).abs()).max((r - b).abs()) > 40
+    });
+    coloured.count() as f64 / (image.width() * image.height()) as f64
+}
+
+#[test]
+fn views_of_the_default_scene() {
+    let dir = scratch("views");
+    let out = |name: &str| dir.join(name).to_string_lossy().into_owned();
+    let cage = asset("default.taut");
+    let shaded = render(&["render", &cage, "-o", &out("shaded.png"), "--size", "320x200", "--software"]);
+    assert_eq!(shaded.dimensions(), (320, 200));
+    assert!(coloured_fraction(&shaded) < 0.01, "the shaded view is grey");
+    let zebra =
+        render(&["render", &cage, "-o", &out("zebra.png"), "--size", "320x200", "--view", "zebra", "--software"]);
+    // Zebra: black and white pixels, many of both.
+    let (black, white) = zebra.pixels().fold((0, 0), |(b, w), p| (b + (p[0] < 30) as u32, w + (p[0] > 225) as u32));
+    assert!(black > 500 && white > 500, "black {black}, white {white}");
+    let mean = render(&[
+        "render",
+        &cage,
+        "-o",
+        &out("mean.png"),
+        "--size",
+        "320x200",
+        "--view",
+        "mean",
+        "--legend",
+        "--software",
+    ]);
+    assert!(coloured_fraction(&mean) > 0.05, "the curvature view is not coloured");
+    // The legend sits at the right: coloured pixels there that the shaded view lacks.
+    let right = |img: &image::RgbaImage| {
+        (img.width() - 40..img.width())
+            .flat_map(|x| (0..img.height()).map(move |y| (x, y)))
+            .filter(|&(x, y)| {
+                let p = img.get_pixel(x, y);
+                (p[0] as i32 - p[2] as i32).abs() > 60
+            })
+            .count()
+    };
+    assert!(right(&mean) > 200, "no colour bar at the right");
+    // A fixed range changes the colours.
+    let fixed = render(&[
+        "render",
+        &cage,
+        "-o",
+        &out("fixed.png"),
+        "--size",
+        "320x200",
+        "--view",
+        "mean",
+        "--range",
+        "-1,1",
+        "--software",
+    ]);
+    assert!(coloured_fraction(&fixed) < coloured_fraction(&mean), "a wide fixed range should wash the colours out");
+    // Overlays draw on top, and a different camera gives a different picture.
+    let cage_on = render(&[
+        "render",
+        &cage,
+        "-o",
+        &out("cage.png"),
+        "--size",
+        "320x200",
+        "--overlay",
+        "cage,wire,curves",
+        "--software",
+    ]);
+    let differing = shaded.pixels().zip(cage_on.pixels()).filter(|(a, b)| a != b).count();
+    assert!(differing > 1000);
+    let top = render(&["render", &cage, "-o", &out("top.png"), "--size", "320x200", "--camera", "0,90", "--software"]);
+    assert!(shaded.pixels().zip(top.pixels()).filter(|(a, b)| a != b).count() > 1000);
+}
+
+#[test]
+fn meshes_render_as_they_are_and_cages_when_asked() {
+    let dir = scratch("meshes");
+    let out = |name: &str| dir.join(name).to_string_lossy().into_owned();
+    let cube = asset("cube.obj");
+    let flat = render(&["render", &cube, "-o", &out("flat.png"), "--size", "200x200", "--view", "zebra", "--software"]);
+    let smoothed = render(&[
+        "render",
+        &cube,
+        "-o",
+        &out("smooth.png"),
+        "--size",
+        "200x200",
+        "--view",
+        "zebra",
+        "--levels",
+        "3",
+        "--software",
+    ]);
+    // The flat-faced cube has few stripes, the smoothed one many transitions.
+    let transitions = |img: &image::RgbaImage| {
+        let y = img.height() / 2;
+        (1..img.width()).filter(|&x| (img.get_pixel(x, y)[0] > 128) != (img.get_pixel(x - 1, y)[0] > 128)).count()
+    };
+    assert!(transitions(&smoothed) > transitions(&flat), "{} vs {}", transitions(&smoothed), transitions(&flat));
+}
+
+fn assert_clean_failure(out: &Output, expected: &str) {
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "expected failure; stderr: {stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    let ours: Vec<&str> = stderr.lines().filter(|l| l.starts_with("error:")).collect();
+    assert_eq!(ours.len(), 1, "{stderr}");
+    assert!(ours[0].contains(expected), "expected '{expected}' in: {stderr}");
+}
+
+#[test]
+fn bad_arguments_fail_with_one_clear_line() {
+    let dir = scratch("bad");
+    let png = dir.join("x.png").to_string_lossy().into_owned();
+    let cage = asset("default.taut");
+    let cube = asset("cube.obj");
+    assert_clean_failure(&taut(&["render", &cage, "-o", &png, "--view", "foo"]), "--view foo");
+    assert_clean_failure(&taut(&["render", &cage, "-o", &png, "--size", "0x5"]), "--size 0x5");
+    assert_clean_failure(&taut(&["render", &cage, "-o", &png, "--size", "big"]), "WIDTHxHEIGHT");
+    assert_clean_failure(&taut(&["render", &cage, "-o", &png, "--overlay", "cage,bogus"]), "--overlay bogus");
+    assert_clean_failure(&taut(&["render", &cage, "-o", &png, "--legend"]), "--legend goes with a curvature view");
+    assert_clean_failure(
+        &taut(&["render", &cage, "-o", &png, "--view", "mean", "--range", "3,1"]),
+        "MIN must be below MAX",
+    );
+    assert_clean_failure(&taut(&["render", &cage, "-o", &png, "--camera", "a,b"]), "not a number");
+    assert_clean_failure(&taut(&["render", &cage, "-o", &png, "--camera", "10,20,-4"]), "distance must be positive");
+    assert_clean_failure(&taut(&["render", &cube, "-o", &png, "--view", "r"]), "--view r");
+    assert_clean_failure(&taut(&["render", &cube, "-o", &png, "--overlay", "cage"]), "needs a cage");
+    assert_clean_failure(&taut(&["render", &cage, "-o", &dir.join("x.jpg").to_string_lossy()]), ".png");
+    assert!(!Path::new(&png).exists());
+}

@@ -1,0 +1,515 @@
+//! What is drawn over the surface, on the CPU: cage edges and vertices, the refined wireframe,
+//! curves with curvature combs, and the curvature legend (`shared/spec/rendering.md`,
+//! "Overlays"). The passes in [`crate::passes`] draw an [`OverlayData`] as it is; the builders
+//! here decide how a designer's document looks.
+//!
+//! Colours are linear RGBA (the targets are sRGB, so the GPU encodes them); widths and radii are
+//! in physical pixels, so overlays keep their size when the camera zooms.
+//!
+//! Cage style, chosen to read on the clay grey, the zebra stripes and the colour maps alike:
+//! - fixed (interpolated) vertices are dark filled discs with a light halo, moving
+//!   (approximated) vertices light rings with a dark halo;
+//! - tension saturates at τ = [`TENSION_SATURATION`]: with `s = clamp(τ / 4, 0, 1)` an edge is
+//!   `1.5 + 3·s` px wide and its colour goes linearly from [`EDGE_NEUTRAL`] to
+//!   [`TENSION_WARM`]; a vertex mark grows by `3·s` px and gains a ring of [`TENSION_WARM`]
+//!   around it whose opacity grows with `s`;
+//! - selected edges and vertices take the [`SELECTED`] orange, hovered ones are lightened
+//!   towards white and enlarged; both are drawn after the others so they are never covered.
+
+use crate::colormap::ColorMap;
+use glam::Vec3;
+use taut_core::{DVec3, EdgeId, PolyMesh, VertexId};
+
+/// One straight piece of line, drawn `width_px` wide with round ends.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LineSegment {
+    pub a: Vec3,
+    pub b: Vec3,
+    /// Linear RGBA.
+    pub color: [f32; 4],
+    pub width_px: f32,
+}
+
+/// How a [`PointMark`] is drawn.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PointStyle {
+    /// A disc.
+    Filled,
+    /// A circle outline, `max(1.5, 0.3·radius)` px thick; the centre stays see-through.
+    Ring,
+}
+
+/// A mark at a point, always on top of the surface.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PointMark {
+    pub position: Vec3,
+    /// Linear RGBA.
+    pub color: [f32; 4],
+    pub radius_px: f32,
+    pub style: PointStyle,
+}
+
+/// The colour-map legend of the curvature view.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Legend {
+    pub map: ColorMap,
+    /// The values at the bottom and the top of the bar.
+    pub min: f64,
+    pub max: f64,
+    /// The quantity's name, shown above the bar.
+    pub title: String,
+}
+
+/// Everything drawn over the surface in one frame. Layers draw in the order of the fields.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct OverlayData {
+    /// Lines tested against the surface's depth, pulled slightly towards the camera so a line
+    /// lying on the surface wins: the refined wireframe, curves, curvature combs.
+    pub surface_lines: Vec<LineSegment>,
+    /// Lines always visible, drawn after the surface: the cage edges.
+    pub on_top_lines: Vec<LineSegment>,
+    /// Marks always visible: the cage vertices.
+    pub points: Vec<PointMark>,
+    pub legend: Option<Legend>,
+}
+
+/// Which cage elements the designer has selected or is pointing at.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct CageSelection {
+    pub selected_vertices: Vec<VertexId>,
+    pub selected_edges: Vec<EdgeId>,
+    pub hovered_vertex: Option<VertexId>,
+    pub hovered_edge: Option<EdgeId>,
+}
+
+/// Tension at which edge width, vertex size and the warm colour stop growing.
+pub const TENSION_SATURATION: f64 = 4.0;
+/// Cage edge colour at τ = 0: a neutral grey-blue (sRGB ≈ 149, 170, 203).
+pub const EDGE_NEUTRAL: [f32; 4] = [0.30, 0.40, 0.60, 1.0];
+/// Colour of full tension: a warm crimson (sRGB ≈ 231, 56, 124), apart from the selection orange.
+pub const TENSION_WARM: [f32; 4] = [0.80, 0.04, 0.20, 1.0];
+/// Accent of selected edges and vertices: orange (sRGB ≈ 255, 156, 0).
+pub const SELECTED: [f32; 4] = [1.0, 0.33, 0.0, 1.0];
+/// Fill of fixed vertices: near black.
+pub const FIXED_VERTEX: [f32; 4] = [0.012, 0.012, 0.016, 1.0];
+/// Ring of moving vertices: a light blue-white.
+pub const MOVING_VERTEX: [f32; 4] = [0.72, 0.80, 0.95, 1.0];
+
+const EDGE_WIDTH: f32 = 1.5;
+const EDGE_WIDTH_PER_TENSION: f32 = 3.0;
+const VERTEX_RADIUS: f32 = 4.5;
+const VERTEX_RADIUS_PER_TENSION: f32 = 3.0;
+const HALO_LIGHT: [f32; 4] = [0.85, 0.87, 0.90, 0.9];
+const HALO_DARK: [f32; 4] = [0.0, 0.0, 0.0, 0.6];
+
+/// Tension mapped to `[0, 1]`, saturating at [`TENSION_SATURATION`]; non-finite or negative
+/// values read as 0.
+pub fn tension_level(tau: f64) -> f32 {
+    if tau.is_finite() { (tau / TENSION_SATURATION).clamp(0.0, 1.0) as f32 } else { 0.0 }
+}
+
+fn mix(a: [f32; 4], b: [f32; 4], t: f32) -> [f32; 4] {
+    std::array::from_fn(|i| a[i] * (1.0 - t) + b[i] * t)
+}
+
+/// Lightened towards white, for the element under the cursor.
+fn hover(c: [f32; 4]) -> [f32; 4] {
+    let light = mix(c, [1.0; 4], 0.45);
+    [light[0], light[1], light[2], c[3]]
+}
+
+/// Drawing priority: plain, then selected, then hovered last (on top).
+#[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+enum Emphasis {
+    Plain,
+    Selected,
+    Hovered,
+}
+
+/// The cage's edges (on-top lines) and vertex marks, styled as the module documentation says.
+/// `fixed`, `vertex_tension` and `edge_tension` are indexed by vertex and edge; missing entries
+/// read as moving and τ = 0.
+pub fn cage_overlay(
+    cage: &PolyMesh,
+    fixed: &[bool],
+    vertex_tension: &[f64],
+    edge_tension: &[f64],
+    selection: &CageSelection,
+) -> (Vec<LineSegment>, Vec<PointMark>) {
+    let mut selected_edge = vec![false; cage.edge_count()];
+    for e in &selection.selected_edges {
+        if let Some(flag) = selected_edge.get_mut(e.index()) {
+            *flag = true;
+        }
+    }
+    let mut selected_vertex = vec![false; cage.vertex_count()];
+    for v in &selection.selected_vertices {
+        if let Some(flag) = selected_vertex.get_mut(v.index()) {
+            *flag = true;
+        }
+    }
+
+    let mut lines: Vec<(Emphasis, LineSegment)> = cage
+        .edges()
+        .map(|e| {
+            let (a, b) = cage.edge_vertices(e);
+            let s = tension_level(edge_tension.get(e.index()).copied().unwrap_or(0.0));
+            let mut line = LineSegment {
+                a: cage.position(a).as_vec3(),
+                b: cage.position(b).as_vec3(),
+                color: mix(EDGE_NEUTRAL, TENSION_WARM, s),
+                width_px: EDGE_WIDTH + EDGE_WIDTH_PER_TENSION * s,
+            };
+            let mut emphasis = Emphasis::Plain;
+            if selected_edge[e.index()] {
+                emphasis = Emphasis::Selected;
+                line.color = SELECTED;
+                line.width_px += 1.0;
+            }
+            if selection.hovered_edge == Some(e) {
+                emphasis = Emphasis::Hovered;
+                line.color = hover(line.color);
+                line.width_px = line.width_px * 1.5 + 1.0;
+            }
+            (emphasis, line)
+        })
+        .collect();
+
+    let mut points: Vec<(Emphasis, PointMark)> = Vec::with_capacity(cage.vertex_count() * 3);
+    for v in cage.vertices() {
+        let position = cage.position(v).as_vec3();
+        let is_fixed = fixed.get(v.index()).copied().unwrap_or(false);
+        let s = tension_level(vertex_tension.get(v.index()).copied().unwrap_or(0.0));
+        let mut emphasis = Emphasis::Plain;
+        let (mut color, style) =
+            if is_fixed { (FIXED_VERTEX, PointStyle::Filled) } else { (MOVING_VERTEX, PointStyle::Ring) };
+        let mut radius_px = VERTEX_RADIUS + VERTEX_RADIUS_PER_TENSION * s;
+        if selected_vertex[v.index()] {
+            emphasis = Emphasis::Selected;
+            color = SELECTED;
+        }
+        if selection.hovered_vertex == Some(v) {
+            emphasis = Emphasis::Hovered;
+            color = hover(color);
+            radius_px += 2.0;
+        }
+        let mark = |color, radius_px, style| (emphasis, PointMark { position, color, radius_px, style });
+        if s > 0.0 {
+            let warm = [TENSION_WARM[0], TENSION_WARM[1], TENSION_WARM[2], 0.35 + 0.65 * s];
+            points.push(mark(warm, radius_px + 3.0 + 2.0 * s, PointStyle::Ring));
+        }
+        // A halo of the opposite lightness keeps the mark readable on any background.
+        let halo = if is_fixed || emphasis != Emphasis::Plain { HALO_LIGHT } else { HALO_DARK };
+        points.push(mark(halo, radius_px + 1.5, style));
+        points.push(mark(color, radius_px, style));
+    }
+
+    // A stable sort keeps the order within each emphasis and puts highlighted ones last.
+    lines.sort_by_key(|(e, _)| *e);
+    points.sort_by_key(|(e, _)| *e);
+    (lines.into_iter().map(|(_, l)| l).collect(), points.into_iter().map(|(_, p)| p).collect())
+}
+
+/// Every edge of `mesh` once, as depth-tested lines (the refined wireframe).
+pub fn wireframe(mesh: &PolyMesh, color: [f32; 4], width_px: f32) -> Vec<LineSegment> {
+    mesh.edges()
+        .map(|e| {
+            let (a, b) = mesh.edge_vertices(e);
+            LineSegment { a: mesh.position(a).as_vec3(), b: mesh.position(b).as_vec3(), color, width_px }
+        })
+        .collect()
+}
+
+/// How a curve and its curvature comb look.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CombStyle {
+    /// Tooth length per unit curvature: a tooth is `scale · κ` long, so on a circle of radius
+    /// `R` every tooth is `scale / R` (a length squared, in model units²).
+    pub scale: f64,
+    /// A tooth at every `density`-th point (1: every point; 0 reads as 1).
+    pub density: usize,
+    /// Teeth towards the centre of curvature instead of away from it. The default (`false`)
+    /// draws them away from the centre, on the convex side, as Rhino's CurvatureGraph does, so
+    /// the comb never crosses the inside of a bend.
+    pub inward: bool,
+    pub curve_color: [f32; 4],
+    pub curve_width_px: f32,
+    pub tooth_color: [f32; 4],
+    pub tooth_width_px: f32,
+    /// The envelope joining the tooth tips.
+    pub envelope_color: [f32; 4],
+    pub envelope_width_px: f32,
+}
+
+impl Default for CombStyle {
+    fn default() -> Self {
+        CombStyle {
+            scale: 1.0,
+            density: 1,
+            inward: false,
+            curve_color: [0.90, 0.90, 0.92, 1.0],
+            curve_width_px: 2.0,
+            tooth_color: [0.10, 0.55, 1.0, 0.75],
+            tooth_width_px: 1.0,
+            envelope_color: [0.05, 0.40, 1.0, 1.0],
+            envelope_width_px: 1.5,
+        }
+    }
+}
+
+/// The tips of the comb's teeth: `(point, tip)` for every `density`-th point. Curvature comes
+/// from [`taut_core::curvature::polyline_curvature`] (Menger curvature through each point and its
+/// neighbours; open ends copy their neighbour's).
+fn comb_teeth(points: &[DVec3], closed: bool, comb: &CombStyle) -> Vec<(DVec3, DVec3)> {
+    let curvature = taut_core::curvature::polyline_curvature(points, closed);
+    let sign = if comb.inward { 1.0 } else { -1.0 };
+    let step = comb.density.max(1);
+    let mut samples: Vec<usize> = (0..points.len()).step_by(step).collect();
+    // An open curve's comb reaches its last point, so the envelope spans the whole curve.
+    if !closed && points.len() > 1 && samples.last() != Some(&(points.len() - 1)) {
+        samples.push(points.len() - 1);
+    }
+    samples.into_iter().map(|i| (points[i], points[i] + sign * comb.scale * curvature.curvature[i])).collect()
+}
+
+/// A curve and its curvature comb (porcupine): the polyline itself, a tooth along the
+/// curvature direction at every `density`-th point, `scale · κ` long, and the envelope joining
+/// the tooth tips. All lines are depth-tested (put them in [`OverlayData::surface_lines`]).
+pub fn polyline_with_comb(points: &[DVec3], closed: bool, comb: &CombStyle) -> Vec<LineSegment> {
+    let line = |a: DVec3, b: DVec3, color, width_px| LineSegment { a: a.as_vec3(), b: b.as_vec3(), color, width_px };
+    let n = points.len();
+    let links = if closed && n > 2 { n } else { n.saturating_sub(1) };
+    let mut out: Vec<LineSegment> =
+        (0..links).map(|i| line(points[i], points[(i + 1) % n], comb.curve_color, comb.curve_width_px)).collect();
+    if comb.scale == 0.0 || !comb.scale.is_finite() || n < 3 {
+        return out;
+    }
+    let teeth = comb_teeth(points, closed, comb);
+    out.extend(teeth.iter().map(|&(p, tip)| line(p, tip, comb.tooth_color, comb.tooth_width_px)));
+    let tips: Vec<DVec3> = teeth.iter().map(|t| t.1).collect();
+    let envelope_links = if closed { tips.len() } else { tips.len().saturating_sub(1) };
+    out.extend(
+        (0..envelope_links)
+            .map(|i| line(tips[i], tips[(i + 1) % tips.len()], comb.envelope_color, comb.envelope_width_px)),
+    );
+    out
+}
+
+/// A legend number with `significant` digits, as short as reads well: plain decimals for
+/// magnitudes from 0.001 to below 10 000 (`0.0123`, `12.3`, `1500`), otherwise scientific
+/// (`-4.5e-5`, `1.23e5`); trailing zeros dropped; exactly `0` for zero.
+pub fn format_number(x: f64, significant: usize) -> String {
+    if !x.is_finite() {
+        return if x.is_nan() {
+            "nan".into()
+        } else if x > 0.0 {
+            "inf".into()
+        } else {
+            "-inf".into()
+        };
+    }
+    if x == 0.0 {
+        return "0".into();
+    }
+    let digits = significant.max(1);
+    // Rounding to the significant digits first tells the exponent after rounding (9.996 → 1.00e1).
+    let scientific = format!("{:.*e}", digits - 1, x);
+    let (mantissa, exponent) = scientific.split_once('e').unwrap_or((&scientific, "0"));
+    let exponent: i32 = exponent.parse().unwrap_or(0);
+    let trim = |s: &str| -> String {
+        if s.contains('.') { s.trim_end_matches('0').trim_end_matches('.').to_string() } else { s.to_string() }
+    };
+    if (-3..4).contains(&exponent) {
+        let rounded: f64 = scientific.parse().unwrap_or(x);
+        let decimals = (digits as i32 - 1 - exponent).max(0) as usize;
+        trim(&format!("{rounded:.decimals$}"))
+    } else {
+        format!("{}e{exponent}", trim(mantissa))
+    }
+}
+
+/// The short title a legend shows for a curvature quantity (the panel stays narrow).
+pub fn legend_title(q: taut_core::curvature::CurvatureQuantity) -> &'static str {
+    use taut_core::curvature::CurvatureQuantity as Q;
+    match q {
+        Q::Mean => "mean H",
+        Q::Gaussian => "Gauss K",
+        Q::MinPrincipal => "kmin",
+        Q::MaxPrincipal => "kmax",
+        Q::MaxAbsolute => "|k|max",
+        Q::NusdR => "NUSD |R|",
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn cube() -> PolyMesh {
+        let p = (0..8).map(|i| DVec3::new((i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64)).collect();
+        let faces = [[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]];
+        PolyMesh::from_polygons(p, &faces).unwrap()
+    }
+
+    /// The mark drawn last for a vertex of a single-vertex-styled cage (its own colour, not halo).
+    fn vertex_mark(points: &[PointMark], at: Vec3) -> PointMark {
+        *points.iter().rev().find(|p| p.position == at).unwrap()
+    }
+
+    #[test]
+    fn fixed_moving_selected_and_hovered_vertices_look_different() {
+        let cage = cube();
+        let fixed = [true, false, true, false, false, false, false, false];
+        let selection = CageSelection {
+            selected_vertices: vec![VertexId(2), VertexId(3)],
+            hovered_vertex: Some(VertexId(4)),
+            ..Default::default()
+        };
+        let (_, points) = cage_overlay(&cage, &fixed, &[0.0; 8], &[0.0; 12], &selection);
+        let at = |v: u32| cage.position(VertexId(v)).as_vec3();
+        let (fixed_mark, moving, selected_fixed, selected_moving, hovered) = (
+            vertex_mark(&points, at(0)),
+            vertex_mark(&points, at(1)),
+            vertex_mark(&points, at(2)),
+            vertex_mark(&points, at(3)),
+            vertex_mark(&points, at(4)),
+        );
+        assert_eq!(fixed_mark.style, PointStyle::Filled);
+        assert_eq!(moving.style, PointStyle::Ring);
+        assert_eq!((selected_fixed.style, selected_moving.style), (PointStyle::Filled, PointStyle::Ring));
+        let colors = [fixed_mark.color, moving.color, selected_fixed.color, hovered.color];
+        for i in 0..colors.len() {
+            for j in i + 1..colors.len() {
+                assert_ne!(colors[i], colors[j], "{i} and {j}");
+            }
+        }
+        assert_eq!(selected_fixed.color, SELECTED);
+        assert!(hovered.radius_px > moving.radius_px);
+        // Selected and hovered marks come after all plain ones, hovered last.
+        assert_eq!(points.last().unwrap().position, at(4));
+        let first_selected = points.iter().position(|p| p.color == SELECTED).unwrap();
+        assert!(points[first_selected..].iter().all(|p| [at(2), at(3), at(4)].contains(&p.position)));
+    }
+
+    #[test]
+    fn tension_widens_edges_and_warms_them_monotonically() {
+        let cage = cube();
+        let taus = [0.0, 0.5, 1.0, 2.0, 3.0, 4.0, 8.0, 20.0, f64::NAN, -1.0, 0.0, 0.0];
+        let (lines, _) = cage_overlay(&cage, &[], &[], &taus, &CageSelection::default());
+        assert_eq!(lines.len(), 12);
+        let (w, red): (Vec<f32>, Vec<f32>) = lines[..8].iter().map(|l| (l.width_px, l.color[0])).unzip();
+        assert!(w.windows(2).all(|p| p[1] >= p[0]) && w[5] > w[0], "{w:?}");
+        assert!(red.windows(2).all(|p| p[1] >= p[0]) && red[5] > red[0], "{red:?}");
+        // Saturated from τ = 4, and nonsense tensions read as none.
+        assert_eq!(lines[5], LineSegment { a: lines[5].a, b: lines[5].b, ..lines[7] });
+        assert_eq!((lines[8].width_px, lines[9].width_px), (lines[0].width_px, lines[0].width_px));
+        assert_eq!(lines[0].color, EDGE_NEUTRAL);
+        assert_eq!(lines[5].color, TENSION_WARM);
+
+        // Vertex tension enlarges the mark and adds a warm ring.
+        let (_, calm) = cage_overlay(&cage, &[false; 8], &[0.0; 8], &[], &CageSelection::default());
+        let (_, tense) = cage_overlay(&cage, &[false; 8], &[4.0; 8], &[], &CageSelection::default());
+        assert!(tense.len() > calm.len());
+        assert!(vertex_mark(&tense, Vec3::ZERO).radius_px > vertex_mark(&calm, Vec3::ZERO).radius_px);
+        assert!(tense.iter().any(|p| p.color[..3] == TENSION_WARM[..3]));
+    }
+
+    #[test]
+    fn selected_and_hovered_edges_stand_out_and_come_last() {
+        let cage = cube();
+        let selection =
+            CageSelection { selected_edges: vec![EdgeId(0)], hovered_edge: Some(EdgeId(1)), ..Default::default() };
+        let (lines, _) = cage_overlay(&cage, &[], &[], &[], &selection);
+        let (plain, selected, hovered) = (lines[0], lines[10], lines[11]);
+        assert_eq!(selected.color, SELECTED);
+        assert!(selected.width_px > plain.width_px && hovered.width_px > plain.width_px);
+        assert!(hovered.color != plain.color && hovered.color != selected.color);
+        let (a, b) = cage.edge_vertices(EdgeId(1));
+        assert_eq!((hovered.a, hovered.b), (cage.position(a).as_vec3(), cage.position(b).as_vec3()));
+    }
+
+    #[test]
+    fn wireframe_has_one_segment_per_edge() {
+        let cage = cube();
+        let lines = wireframe(&cage, [1.0; 4], 1.0);
+        assert_eq!(lines.len(), cage.edge_count());
+        let mut keys: Vec<_> = lines
+            .iter()
+            .map(|l| {
+                let (a, b) = (l.a.to_array().map(f32::to_bits), l.b.to_array().map(f32::to_bits));
+                if a < b { (a, b) } else { (b, a) }
+            })
+            .collect();
+        keys.sort();
+        keys.dedup();
+        assert_eq!(keys.len(), 12);
+    }
+
+    #[test]
+    fn comb_teeth_on_a_circle_have_length_scale_over_radius_and_point_outward() {
+        let (radius, n) = (2.5, 40usize);
+        let centre = DVec3::new(1.0, -2.0, 0.5);
+        // A circle in a tilted plane, spanned by the unit vectors (1, 0, 0) and (0, 0.6, 0.8).
+        let circle: Vec<DVec3> = (0..n)
+            .map(|i| {
+                let t = i as f64 / n as f64 * std::f64::consts::TAU;
+                centre + radius * (t.cos() * DVec3::X + t.sin() * DVec3::new(0.0, 0.6, 0.8))
+            })
+            .collect();
+        for inward in [false, true] {
+            let comb = CombStyle { scale: 0.7, density: 3, inward, ..Default::default() };
+            let teeth = comb_teeth(&circle, true, &comb);
+            assert_eq!(teeth.len(), n.div_ceil(3));
+            for (p, tip) in &teeth {
+                let tooth = *tip - *p;
+                assert!((tooth.length() - 0.7 / radius).abs() < 1e-9, "{}", tooth.length());
+                let outward = tooth.normalize().dot((*p - centre).normalize());
+                assert!((outward - if inward { -1.0 } else { 1.0 }).abs() < 1e-9, "{outward}");
+            }
+            let lines = polyline_with_comb(&circle, true, &comb);
+            // The curve, the teeth, and a closed envelope.
+            assert_eq!(lines.len(), n + 2 * teeth.len());
+        }
+    }
+
+    #[test]
+    fn open_curves_comb_to_their_last_point_and_straight_ones_have_flat_teeth() {
+        let line: Vec<DVec3> = (0..7).map(|i| DVec3::new(i as f64, 0.0, 0.0)).collect();
+        let comb = CombStyle { density: 4, ..Default::default() };
+        let teeth = comb_teeth(&line, false, &comb);
+        assert_eq!(teeth.iter().map(|t| t.0.x).collect::<Vec<_>>(), [0.0, 4.0, 6.0]);
+        assert!(teeth.iter().all(|(p, tip)| p == tip));
+        assert_eq!(polyline_with_comb(&line, false, &comb).len(), 6 + 3 + 2);
+        assert_eq!(polyline_with_comb(&line[..2], false, &comb).len(), 1);
+        assert!(polyline_with_comb(&[], true, &comb).is_empty());
+    }
+
+    #[test]
+    fn legend_numbers_are_short_and_keep_their_digits() {
+        let cases = [
+            (0.0123, "0.0123"),
+            (-4.5e-5, "-4.5e-5"),
+            (12.3, "12.3"),
+            (12.34, "12.3"),
+            (0.5, "0.5"),
+            (1.0, "1"),
+            (-2.0, "-2"),
+            (100.0, "100"),
+            (1234.0, "1230"),
+            (0.001, "0.001"),
+            (0.00099, "9.9e-4"),
+            (9.996, "10"),
+            (99999.0, "1e5"),
+            (123456.0, "1.23e5"),
+            (-0.0, "0"),
+            (0.0, "0"),
+            (f64::NAN, "nan"),
+            (f64::NEG_INFINITY, "-inf"),
+        ];
+        for (x, want) in cases {
+            assert_eq!(format_number(x, 3), want, "{x}");
+        }
+        assert_eq!(format_number(std::f64::consts::PI, 5), "3.1416");
+        assert_eq!(format_number(std::f64::consts::PI, 0), "3");
+    }
+}

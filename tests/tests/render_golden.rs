@@ -1,0 +1,209 @@
+//! Golden pictures of the bundled cages on Mesa's software rasteriser (lavapipe): zebra and
+//! curvature views, chord against uniform spacing, with and without tension, and a crease that
+//! must break the stripes. `UPDATE_SNAPSHOTS=1` rewrites the references (look at them first);
+//! a failure writes `NAME.actual.png` and `NAME.diff.png` next to the reference.
+//!
+//! These tests fail, never skip, when no adapter is found: the message says what to install.
+
+use std::path::Path;
+use std::sync::{Mutex, OnceLock};
+use taut_core::curvature::{CurvatureQuantity, robust_range, vertex_curvature};
+use taut_core::nusd::Spacing;
+use taut_core::nusd::surface::SurfaceSolver;
+use taut_core::{DVec3, Document, PolyMesh, VertexId, io};
+use taut_render::colormap::ColorMap;
+use taut_render::overlay::{self, CageSelection, Legend, OverlayData};
+use taut_render::passes::surface::SurfaceMode;
+use taut_render::{
+    AdapterPreference, Camera, Gpu, GpuSurface, Renderer, Scene, SurfaceBuffers, TargetFormats, offscreen,
+};
+use taut_tests::golden::{DEFAULT_TOLERANCE, check};
+
+const SIZE: (u32, u32) = (480, 320);
+
+struct Display {
+    gpu: Gpu,
+    renderer: Renderer,
+}
+
+/// One software device for all tests of this file (lavapipe is slow to open).
+fn display() -> &'static Mutex<Display> {
+    static DISPLAY: OnceLock<Mutex<Display>> = OnceLock::new();
+    DISPLAY.get_or_init(|| {
+        let gpu = Gpu::headless(AdapterPreference::Software)
+            .unwrap_or_else(|e| panic!("render tests need a GPU adapter: {e}"));
+        let targets = TargetFormats::for_adapter(&gpu.adapter, wgpu::TextureFormat::Rgba8UnormSrgb);
+        let renderer = Renderer::new(&gpu, targets);
+        Mutex::new(Display { gpu, renderer })
+    })
+}
+
+fn asset(name: &str) -> Document {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets").join(name);
+    if name.ends_with(".taut") {
+        Document::load(&path).unwrap()
+    } else {
+        Document::new(io::import_mesh(&path).unwrap().0)
+    }
+}
+
+fn smooth(doc: &Document) -> (PolyMesh, Vec<DVec3>) {
+    let mut solver = SurfaceSolver::new(doc).unwrap();
+    solver.solve().unwrap();
+    (solver.surface(), solver.surface_second_derivatives().to_vec())
+}
+
+fn picture(
+    surface: &PolyMesh,
+    mode: SurfaceMode,
+    values: Option<&[f64]>,
+    overlays: Option<&OverlayData>,
+    view: (f32, f32),
+) -> image::RgbaImage {
+    let mut display = display().lock().unwrap_or_else(|e| e.into_inner());
+    let Display { gpu, renderer } = &mut *display;
+    let mut buffers = SurfaceBuffers::default();
+    buffers.update(surface);
+    if let Some(values) = values {
+        buffers.set_values(&values.iter().map(|&v| v as f32).collect::<Vec<_>>());
+    }
+    let gpu_surface = GpuSurface::new(&gpu.device, &buffers);
+    let mut camera = Camera::default();
+    let (lo, hi) = surface.bounding_box().unwrap();
+    camera.frame(lo.as_vec3(), hi.as_vec3());
+    (camera.azimuth, camera.elevation) = view;
+    let mut scene = Scene::new(camera, Some(&gpu_surface), mode);
+    scene.overlays = overlays;
+    offscreen::render_image(gpu, renderer, &scene, SIZE.0, SIZE.1).unwrap()
+}
+
+const ZEBRA: SurfaceMode = SurfaceMode::Zebra { stripes: 10.0, angle_degrees: 0.0, width_ratio: 0.5 };
+const VIEW: (f32, f32) = (30.0, 25.0);
+
+fn golden(name: &str, image: &image::RgbaImage) {
+    if let Err(message) = check(name, image, DEFAULT_TOLERANCE) {
+        panic!("{message}");
+    }
+}
+
+fn curvature_picture(doc: &Document, q: CurvatureQuantity, view: (f32, f32)) -> image::RgbaImage {
+    let (surface, r) = smooth(doc);
+    let values = vertex_curvature(&surface).values(q, Some(&r)).unwrap();
+    let (min, max) = robust_range(&values, q.is_signed());
+    let map = if q.is_signed() { ColorMap::Diverging } else { ColorMap::Sequential };
+    let overlays = OverlayData {
+        legend: Some(Legend { map, min, max, title: overlay::legend_title(q).into() }),
+        ..Default::default()
+    };
+    let mode = SurfaceMode::Curvature { map, min: min as f32, max: max as f32 };
+    picture(&surface, mode, Some(&values), Some(&overlays), view)
+}
+
+#[test]
+fn zebra_of_every_bundled_cage() {
+    for (name, view) in [
+        ("default.taut", VIEW),
+        ("cube.obj", VIEW),
+        ("prism.obj", VIEW),
+        ("patch.obj", (20.0, 50.0)),
+        ("torus.obj", (30.0, 40.0)),
+    ] {
+        let (surface, _) = smooth(&asset(name));
+        golden(&format!("zebra-{}", name.replace('.', "-")), &picture(&surface, ZEBRA, None, None, view));
+    }
+}
+
+#[test]
+fn curvature_views_with_legends() {
+    golden("mean-default", &curvature_picture(&asset("default.taut"), CurvatureQuantity::Mean, VIEW));
+    golden("gaussian-torus", &curvature_picture(&asset("torus.obj"), CurvatureQuantity::Gaussian, (30.0, 40.0)));
+    golden("kmax-prism", &curvature_picture(&asset("prism.obj"), CurvatureQuantity::MaxPrincipal, VIEW));
+    golden("r-default", &curvature_picture(&asset("default.taut"), CurvatureQuantity::NusdR, VIEW));
+}
+
+#[test]
+fn chord_and_uniform_spacing_differ_and_tension_shows() {
+    let chord = asset("default.taut");
+    let mut uniform = chord.clone();
+    uniform.settings.spacing = Spacing::Uniform;
+    let (a, _) = smooth(&chord);
+    let (b, _) = smooth(&uniform);
+    let picture_a = picture(&a, ZEBRA, None, None, VIEW);
+    let picture_b = picture(&b, ZEBRA, None, None, VIEW);
+    golden("zebra-default-uniform", &picture_b);
+    // The two spacings give visibly different stripes on the default scene.
+    let differing =
+        picture_a.pixels().zip(picture_b.pixels()).filter(|(p, q)| (0..3).any(|c| p[c].abs_diff(q[c]) > 64)).count();
+    assert!(differing > 2000, "chord and uniform pictures differ in only {differing} pixels");
+
+    let mut tense = chord.clone();
+    tense.settings.lambda = 0.3;
+    let apex = VertexId(tense.cage.vertex_count() as u32 - 1);
+    tense.set_vertex_tension(apex, 3.0).unwrap();
+    for k in 0..8 {
+        tense.set_edge_tension(VertexId(8 + k), VertexId(16 + k), 2.0).unwrap();
+    }
+    let (t, _) = smooth(&tense);
+    let (lines, points) = overlay::cage_overlay(
+        &tense.cage,
+        &tense.fixed,
+        &tense.vertex_tension,
+        &tense.edge_tension,
+        &CageSelection::default(),
+    );
+    let overlays = OverlayData { on_top_lines: lines, points, ..Default::default() };
+    golden("zebra-default-tension-cage", &picture(&t, ZEBRA, None, Some(&overlays), VIEW));
+}
+
+/// A sheet bent about the y axis: `kink` folds it sharply along x = 0 (a crease), otherwise it
+/// bends smoothly on a circular arc through the same end points.
+fn bent_sheet(kink: bool) -> PolyMesh {
+    let n = 80;
+    let mut p = Vec::new();
+    for j in 0..=n {
+        for i in 0..=n {
+            let (u, y) = (2.0 * i as f64 / n as f64 - 1.0, 2.0 * j as f64 / n as f64 - 1.0);
+            let z = if kink { -0.35 * u.abs() } else { -0.175 * u * u };
+            p.push(DVec3::new(u, y, z));
+        }
+    }
+    let mut faces = Vec::new();
+    for j in 0..n {
+        for i in 0..n {
+            let v = j * (n + 1) + i;
+            faces.push([v, v + 1, v + n + 2, v + n + 1]);
+        }
+    }
+    PolyMesh::from_polygons(p, &faces).unwrap()
+}
+
+/// How much more the picture changes across its centre column than beside it: the mean
+/// difference between the columns 3 px left and right of the centre, over the mean difference
+/// of column pairs the same 6 px apart further out on both sides, over the rows the surface
+/// covers. About 1 where the picture is continuous, large where it jumps.
+fn jump_across_centre(image: &image::RgbaImage) -> f64 {
+    let (w, h) = image.dimensions();
+    let c = w / 2;
+    let rows: Vec<u32> = (2 * h / 5..3 * h / 5).collect();
+    let change = |a: u32, b: u32| {
+        rows.iter().map(|&y| (image.get_pixel(a, y)[0] as f64 - image.get_pixel(b, y)[0] as f64).abs()).sum::<f64>()
+            / rows.len() as f64
+    };
+    let beside = 0.5 * (change(c - 15, c - 9) + change(c + 9, c + 15));
+    change(c - 3, c + 3) / beside.max(1.0)
+}
+
+#[test]
+fn a_crease_breaks_the_stripes_and_a_smooth_bend_does_not() {
+    // Seen from the front and a little above, the fold line x = 0 is the picture's centre line.
+    let view = (0.0, 35.0);
+    let stripes = SurfaceMode::Zebra { stripes: 10.0, angle_degrees: 45.0, width_ratio: 0.5 };
+    let crease = picture(&bent_sheet(true), stripes, None, None, view);
+    let smooth = picture(&bent_sheet(false), stripes, None, None, view);
+    golden("zebra-crease", &crease);
+    golden("zebra-smooth-bend", &smooth);
+    let (jump_crease, jump_smooth) = (jump_across_centre(&crease), jump_across_centre(&smooth));
+    eprintln!("jump across the centre: crease {jump_crease:.2}, smooth bend {jump_smooth:.2}");
+    assert!(jump_smooth < 1.5, "the smooth bend's stripes jump at the centre: {jump_smooth:.2}");
+    assert!(jump_crease > 3.0, "the crease does not break the stripes: {jump_crease:.2}");
+}
