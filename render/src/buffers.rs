@@ -200,4 +200,23 @@ mod tests {
         assert_eq!(buffers.update(&rebuilt), Changes { vertices: true, indices: true });
         assert_eq!(buffers.index_rebuilds(), 2);
     }
+
+    #[test]
+    fn gpu_upload_after_a_drag_keeps_the_index_buffer() {
+        let gpu = crate::Gpu::headless(crate::AdapterPreference::Software).unwrap_or_else(|e| panic!("{e}"));
+        let mut mesh = quad_pair();
+        let mut buffers = SurfaceBuffers::default();
+        buffers.update(&mesh);
+        let mut surface = GpuSurface::new(&gpu.device, &buffers);
+        assert_eq!(surface.index_uploads(), 1);
+        mesh.set_position(VertexId(2), DVec3::new(1.0, 1.0, 0.5));
+        let changes = buffers.update(&mesh);
+        surface.upload(&gpu.device, &gpu.queue, &buffers, changes);
+        assert_eq!(surface.index_uploads(), 1, "a drag must not rebuild the index buffer");
+        let rebuilt = quad_pair();
+        let changes = buffers.update(&rebuilt);
+        surface.upload(&gpu.device, &gpu.queue, &buffers, changes);
+        assert_eq!(surface.index_uploads(), 2);
+        assert_eq!(surface.index_count, 12);
+    }
 }

@@ -34,6 +34,21 @@ impl Gpu {
         Self::open(instance, adapter)
     }
 
+    /// Opens a device that can draw into a window's `surface` (made by the caller from the
+    /// window with `instance.create_surface`).
+    pub fn for_surface(
+        instance: wgpu::Instance,
+        surface: &wgpu::Surface<'_>,
+        preference: AdapterPreference,
+    ) -> Result<Gpu, RenderError> {
+        let adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::all()));
+        let compatible: Vec<wgpu::Adapter> = adapters.into_iter().filter(|a| a.is_surface_supported(surface)).collect();
+        let adapter = best_adapter(compatible, preference).ok_or_else(|| {
+            RenderError::NoAdapter(format!("{NO_ADAPTER_HELP} (none of the adapters can draw into this window)"))
+        })?;
+        Self::open(instance, adapter)
+    }
+
     /// Opens a device on a chosen adapter.
     pub fn open(instance: wgpu::Instance, adapter: wgpu::Adapter) -> Result<Gpu, RenderError> {
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
@@ -59,6 +74,10 @@ impl Gpu {
 /// Vulkan (lavapipe) before GL (llvmpipe).
 pub fn pick_adapter(instance: &wgpu::Instance, preference: AdapterPreference) -> Result<wgpu::Adapter, RenderError> {
     let adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::all()));
+    best_adapter(adapters, preference).ok_or_else(|| RenderError::NoAdapter(NO_ADAPTER_HELP.to_string()))
+}
+
+fn best_adapter(adapters: Vec<wgpu::Adapter>, preference: AdapterPreference) -> Option<wgpu::Adapter> {
     let rank = |a: &wgpu::Adapter| {
         let info = a.get_info();
         let software = info.device_type == wgpu::DeviceType::Cpu;
@@ -70,5 +89,5 @@ pub fn pick_adapter(instance: &wgpu::Instance, preference: AdapterPreference) ->
         let discrete = if info.device_type == wgpu::DeviceType::DiscreteGpu { 0 } else { 1 };
         (kind, backend, discrete)
     };
-    adapters.into_iter().min_by_key(rank).ok_or_else(|| RenderError::NoAdapter(NO_ADAPTER_HELP.to_string()))
+    adapters.into_iter().min_by_key(rank)
 }
