@@ -1,8 +1,9 @@
 //! Curvature estimates (`taut_core::curvature`) against closed forms: spheres, ellipsoids,
 //! cylinders, tori and an open graph surface tessellated here (regular, irregular, triangles,
-//! quads and mixed) at three resolutions each, asserting that the error shrinks by a stated factor per halving of the edge
-//! length and stays under a stated bound at the finest; then the invariances (scale, rotation,
-//! thread count), the automatic colour range, and polyline curvature.
+//! quads and mixed) at three resolutions each, asserting that the error shrinks by a stated
+//! factor per halving of the edge length and stays under a stated bound at the finest; then the
+//! invariances (scale, rotation, thread count), the automatic colour range, and polyline
+//! curvature.
 //!
 //! Errors are relative: curvature errors times the radius (or over the largest principal
 //! curvature of the surface), Gaussian curvature errors times its square. Run with
