@@ -1,9 +1,11 @@
-//! `taut`: the command line of the Taut surface editor.
+//! `taut`: the Taut surface editor and its command line.
 //!
-//! `main` only parses the arguments and hands them to one subcommand module; each returns a
-//! one-line error message, printed on stderr with a non-zero exit status.
+//! `taut [FILE]` opens the editor (on the bundled default scene when no file is given);
+//! `taut SUBCOMMAND …` runs one command-line tool. `main` only parses the arguments and hands
+//! them on; every failure is one line on stderr with a non-zero exit status.
 
 mod curve_cmd;
+mod editor;
 mod render_cmd;
 mod smooth_cmd;
 
@@ -12,10 +14,12 @@ use std::process::ExitCode;
 
 /// Taut: smooth surfaces from coarse polygon cages (NUSD smoothing with tension).
 #[derive(Debug, Parser)]
-#[command(name = "taut", version)]
+#[command(name = "taut", version, args_conflicts_with_subcommands = true)]
 struct Cli {
     #[command(subcommand)]
     command: Option<Command>,
+    /// A cage or mesh to open in the editor (.taut, .obj, .gltf, .glb).
+    file: Option<std::path::PathBuf>,
 }
 
 #[derive(Debug, Subcommand)]
@@ -44,12 +48,7 @@ fn main() -> ExitCode {
         Some(Command::Smooth(args)) => smooth_cmd::run(args),
         Some(Command::SmoothCurve(args)) => curve_cmd::run(args),
         Some(Command::Render(args)) => render_cmd::run(args),
-        None => {
-            // The editor window is not built yet: show what the command line can do.
-            use clap::CommandFactory;
-            println!("{}", Cli::command().render_help());
-            Ok(())
-        }
+        None => editor::window::run(editor::window::Startup { file: cli.file.clone() }),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -20,12 +20,15 @@ pub struct Scene<'a> {
     pub background: [f64; 4],
     /// Cage, wireframe, curves and legend over the surface.
     pub overlays: Option<&'a OverlayData>,
+    /// The part of the target to draw into, `[x, y, width, height]` in pixels (the editor's
+    /// viewport between its panels); the whole target when `None`.
+    pub viewport: Option<[u32; 4]>,
 }
 
 impl<'a> Scene<'a> {
     /// A scene with the default background and no overlays.
     pub fn new(camera: Camera, surface: Option<&'a GpuSurface>, mode: SurfaceMode) -> Self {
-        Scene { camera, surface, mode, background: [0.16, 0.17, 0.19, 1.0], overlays: None }
+        Scene { camera, surface, mode, background: [0.16, 0.17, 0.19, 1.0], overlays: None, viewport: None }
     }
 
     /// The same scene with overlays.
@@ -100,9 +103,16 @@ impl Renderer {
         attachments: &Attachments,
         scene: &Scene<'_>,
     ) {
-        self.frame.update(queue, &FrameUniform::new(&scene.camera, attachments.width, attachments.height));
+        let [x, y, width, height] = match scene.viewport {
+            Some([x, y, w, h]) => {
+                let x = x.min(attachments.width.saturating_sub(1));
+                let y = y.min(attachments.height.saturating_sub(1));
+                [x, y, w.clamp(1, attachments.width - x), h.clamp(1, attachments.height - y)]
+            }
+            None => [0, 0, attachments.width, attachments.height],
+        };
+        self.frame.update(queue, &FrameUniform::new(&scene.camera, width, height));
         self.surface.set_mode(queue, scene.mode);
-        let (width, height) = (attachments.width, attachments.height);
         let none = OverlayData::default();
         let overlays = scene.overlays.unwrap_or(&none);
         self.lines.prepare(device, queue, &overlays.surface_lines, &overlays.on_top_lines);
@@ -133,6 +143,8 @@ impl Renderer {
             occlusion_query_set: None,
             multiview_mask: None,
         });
+        pass.set_viewport(x as f32, y as f32, width as f32, height as f32, 0.0, 1.0);
+        pass.set_scissor_rect(x, y, width, height);
         if let Some(surface) = scene.surface {
             self.surface.draw(&mut pass, &self.frame.bind_group, surface);
         }

@@ -240,6 +240,22 @@ impl SurfaceSolver {
 
     /// Where the solve stands.
     pub fn status(&self) -> Status {
+        // Once done, the step and estimate are those the finest level stopped with.
+        if self.phase == Phase::Done
+            && let Some(last) = self.reports.iter().max_by_key(|r| r.level)
+        {
+            return Status {
+                phase: self.phase,
+                level: self.active as u32,
+                levels: self.settings.levels,
+                iterations: last.iterations,
+                total_iterations: self.total_iterations,
+                last_step: last.last_step,
+                remaining: last.remaining,
+                threshold: self.threshold,
+                lambda: self.lambda,
+            };
+        }
         Status {
             phase: self.phase,
             level: self.active as u32,

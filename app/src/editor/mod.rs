@@ -1,0 +1,12 @@
+//! The editor a designer opens: a winit window with egui panels around a wgpu viewport that
+//! draws with the render crate. The UI sends edits to the [`document::EditorDocument`] (one
+//! place that applies them and records undo), the [`state::EditorState`] keeps the live NUSD
+//! solver in step with it, and [`window`] runs a frame as input → edits → solve → render.
+
+pub mod document;
+pub mod files;
+pub mod interaction;
+pub mod primitives;
+pub mod state;
+pub mod ui;
+pub mod window;

@@ -1,0 +1,328 @@
+//! The editor's window: winit events, the wgpu surface, and one frame as
+//! input → edits → solve → render (the 3D viewport, then egui on top).
+
+use super::document::EditorDocument;
+use super::files::{Autosave, RecentFiles};
+use super::state::{EditorState, SOLVER_BUDGET};
+use super::ui::{Pending, UiState};
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::time::Instant;
+use taut_render::renderer::Attachments;
+use taut_render::{AdapterPreference, Gpu, GpuSurface, Renderer, Scene, SurfaceBuffers, TargetFormats, offscreen};
+use winit::application::ApplicationHandler;
+use winit::event::WindowEvent;
+use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
+use winit::window::{Window, WindowId};
+
+/// The scene the editor opens when no file is given.
+const DEFAULT_SCENE: &str = include_str!("../../../assets/default.taut");
+
+/// How the editor starts.
+#[derive(Debug, Default)]
+pub struct Startup {
+    /// A file to open instead of the default scene.
+    pub file: Option<PathBuf>,
+}
+
+/// Runs the editor until its window closes.
+pub fn run(startup: Startup) -> Result<(), String> {
+    let event_loop = EventLoop::new().map_err(|e| format!("cannot open a window: {e} (is a display available?)"))?;
+    event_loop.set_control_flow(ControlFlow::Wait);
+    let mut app = App { startup: Some(startup), running: None, error: None };
+    event_loop.run_app(&mut app).map_err(|e| format!("the window system failed: {e}"))?;
+    match app.error {
+        Some(e) => Err(e),
+        None => Ok(()),
+    }
+}
+
+struct App {
+    startup: Option<Startup>,
+    running: Option<Running>,
+    error: Option<String>,
+}
+
+struct Running {
+    window: Arc<Window>,
+    gpu: Gpu,
+    surface: wgpu::Surface<'static>,
+    config: wgpu::SurfaceConfiguration,
+    renderer: Renderer,
+    attachments: Attachments,
+    egui_state: egui_winit::State,
+    egui_renderer: egui_wgpu::Renderer,
+    editor: EditorState,
+    ui: UiState,
+    buffers: SurfaceBuffers,
+    gpu_surface: Option<GpuSurface>,
+    drawn_generation: Option<(u64, u64)>,
+    drawn_values: Option<*const f32>,
+}
+
+impl ApplicationHandler for App {
+    fn resumed(&mut self, event_loop: &ActiveEventLoop) {
+        let Some(startup) = self.startup.take() else { return };
+        match Running::new(event_loop, startup) {
+            Ok(running) => self.running = Some(running),
+            Err(e) => {
+                self.error = Some(e);
+                event_loop.exit();
+            }
+        }
+    }
+
+    fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
+        let Some(running) = &mut self.running else { return };
+        let response = running.egui_state.on_window_event(&running.window, &event);
+        match event {
+            WindowEvent::CloseRequested => {
+                running.editor.request(Pending::Quit, &mut running.ui);
+                running.window.request_redraw();
+            }
+            WindowEvent::Resized(size) => running.resize(size.width, size.height),
+            WindowEvent::DroppedFile(path) => {
+                running.editor.request(Pending::Open(Some(path)), &mut running.ui);
+                running.window.request_redraw();
+            }
+            WindowEvent::RedrawRequested => {
+                running.frame();
+                if running.ui.quit {
+                    if let Some(a) = &running.editor.autosave {
+                        let _ = a.clear();
+                    }
+                    event_loop.exit();
+                }
+            }
+            _ => {}
+        }
+        if response.repaint {
+            running.window.request_redraw();
+        }
+    }
+
+    fn about_to_wait(&mut self, _event_loop: &ActiveEventLoop) {
+        if let Some(running) = &self.running
+            && running.editor.busy()
+        {
+            running.window.request_redraw();
+        }
+    }
+}
+
+impl Running {
+    fn new(event_loop: &ActiveEventLoop, startup: Startup) -> Result<Self, String> {
+        let attributes = Window::default_attributes()
+            .with_title("Taut")
+            .with_inner_size(winit::dpi::LogicalSize::new(1280.0, 800.0));
+        let window = Arc::new(event_loop.create_window(attributes).map_err(|e| format!("cannot open a window: {e}"))?);
+        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+        let surface =
+            instance.create_surface(window.clone()).map_err(|e| format!("cannot draw into the window: {e}"))?;
+        let gpu = Gpu::for_surface(instance, &surface, AdapterPreference::Hardware).map_err(|e| e.to_string())?;
+        let size = window.inner_size();
+        let mut config = surface
+            .get_default_config(&gpu.adapter, size.width.max(1), size.height.max(1))
+            .ok_or("the GPU cannot draw into this window")?;
+        // The 3D passes write linear colour and egui adapts to the format: use an sRGB one.
+        let formats = surface.get_capabilities(&gpu.adapter).formats;
+        if let Some(srgb) = formats.iter().copied().find(|f| f.is_srgb()) {
+            config.format = srgb;
+        }
+        surface.configure(&gpu.device, &config);
+        let targets = TargetFormats::for_adapter(&gpu.adapter, config.format);
+        let renderer = Renderer::new(&gpu, targets);
+        let attachments = Attachments::new(&gpu.device, &targets, config.width, config.height);
+        let egui_ctx = egui::Context::default();
+        let egui_state = egui_winit::State::new(
+            egui_ctx,
+            egui::ViewportId::ROOT,
+            &window,
+            Some(window.scale_factor() as f32),
+            None,
+            None,
+        );
+        let egui_renderer = egui_wgpu::Renderer::new(&gpu.device, config.format, egui_wgpu::RendererOptions::default());
+
+        let recent = RecentFiles::load();
+        let autosave = Autosave::in_data_folder();
+        let mut notice = None;
+        let document = match &startup.file {
+            Some(path) => EditorDocument::open(path).unwrap_or_else(|e| {
+                notice = Some(format!("could not open {}: {e}", path.display()));
+                default_document()
+            }),
+            None => default_document(),
+        };
+        let recovery = autosave.as_ref().and_then(|a| a.pending());
+        let mut editor = EditorState::new(document, recent, autosave);
+        if let Some(path) = startup.file.as_ref().filter(|_| notice.is_none()) {
+            let _ = editor.recent.add(path);
+        }
+        if let Some(text) = notice {
+            editor.notify(text, true);
+        }
+        let mut ui = UiState::default();
+        ui.recovery = recovery;
+        window.set_title(&format!("Taut — {}", editor.document.title()));
+        Ok(Running {
+            window,
+            gpu,
+            surface,
+            config,
+            renderer,
+            attachments,
+            egui_state,
+            egui_renderer,
+            editor,
+            ui,
+            buffers: SurfaceBuffers::default(),
+            gpu_surface: None,
+            drawn_generation: None,
+            drawn_values: None,
+        })
+    }
+
+    fn resize(&mut self, width: u32, height: u32) {
+        if width == 0 || height == 0 {
+            return;
+        }
+        self.config.width = width;
+        self.config.height = height;
+        self.surface.configure(&self.gpu.device, &self.config);
+        self.attachments = Attachments::new(&self.gpu.device, &self.renderer.targets, width, height);
+        self.window.request_redraw();
+    }
+
+    fn frame(&mut self) {
+        let started = Instant::now();
+        // Input → edits.
+        let raw_input = self.egui_state.take_egui_input(&self.window);
+        let (editor, ui_state) = (&mut self.editor, &mut self.ui);
+        let output = self.egui_state.egui_ctx().clone().run_ui(raw_input, |ui| editor.ui(ui, ui_state));
+        self.egui_state.handle_platform_output(&self.window, output.platform_output);
+        // Solve.
+        self.editor.step_solver(SOLVER_BUDGET);
+        self.editor.refresh_values();
+        self.editor.autosave_if_due();
+        self.window.set_title(&format!("Taut — {}", self.editor.document.title()));
+        // Render.
+        self.upload_surface();
+        let overlays = self.editor.overlays();
+        let scene = Scene {
+            overlays: Some(&overlays),
+            viewport: self.ui.viewport_px,
+            ..Scene::new(self.editor.camera, self.gpu_surface.as_ref(), self.editor.surface_mode())
+        };
+        let frame = match self.surface.get_current_texture() {
+            wgpu::CurrentSurfaceTexture::Success(t) | wgpu::CurrentSurfaceTexture::Suboptimal(t) => t,
+            wgpu::CurrentSurfaceTexture::Outdated | wgpu::CurrentSurfaceTexture::Lost => {
+                self.surface.configure(&self.gpu.device, &self.config);
+                self.window.request_redraw();
+                return;
+            }
+            _ => {
+                self.window.request_redraw();
+                return;
+            }
+        };
+        let view = frame.texture.create_view(&Default::default());
+        let device = &self.gpu.device;
+        let queue = &self.gpu.queue;
+        let mut encoder = device.create_command_encoder(&Default::default());
+        self.renderer.encode(device, queue, &mut encoder, &view, &self.attachments, &scene);
+
+        let ppp = output.pixels_per_point;
+        let jobs = self.egui_state.egui_ctx().tessellate(output.shapes, ppp);
+        let screen = egui_wgpu::ScreenDescriptor {
+            size_in_pixels: [self.config.width, self.config.height],
+            pixels_per_point: ppp,
+        };
+        for (id, deltas) in &output.textures_delta.set {
+            for delta in deltas {
+                self.egui_renderer.update_texture(device, queue, *id, delta);
+            }
+        }
+        let mut extra = self.egui_renderer.update_buffers(device, queue, &mut encoder, &jobs, &screen);
+        {
+            let pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("egui"),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: &view,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store },
+                })],
+                depth_stencil_attachment: None,
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            self.egui_renderer.render(&mut pass.forget_lifetime(), &jobs, &screen);
+        }
+        extra.push(encoder.finish());
+        queue.submit(extra);
+        queue.present(frame);
+        for id in &output.textures_delta.free {
+            self.egui_renderer.free_texture(id);
+        }
+        if let Some(path) = self.ui.screenshot.take() {
+            self.screenshot(&path);
+        }
+        self.editor.frame_time = started.elapsed();
+        if self.editor.busy() || output.viewport_output.values().any(|v| v.repaint_delay.is_zero()) {
+            self.window.request_redraw();
+        }
+    }
+
+    /// Uploads the surface when the solver moved it or the curvature values changed.
+    fn upload_surface(&mut self) {
+        let Some(surface) = &self.editor.surface else {
+            self.gpu_surface = None;
+            self.drawn_generation = None;
+            return;
+        };
+        let generation = (surface.mesh.topology_generation(), surface.mesh.generation());
+        let values = surface.values.as_ref().map(|(v, _, _)| v.as_ptr());
+        if self.drawn_generation == Some(generation) && self.drawn_values == values && self.gpu_surface.is_some() {
+            return;
+        }
+        let mut changes = self.buffers.update(&surface.mesh);
+        if let Some((v, _, _)) = &surface.values
+            && v.len() == surface.mesh.vertex_count()
+        {
+            self.buffers.set_values(v);
+            changes = self.buffers.update(&surface.mesh);
+            changes.vertices = true;
+        }
+        match &mut self.gpu_surface {
+            Some(gpu_surface) => gpu_surface.upload(&self.gpu.device, &self.gpu.queue, &self.buffers, changes),
+            None => self.gpu_surface = Some(GpuSurface::new(&self.gpu.device, &self.buffers)),
+        }
+        self.drawn_generation = Some(generation);
+        self.drawn_values = values;
+    }
+
+    /// Saves the viewport (without the panels) as a PNG of its size on screen.
+    fn screenshot(&mut self, path: &std::path::Path) {
+        let [_, _, w, h] = self.ui.viewport_px.unwrap_or([0, 0, self.config.width, self.config.height]);
+        let overlays = self.editor.overlays();
+        let scene = Scene::new(self.editor.camera, self.gpu_surface.as_ref(), self.editor.surface_mode())
+            .with_overlays(&overlays);
+        // An off-screen picture needs a format the read-back understands.
+        let targets = TargetFormats::for_adapter(&self.gpu.adapter, wgpu::TextureFormat::Rgba8UnormSrgb);
+        let mut renderer = Renderer::new(&self.gpu, targets);
+        match offscreen::render_image(&self.gpu, &mut renderer, &scene, w, h)
+            .and_then(|img| offscreen::save_png(&img, path))
+        {
+            Ok(()) => self.editor.notify(format!("saved the screenshot {}", path.display()), false),
+            Err(e) => self.editor.notify(format!("could not save the screenshot: {e}"), true),
+        }
+    }
+}
+
+fn default_document() -> EditorDocument {
+    let doc = taut_core::Document::from_json(DEFAULT_SCENE, std::path::Path::new("default.taut"))
+        .expect("the bundled default scene is valid");
+    EditorDocument::new(doc, None)
+}
