@@ -130,7 +130,12 @@ impl Running {
             config.format = srgb;
         }
         surface.configure(&gpu.device, &config);
-        let targets = TargetFormats::for_adapter(&gpu.adapter, config.format);
+        let mut targets = TargetFormats::for_adapter(&gpu.adapter, config.format);
+        if gpu.adapter.get_info().device_type == wgpu::DeviceType::Cpu {
+            // A software rasteriser pays four times per pixel for MSAA: stay live without it
+            // (lines and stripes keep their own anti-aliasing in the shaders).
+            targets.samples = 1;
+        }
         let renderer = Renderer::new(&gpu, targets);
         let attachments = Attachments::new(&gpu.device, &targets, config.width, config.height);
         let egui_ctx = egui::Context::default();
