@@ -12,6 +12,10 @@ command -v pkg-config >/dev/null 2>&1 || need+=(pkg-config)
 installed() { dpkg-query -W -f='${Status}' "$1" 2>/dev/null | grep -q "install ok installed"; }
 installed mesa-vulkan-drivers || need+=(mesa-vulkan-drivers)
 installed libvulkan1 || need+=(libvulkan1)
+# The editor's real-window test: a virtual X server, synthetic input and screen grabs.
+command -v Xvfb >/dev/null 2>&1 || need+=(xvfb)
+command -v xdotool >/dev/null 2>&1 || need+=(xdotool)
+command -v import >/dev/null 2>&1 || need+=(imagemagick)
 if [ ${#need[@]} -gt 0 ]; then
     echo "installing: ${need[*]}"
     SUDO=""
@@ -24,5 +28,9 @@ fi
 if [ -z "${XDG_RUNTIME_DIR:-}" ]; then
     export XDG_RUNTIME_DIR="$(mktemp -d)"
 fi
+
+# The real-window test drives the release binary, as a designer runs it.
+cargo build --release --locked -p taut-app
+export TAUT_EDITOR_BIN="$PWD/target/release/taut"
 
 cargo test --workspace --locked "$@"

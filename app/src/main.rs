@@ -20,6 +20,9 @@ struct Cli {
     command: Option<Command>,
     /// A cage or mesh to open in the editor (.taut, .obj, .gltf, .glb).
     file: Option<std::path::PathBuf>,
+    /// How the editor first shows the surface: shaded, zebra or curvature.
+    #[arg(long, default_value = "zebra")]
+    view: String,
 }
 
 #[derive(Debug, Subcommand)]
@@ -48,7 +51,12 @@ fn main() -> ExitCode {
         Some(Command::Smooth(args)) => smooth_cmd::run(args),
         Some(Command::SmoothCurve(args)) => curve_cmd::run(args),
         Some(Command::Render(args)) => render_cmd::run(args),
-        None => editor::window::run(editor::window::Startup { file: cli.file.clone() }),
+        None => match cli.view.as_str() {
+            "shaded" | "zebra" | "curvature" => {
+                editor::window::run(editor::window::Startup { file: cli.file.clone(), view: cli.view.clone() })
+            }
+            other => Err(format!("--view {other}: use shaded, zebra or curvature")),
+        },
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -6,6 +6,8 @@
 pub mod document;
 pub mod files;
 pub mod interaction;
+#[cfg(test)]
+mod panel_tests;
 pub mod primitives;
 pub mod state;
 pub mod ui;

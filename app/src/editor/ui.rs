@@ -103,10 +103,10 @@ impl EditorState {
             egui::MenuBar::new().ui(ui, |ui| self.menu(ui, ui_state));
         });
         egui::Panel::bottom("status").show(ui_root, |ui| self.status_bar(ui));
-        egui::Panel::left("cage").default_size(250.0).show(ui_root, |ui| {
+        egui::Panel::left("cage").resizable(false).exact_size(260.0).show(ui_root, |ui| {
             egui::ScrollArea::vertical().show(ui, |ui| self.cage_panel(ui, ui_state));
         });
-        egui::Panel::right("settings").default_size(250.0).show(ui_root, |ui| {
+        egui::Panel::right("settings").resizable(false).exact_size(270.0).show(ui_root, |ui| {
             egui::ScrollArea::vertical().show(ui, |ui| {
                 self.solver_panel(ui);
                 ui.separator();

@@ -23,6 +23,8 @@ const DEFAULT_SCENE: &str = include_str!("../../../assets/default.taut");
 pub struct Startup {
     /// A file to open instead of the default scene.
     pub file: Option<PathBuf>,
+    /// The first display mode: "shaded", "zebra" or "curvature".
+    pub view: String,
 }
 
 /// Runs the editor until its window closes.
@@ -161,6 +163,11 @@ impl Running {
         };
         let recovery = autosave.as_ref().and_then(|a| a.pending());
         let mut editor = EditorState::new(document, recent, autosave);
+        editor.display.mode = match startup.view.as_str() {
+            "shaded" => super::state::DisplayMode::Shaded,
+            "curvature" => super::state::DisplayMode::Curvature,
+            _ => super::state::DisplayMode::Zebra,
+        };
         if let Some(path) = startup.file.as_ref().filter(|_| notice.is_none()) {
             let _ = editor.recent.add(path);
         }
@@ -204,7 +211,7 @@ impl Running {
         // Input → edits.
         let raw_input = self.egui_state.take_egui_input(&self.window);
         let (editor, ui_state) = (&mut self.editor, &mut self.ui);
-        let output = self.egui_state.egui_ctx().clone().run_ui(raw_input, |ui| editor.ui(ui, ui_state));
+        let mut output = self.egui_state.egui_ctx().clone().run_ui(raw_input, |ui| editor.ui(ui, ui_state));
         self.egui_state.handle_platform_output(&self.window, output.platform_output);
         // Solve.
         self.editor.step_solver(SOLVER_BUDGET);
@@ -219,6 +226,17 @@ impl Running {
             viewport: self.ui.viewport_px,
             ..Scene::new(self.editor.camera, self.gpu_surface.as_ref(), self.editor.surface_mode())
         };
+        // egui's texture changes are applied whether or not this frame reaches the screen.
+        let mut textures = std::mem::take(&mut output.textures_delta);
+        for (id, deltas) in &textures.set {
+            for delta in deltas {
+                self.egui_renderer.update_texture(&self.gpu.device, &self.gpu.queue, *id, delta);
+            }
+        }
+        textures.set.clear();
+        for id in std::mem::take(&mut textures.free) {
+            self.egui_renderer.free_texture(&id);
+        }
         let frame = match self.surface.get_current_texture() {
             wgpu::CurrentSurfaceTexture::Success(t) | wgpu::CurrentSurfaceTexture::Suboptimal(t) => t,
             wgpu::CurrentSurfaceTexture::Outdated | wgpu::CurrentSurfaceTexture::Lost => {
@@ -243,11 +261,6 @@ impl Running {
             size_in_pixels: [self.config.width, self.config.height],
             pixels_per_point: ppp,
         };
-        for (id, deltas) in &output.textures_delta.set {
-            for delta in deltas {
-                self.egui_renderer.update_texture(device, queue, *id, delta);
-            }
-        }
         let mut extra = self.egui_renderer.update_buffers(device, queue, &mut encoder, &jobs, &screen);
         {
             let pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -268,9 +281,6 @@ impl Running {
         extra.push(encoder.finish());
         queue.submit(extra);
         queue.present(frame);
-        for id in &output.textures_delta.free {
-            self.egui_renderer.free_texture(id);
-        }
         if let Some(path) = self.ui.screenshot.take() {
             self.screenshot(&path);
         }

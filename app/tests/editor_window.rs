@@ -1,0 +1,223 @@
+//! The editor in a real window: the binary started under Xvfb on Mesa's software Vulkan driver,
+//! a fixed point dragged with synthetic mouse input (xdotool), the screen grabbed before and
+//! after (ImageMagick's `import`), the surface changed where it should and nowhere else, the
+//! document saved with Ctrl+S and the editor closed with Ctrl+Q and exit status 0.
+//!
+//! Needs `Xvfb`, `xdotool` and `import` (Debian: xvfb xdotool imagemagick) and the Vulkan
+//! driver (mesa-vulkan-drivers); the README's test command installs them. When one is missing
+//! the test fails saying what to install: it never skips.
+
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+struct Killed(Child);
+
+impl Drop for Killed {
+    fn drop(&mut self) {
+        if let Ok(Some(_)) = self.0.try_wait() {
+            return;
+        }
+        // SIGTERM first so Xvfb removes its lock and socket.
+        let _ = Command::new("kill").arg(self.0.id().to_string()).status();
+        let deadline = Instant::now() + Duration::from_secs(3);
+        while Instant::now() < deadline {
+            if let Ok(Some(_)) = self.0.try_wait() {
+                return;
+            }
+            std::thread::sleep(Duration::from_millis(50));
+        }
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+fn require(tool: &str, package: &str) {
+    let found =
+        Command::new("sh").arg("-c").arg(format!("command -v {tool}")).output().is_ok_and(|o| o.status.success());
+    assert!(found, "the real-window test needs `{tool}`: install it (Debian: apt-get install {package})");
+}
+
+fn grab(display: &str, path: &Path) -> image::RgbaImage {
+    let status = Command::new("import")
+        .args(["-window", "root", path.to_str().unwrap()])
+        .env("DISPLAY", display)
+        .status()
+        .unwrap();
+    assert!(status.success(), "import could not grab the screen");
+    image::open(path).unwrap().to_rgba8()
+}
+
+fn xdotool(display: &str, args: &[&str]) {
+    let status = Command::new("xdotool").args(args).env("DISPLAY", display).status().unwrap();
+    assert!(status.success(), "xdotool {args:?} failed");
+}
+
+/// Fraction of pixels in a region that differ by more than 40 in some channel.
+fn changed(a: &image::RgbaImage, b: &image::RgbaImage, x0: u32, y0: u32, x1: u32, y1: u32) -> f64 {
+    let mut n = 0;
+    let mut total = 0;
+    for y in y0..y1 {
+        for x in x0..x1 {
+            total += 1;
+            let (p, q) = (a.get_pixel(x, y), b.get_pixel(x, y));
+            if (0..3).any(|c| p[c].abs_diff(q[c]) > 40) {
+                n += 1;
+            }
+        }
+    }
+    n as f64 / total.max(1) as f64
+}
+
+/// Waits until two grabs a second apart agree (the solve has settled) and returns the last.
+fn settled(display: &str, path: &Path) -> image::RgbaImage {
+    let deadline = Instant::now() + Duration::from_secs(60);
+    let mut last = grab(display, path);
+    loop {
+        std::thread::sleep(Duration::from_millis(1500));
+        let next = grab(display, path);
+        let (w, h) = next.dimensions();
+        if changed(&last, &next, 0, 0, w, h * 85 / 100) < 0.0005 {
+            return next;
+        }
+        assert!(Instant::now() < deadline, "the editor never settled");
+        last = next;
+    }
+}
+
+#[test]
+fn drag_a_fixed_point_in_a_real_window_then_save_and_quit() {
+    require("Xvfb", "xvfb");
+    require("xdotool", "xdotool");
+    require("import", "imagemagick");
+    let dir = std::env::temp_dir().join(format!("taut-editor-window-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(dir.join("runtime")).unwrap();
+    let cage = dir.join("knob.taut");
+    std::fs::copy(Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets/default.taut"), &cage).unwrap();
+    let before_doc: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&cage).unwrap()).unwrap();
+
+    let number = (40..140).find(|n| !Path::new(&format!("/tmp/.X{n}-lock")).exists()).expect("a free X display number");
+    let display = format!(":{number}");
+    let _xvfb = Killed(
+        Command::new("Xvfb")
+            .args([display.as_str(), "-screen", "0", "1400x900x24", "-nolisten", "tcp"])
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("Xvfb starts"),
+    );
+    let socket = PathBuf::from(format!("/tmp/.X11-unix/X{}", &display[1..]));
+    let start = Instant::now();
+    while !socket.exists() {
+        assert!(start.elapsed() < Duration::from_secs(20), "Xvfb did not start");
+        std::thread::sleep(Duration::from_millis(100));
+    }
+
+    let binary = std::env::var("TAUT_EDITOR_BIN").unwrap_or_else(|_| env!("CARGO_BIN_EXE_taut").to_string());
+    let mut editor = Killed(
+        Command::new(binary)
+            .arg(&cage)
+            .args(["--view", "shaded"])
+            .env("DISPLAY", &display)
+            .env("XDG_RUNTIME_DIR", dir.join("runtime"))
+            .env("XDG_CONFIG_HOME", dir.join("config"))
+            .env("XDG_DATA_HOME", dir.join("data"))
+            .env("HOME", &dir)
+            .env("TAUT_NO_NATIVE_DIALOGS", "1")
+            .env_remove("WAYLAND_DISPLAY")
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("the editor starts"),
+    );
+    let found = Command::new("timeout")
+        .args(["30", "xdotool", "search", "--sync", "--name", "Taut"])
+        .env("DISPLAY", &display)
+        .output()
+        .unwrap();
+    if !found.status.success() {
+        let _ = editor.0.kill();
+        let output =
+            std::mem::replace(&mut editor.0, Command::new("true").spawn().unwrap()).wait_with_output().unwrap();
+        panic!("no editor window appeared: {}", String::from_utf8_lossy(&output.stderr));
+    }
+    let before = settled(&display, &dir.join("before.png"));
+    let (w, h) = before.dimensions();
+
+    // The viewport's background is the colour at its centre column near the top; the apex of
+    // the default scene is the top-most drawn pixel in the middle third of the screen.
+    let background = *before.get_pixel(w / 2, 60);
+    let differs = |p: &image::Rgba<u8>| (0..3).any(|c| p[c].abs_diff(background[c]) > 30);
+    let (apex_x, apex_y) = (60..h * 3 / 4)
+        .flat_map(|y| (w / 3..2 * w / 3).map(move |x| (x, y)))
+        .find(|&(x, y)| differs(before.get_pixel(x, y)))
+        .expect("the surface is drawn");
+    // The vertex sits in the middle of the top row of drawn pixels.
+    let run: Vec<u32> = (w / 3..2 * w / 3).filter(|&x| differs(before.get_pixel(x, apex_y + 1))).collect();
+    let apex_x = if run.is_empty() { apex_x } else { (run[0] + run[run.len() - 1]) / 2 };
+    let (grab_x, grab_y) = (apex_x, apex_y + 5);
+    eprintln!("apex found at {apex_x},{apex_y}; background {background:?}");
+
+    let (x, y) = (grab_x.to_string(), grab_y.to_string());
+    xdotool(&display, &["mousemove", &x, &y]);
+    std::thread::sleep(Duration::from_millis(400));
+    xdotool(&display, &["mousedown", "1"]);
+    for step in 1..=12 {
+        std::thread::sleep(Duration::from_millis(80));
+        xdotool(&display, &["mousemove", &x, &(grab_y - step * 5).to_string()]);
+    }
+    std::thread::sleep(Duration::from_millis(300));
+    xdotool(&display, &["mouseup", "1"]);
+    let after = settled(&display, &dir.join("after.png"));
+
+    // Where the apex was and above it: changed. The lower part of the surface: unchanged.
+    let around_apex = changed(&before, &after, apex_x - 80, apex_y.saturating_sub(70), apex_x + 80, apex_y + 60);
+    let (top, bottom) =
+        (apex_y, (0..h * 85 / 100).rev().find(|&y| differs(before.get_pixel(apex_x, y))).unwrap_or(h / 2));
+    let low = changed(&before, &after, w / 3, top + (bottom - top) * 3 / 4, 2 * w / 3, bottom);
+    assert!(around_apex > 0.05, "the surface did not follow the drag ({around_apex:.4})");
+    assert!(low < 0.02, "the drag changed the far side of the surface ({low:.4})");
+    // The dragged vertex is selected: orange pixels where it now is, above where it was.
+    let orange = (grab_y.saturating_sub(80)..grab_y)
+        .flat_map(|yy| (grab_x - 10..grab_x + 10).map(move |xx| (xx, yy)))
+        .filter(|&(xx, yy)| {
+            let p = after.get_pixel(xx, yy);
+            // Selected (orange, lightened while hovered): warm, unlike the grey-blue cage.
+            p[0] > 230 && p[0] as i32 - p[2] as i32 > 50 && p[1] > p[2]
+        })
+        .count();
+    assert!(orange > 5, "no selected (orange) vertex near the cursor");
+
+    // Save and quit: the file changed, the process exits cleanly. Without a window manager
+    // the keyboard focus must be given to the window explicitly.
+    let window = String::from_utf8_lossy(&found.stdout).lines().next().unwrap_or_default().trim().to_string();
+    xdotool(&display, &["windowfocus", "--sync", &window]);
+    xdotool(&display, &["key", "ctrl+s"]);
+    std::thread::sleep(Duration::from_millis(800));
+    xdotool(&display, &["key", "ctrl+q"]);
+    let deadline = Instant::now() + Duration::from_secs(20);
+    let status = loop {
+        if let Some(status) = editor.0.try_wait().unwrap() {
+            break status;
+        }
+        assert!(Instant::now() < deadline, "the editor did not close on Ctrl+Q");
+        std::thread::sleep(Duration::from_millis(100));
+    };
+    let mut stderr = String::new();
+    if let Some(mut e) = editor.0.stderr.take() {
+        use std::io::Read;
+        let _ = e.read_to_string(&mut stderr);
+    }
+    assert!(status.success(), "the editor exited with {status}: {stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    let after_doc: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&cage).unwrap()).unwrap();
+    let apex = |d: &serde_json::Value| d["positions"].as_array().unwrap().last().unwrap()[2].as_f64().unwrap();
+    assert!(
+        apex(&after_doc) > apex(&before_doc) + 1.0,
+        "the saved apex did not move up: {} → {}",
+        apex(&before_doc),
+        apex(&after_doc)
+    );
+    assert!(!dir.join("data/taut/autosave.taut").exists(), "a clean exit leaves no autosave");
+}
