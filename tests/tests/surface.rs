@@ -337,3 +337,19 @@ fn an_open_boundary_is_the_nusd_polyline_of_the_boundary() {
         .collect();
     assert!(max_distance(&refined, &straight) > 0.01 * cage.bounding_diagonal());
 }
+
+#[test]
+fn a_vertex_fixed_again_is_interpolated_again() {
+    let mut doc = document(cube(), 3, 1e-4);
+    let mut solver = SurfaceSolver::new(&doc).unwrap();
+    solver.solve().unwrap();
+    doc.fixed[7] = false;
+    solver.update(&doc).unwrap();
+    solver.solve().unwrap();
+    let free = (solver.surface_positions()[7] - doc.cage.position(VertexId(7))).length();
+    assert!(free > 0.05, "a moving vertex leaves the corner ({free})");
+    doc.fixed[7] = true;
+    solver.update(&doc).unwrap();
+    solver.solve().unwrap();
+    assert_eq!(solver.surface_positions()[7], doc.cage.position(VertexId(7)));
+}

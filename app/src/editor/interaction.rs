@@ -77,12 +77,16 @@ impl Axis {
 /// Where `p` lands in the viewport: its pixel and its depth in [0, 1] (0 on the near plane).
 /// `None` when `p` is behind the camera or outside the depth range. A point beside the viewport
 /// still gets a pixel (outside the rectangle).
+// The references the picking and drag tests check against.
+#[cfg_attr(not(test), allow(dead_code))]
 pub fn project(camera: &Camera, rect: &ViewportRect, p: DVec3) -> Option<(Vec2, f32)> {
     View::new(camera, rect).project(p).map(|(pixel, depth)| (pixel.as_vec2(), depth as f32))
 }
 
 /// The ray under a pixel: it starts at the eye and its direction has unit length. Every point
 /// that [`project`] sends to `pixel` lies on it, in front of the origin.
+// The references the picking and drag tests check against.
+#[cfg_attr(not(test), allow(dead_code))]
 pub fn unproject_ray(camera: &Camera, rect: &ViewportRect, pixel: Vec2) -> (DVec3, DVec3) {
     View::new(camera, rect).ray(pixel.as_dvec2())
 }

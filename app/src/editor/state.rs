@@ -194,10 +194,18 @@ impl EditorState {
         match EditorDocument::open(path) {
             Ok(document) => {
                 let _ = self.recent.add(path);
+                let repaired = document.import_report().filter(|r| !r.is_clean()).map(|r| r.to_string());
                 self.replace_document(document);
-                self.notify(format!("opened {}", path.display()), false);
+                match repaired {
+                    Some(report) => self.notify(format!("opened {}: {report}", path.display()), false),
+                    None => self.notify(format!("opened {}", path.display()), false),
+                }
             }
-            Err(message) => self.notify(format!("could not open {}: {message}", path.display()), true),
+            Err(message) => {
+                // A file that cannot be read leaves the recent list.
+                let _ = self.recent.remove(path);
+                self.notify(format!("could not open {}: {message}", path.display()), true)
+            }
         }
     }
 

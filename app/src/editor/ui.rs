@@ -54,12 +54,15 @@ impl PathPurpose {
     }
 }
 
+/// Makes a new document (the File ▸ New entries).
+pub type MakeDocument = fn() -> taut_core::Document;
+
 /// Something that would drop unsaved work, waiting for the designer's answer.
 #[derive(Clone, Debug)]
 pub enum Pending {
-    New(fn() -> taut_core::Document),
+    New(MakeDocument),
     Open(Option<PathBuf>),
-    Recover(Recovery),
+    Recover,
     Quit,
 }
 
@@ -108,7 +111,7 @@ impl EditorState {
         });
         egui::Panel::right("settings").resizable(false).exact_size(270.0).show(ui_root, |ui| {
             egui::ScrollArea::vertical().show(ui, |ui| {
-                self.solver_panel(ui);
+                self.solver_panel(ui, ui_state);
                 ui.separator();
                 self.display_panel(ui);
             });
@@ -118,7 +121,8 @@ impl EditorState {
     }
 
     fn shortcuts(&mut self, ctx: &egui::Context, ui_state: &mut UiState) {
-        if ctx.egui_wants_keyboard_input() {
+        // Typing into a text field owns the keyboard; a focused slider or button does not.
+        if ctx.text_edit_focused() {
             return;
         }
         let command = Modifiers::COMMAND;
@@ -141,9 +145,8 @@ impl EditorState {
         if redo || redo_y {
             self.redo();
         }
-        if save_as {
-            self.ask_path(PathPurpose::SaveAs, ui_state);
-        } else if save && !self.save() {
+        // Save without a path asks for one, as Save As does.
+        if save_as || (save && !self.save()) {
             self.ask_path(PathPurpose::SaveAs, ui_state);
         }
         if open {
@@ -234,7 +237,7 @@ impl EditorState {
             Pending::New(make) => self.replace_document(EditorDocument::new(make(), None)),
             Pending::Open(Some(path)) => self.open(&path),
             Pending::Open(None) => self.ask_path(PathPurpose::Open, ui_state),
-            Pending::Recover(_) => {
+            Pending::Recover => {
                 match self.autosave.as_ref().ok_or_else(|| "autosave is off".to_string()).and_then(|a| a.recover()) {
                     Ok(document) => {
                         self.replace_document(document);
@@ -284,7 +287,7 @@ impl EditorState {
     fn menu(&mut self, ui: &mut egui::Ui, ui_state: &mut UiState) {
         ui.menu_button("File", |ui| {
             ui.menu_button("New", |ui| {
-                let items: [(&str, fn() -> taut_core::Document); 4] = [
+                let items: [(&str, MakeDocument); 4] = [
                     ("Cube", primitives::cube),
                     ("Pentagonal prism", || primitives::prism(5)),
                     ("Grid patch", || primitives::grid_patch(4, 3)),
@@ -308,6 +311,9 @@ impl EditorState {
                     if ui.button(path.display().to_string()).clicked() {
                         self.request(Pending::Open(Some(path)), ui_state);
                     }
+                }
+                if !self.recent.paths().is_empty() && ui.button("Clear the list").clicked() {
+                    let _ = self.recent.clear();
                 }
             });
             if ui.button("Type a path to open…").clicked() {
@@ -437,22 +443,25 @@ impl EditorState {
             ui.label(format!("vertex {}", v.0));
             let mut p = doc.cage.position(v);
             let mut changed = false;
+            let mut responses = Vec::new();
             ui.horizontal(|ui| {
                 for (label, value) in [("X", &mut p.x), ("Y", &mut p.y), ("Z", &mut p.z)] {
-                    ui.label(label);
-                    let response =
-                        ui.add(egui::DragValue::new(value).speed(0.01 * doc.cage.bounding_diagonal()).max_decimals(4));
-                    if response.drag_started() {
-                        self.document.begin_gesture();
-                    }
+                    let name = ui.label(label);
+                    let response = ui
+                        .add(egui::DragValue::new(value).speed(0.01 * doc.cage.bounding_diagonal()).max_decimals(4))
+                        .labelled_by(name.id);
                     changed |= response.changed();
-                    if response.drag_stopped() {
-                        self.document.end_gesture();
-                    }
+                    responses.push(response);
                 }
             });
+            for r in &responses {
+                self.gesture_start(r, ui_state);
+            }
             if changed {
                 self.edit(Edit::MoveVertices(vec![(v, p)]));
+            }
+            for r in &responses {
+                self.gesture_end(r, ui_state);
             }
         } else {
             ui.label(format!("{} vertices, {} edges", self.selection.vertices.len(), self.selection.edges.len()));
@@ -466,21 +475,27 @@ impl EditorState {
         ui.separator();
         if !self.selection.vertices.is_empty() {
             let mut tau = self.selection.vertices.iter().map(|v| doc.vertex_tension[v.index()]).fold(0.0, f64::max);
-            ui.label("vertex tension τ");
-            let response = ui.add(egui::Slider::new(&mut tau, 0.0..=8.0).clamping(egui::SliderClamping::Never));
-            self.slider_gesture(&response, ui_state);
+            let name = ui.label("vertex tension τ");
+            let response = ui
+                .add(egui::Slider::new(&mut tau, 0.0..=8.0).clamping(egui::SliderClamping::Never))
+                .labelled_by(name.id);
+            self.gesture_start(&response, ui_state);
             if response.changed() {
                 self.edit(Edit::SetVertexTension(self.selection.vertices.clone(), tau.max(0.0)));
             }
+            self.gesture_end(&response, ui_state);
         }
         if !self.selection.edges.is_empty() {
             let mut tau = self.selection.edges.iter().map(|e| doc.edge_tension[e.index()]).fold(0.0, f64::max);
-            ui.label("edge tension τ");
-            let response = ui.add(egui::Slider::new(&mut tau, 0.0..=8.0).clamping(egui::SliderClamping::Never));
-            self.slider_gesture(&response, ui_state);
+            let name = ui.label("edge tension τ");
+            let response = ui
+                .add(egui::Slider::new(&mut tau, 0.0..=8.0).clamping(egui::SliderClamping::Never))
+                .labelled_by(name.id);
+            self.gesture_start(&response, ui_state);
             if response.changed() {
                 self.edit(Edit::SetEdgeTension(self.selection.edges.clone(), tau.max(0.0)));
             }
+            self.gesture_end(&response, ui_state);
         }
         if ui.button("Reset tension").clicked() {
             self.edit(Edit::ResetTension {
@@ -491,34 +506,43 @@ impl EditorState {
         ui.small("Tension above about 4 over-flattens: the curve bends back.");
     }
 
-    /// A slider drag is one undo step.
-    fn slider_gesture(&mut self, response: &egui::Response, ui_state: &mut UiState) {
-        if response.drag_started() && !ui_state.slider_active {
+    /// A slider or field drag is one undo step: the gesture opens when the drag starts and
+    /// closes after the edit of the frame the drag stops in.
+    fn gesture_start(&mut self, response: &egui::Response, ui_state: &mut UiState) {
+        if response.drag_started() && !ui_state.slider_active && !self.document.in_gesture() {
             ui_state.slider_active = true;
             self.document.begin_gesture();
         }
+    }
+
+    fn gesture_end(&mut self, response: &egui::Response, ui_state: &mut UiState) {
         if response.drag_stopped() && ui_state.slider_active {
             ui_state.slider_active = false;
             self.document.end_gesture();
         }
     }
 
-    fn solver_panel(&mut self, ui: &mut egui::Ui) {
+    fn solver_panel(&mut self, ui: &mut egui::Ui, ui_state: &mut UiState) {
         ui.heading("Smoothing");
         let mut settings = self.document.doc().settings;
         let before = settings;
+        let mut responses = Vec::new();
         ui.horizontal(|ui| {
-            ui.label("levels");
-            ui.add(egui::Slider::new(&mut settings.levels, 0..=5));
+            let name = ui.label("levels");
+            responses.push(ui.add(egui::Slider::new(&mut settings.levels, 0..=5)).labelled_by(name.id));
         });
         ui.horizontal(|ui| {
-            ui.label("λ");
-            ui.add(egui::Slider::new(&mut settings.lambda, 0.05..=0.95));
+            let name = ui.label("λ");
+            responses.push(ui.add(egui::Slider::new(&mut settings.lambda, 0.05..=0.95)).labelled_by(name.id));
         });
         ui.horizontal(|ui| {
-            ui.label("tolerance");
-            ui.add(egui::Slider::new(&mut settings.tol, 1e-6..=1e-2).logarithmic(true));
+            let name = ui.label("tolerance");
+            responses
+                .push(ui.add(egui::Slider::new(&mut settings.tol, 1e-6..=1e-2).logarithmic(true)).labelled_by(name.id));
         });
+        for r in &responses {
+            self.gesture_start(r, ui_state);
+        }
         egui::ComboBox::from_label("spacing").selected_text(format!("{:?}", settings.spacing).to_lowercase()).show_ui(
             ui,
             |ui| {
@@ -529,6 +553,9 @@ impl EditorState {
         );
         if settings != before {
             self.edit(Edit::SetSettings(settings));
+        }
+        for r in &responses {
+            self.gesture_end(r, ui_state);
         }
     }
 
@@ -560,10 +587,10 @@ impl EditorState {
                 }
                 if let Some((min, max)) = &mut d.fixed_range {
                     ui.horizontal(|ui| {
-                        ui.label("min");
-                        ui.add(egui::DragValue::new(min).speed(0.001));
-                        ui.label("max");
-                        ui.add(egui::DragValue::new(max).speed(0.001));
+                        let name = ui.label("min");
+                        ui.add(egui::DragValue::new(min).speed(0.001)).labelled_by(name.id);
+                        let name = ui.label("max");
+                        ui.add(egui::DragValue::new(max).speed(0.001)).labelled_by(name.id);
                     });
                     if *max <= *min {
                         *max = *min + 1e-9_f64.max(min.abs() * 1e-6);
@@ -783,7 +810,7 @@ impl EditorState {
                 });
             });
             match answer {
-                Some(true) => self.run_pending(Pending::Recover(recovery), ui_state),
+                Some(true) => self.run_pending(Pending::Recover, ui_state),
                 Some(false) => {
                     if let Some(a) = &self.autosave {
                         let _ = a.clear();

@@ -8,8 +8,11 @@
 //! geometric series, `step · ρ / (1 − ρ)`, and stop when *that* is under `T`.
 //!
 //! `ρ` is the geometric mean of the step ratio over the last [`WINDOW`] iterations, which damps
-//! the oscillation of the first iterations after a split or an edit. While the steps are not
-//! shrinking, the estimate is infinite and the solve goes on. The estimate is not a guaranteed
+//! the oscillation of the first iterations after a split or an edit; it is taken as the larger
+//! of that and the rate over the window before, because right after a warm start the fast modes
+//! die first and a single window overstates the contraction (a re-solve after undo stopped 7×
+//! the threshold away with one window). While the steps are not shrinking, the estimate is
+//! infinite and the solve goes on. The estimate is not a guaranteed
 //! bound: for the iteration's Jordan-block modes it is low by a factor that tends to 1.
 
 /// Iterations over which the contraction rate is measured.
@@ -47,7 +50,7 @@ impl ConvergenceMonitor {
         self.peak_before = self.peak;
         self.peak = self.peak.max(step);
         self.history.push_back(step);
-        if self.history.len() > WINDOW + 1 {
+        if self.history.len() > 2 * WINDOW + 1 {
             self.history.pop_front();
         }
     }
@@ -71,20 +74,26 @@ impl ConvergenceMonitor {
         self.growing >= streak && last > self.peak_before && last > threshold
     }
 
-    /// The observed contraction rate per iteration, once a full window has been seen.
+    /// The observed contraction rate per iteration, once two full windows have been seen: the
+    /// larger of the rates over the last window and the one before.
     pub fn rate(&self) -> Option<f64> {
-        if self.history.len() < WINDOW + 1 {
+        if self.history.len() < 2 * WINDOW + 1 {
             return None;
         }
-        let first = self.history[0];
-        let last = *self.history.back()?;
-        if last == 0.0 {
-            return Some(0.0);
-        }
-        if first <= 0.0 {
-            return None;
-        }
-        Some((last / first).powf(1.0 / WINDOW as f64))
+        let n = self.history.len();
+        let window_rate = |end: usize| {
+            let (first, last) = (self.history[end - WINDOW], self.history[end]);
+            if last == 0.0 {
+                Some(0.0)
+            } else if first <= 0.0 {
+                None
+            } else {
+                Some((last / first).powf(1.0 / WINDOW as f64))
+            }
+        };
+        let recent = window_rate(n - 1)?;
+        let before = window_rate(n - 1 - WINDOW)?;
+        Some(recent.max(before))
     }
 
     /// Estimated distance from the current iterate to the fixed point: `step · ρ / (1 − ρ)`.

@@ -362,6 +362,13 @@ impl SurfaceSolver {
             }
             self.cage.positions_mut().copy_from_slice(doc.cage.positions());
         }
+        // A vertex fixed again is interpolated again: back to its cage position at level 0
+        // (the change reaches the finer levels through the propagation below).
+        for (v, (&now, &was)) in doc.fixed.iter().zip(&self.fixed).enumerate() {
+            if now && !was {
+                self.levels[0].state.p[v] = doc.cage.positions()[v];
+            }
+        }
         if doc.settings.lambda != self.settings.lambda
             || doc.vertex_tension != self.vertex_tension
             || doc.edge_tension != self.edge_tension
@@ -378,6 +385,20 @@ impl SurfaceSolver {
             self.rebuild_operators();
         }
         self.propagate_from(0);
+        // Fixed cage vertices are interpolated at every level, whatever the levels held before.
+        // (Each finer level's record of its coarser level follows, so no later propagation
+        // moves them off again.)
+        for l in 0..self.levels.len() {
+            for (v, &fixed) in self.fixed.iter().enumerate() {
+                if fixed {
+                    let p = self.cage.positions()[v];
+                    self.levels[l].state.p[v] = p;
+                    if l > 0 {
+                        self.levels[l].synced_p[v] = p;
+                    }
+                }
+            }
+        }
         self.restart();
         Ok(())
     }
