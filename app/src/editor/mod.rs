@@ -6,6 +6,7 @@
 pub mod document;
 pub mod files;
 pub mod interaction;
+pub mod menus;
 #[cfg(test)]
 mod panel_tests;
 pub mod primitives;
