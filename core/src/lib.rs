@@ -11,6 +11,7 @@ pub mod error;
 pub mod io;
 pub mod mesh;
 pub mod nusd;
+pub mod subdiv;
 
 pub use document::Document;
 pub use error::{Error, Result};
