@@ -2,6 +2,8 @@
 """Authors Taut's sample cages. Run from assets/: python3 make_assets.py
 
 Every cage is written counter-clockwise seen from outside, with vertices shared between faces.
+The cages are modelled Z up, as Taut models; OBJ files are written Y up, as Blender and most
+tools write and read them (Taut's own (x, y, z) is the file's (x, z, -y)).
 """
 import json
 import math
@@ -10,8 +12,8 @@ import math
 def write_obj(path, title, vertices, faces):
     with open(path, "w") as f:
         f.write(f"# {title}\n# Taut sample cage: {len(vertices)} vertices, {len(faces)} faces\n")
-        for v in vertices:
-            f.write("v " + " ".join(f"{c:.6g}" for c in v) + "\n")
+        for x, y, z in vertices:
+            f.write("v " + " ".join(f"{c + 0.0:.6g}" for c in (x, z, -y)) + "\n")
         for face in faces:
             f.write("f " + " ".join(str(i + 1) for i in face) + "\n")
 

@@ -37,6 +37,9 @@ pub struct SmoothCurveArgs {
     /// Parametrisation of the edges: chord, uniform or centripetal.
     #[arg(long, default_value = "chord")]
     pub spacing: Spacing,
+    /// Write the output even when it is the input file.
+    #[arg(long)]
+    pub force: bool,
 }
 
 /// The curve file as read.
@@ -70,8 +73,9 @@ struct SmoothedCurveFile<'a> {
 }
 
 pub fn run(args: &SmoothCurveArgs) -> Result<(), String> {
+    crate::cli::check_output(args.force, &[&args.input], &args.output)?;
     let input = args.input.display();
-    let text = std::fs::read_to_string(&args.input).map_err(|e| format!("{input}: cannot read: {e}"))?;
+    let text = io::file::read_regular_text(&args.input).map_err(|e| e.to_string())?;
     let file: CurveFile = serde_json::from_str(&text).map_err(|e| format!("{input}: not a valid curve file: {e}"))?;
     let n = file.points.len();
     let control = Polyline {

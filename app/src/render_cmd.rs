@@ -5,6 +5,7 @@
 //! taken as a cage and smoothed. The picture uses a hardware GPU when there is one, else Mesa's
 //! software rasteriser.
 
+use crate::cli::{FileFlags, note};
 use crate::smooth_cmd::{SmoothingFlags, apply_flags, extension, load_document, solve_reporting};
 use clap::Args;
 use std::path::PathBuf;
@@ -13,9 +14,10 @@ use taut_core::curvature::{CurvatureQuantity, robust_range, vertex_curvature};
 use taut_core::{DVec3, Document, PolyMesh, io};
 use taut_render::colormap::ColorMap;
 use taut_render::overlay::{self, CageSelection, CombStyle, Legend, OverlayData};
+use taut_render::passes::overlay2d::legend_margin;
 use taut_render::passes::surface::SurfaceMode;
 use taut_render::{
-    AdapterPreference, Camera, Gpu, GpuSurface, Renderer, Scene, SurfaceBuffers, TargetFormats, offscreen,
+    AdapterPreference, Camera, DisplayFrame, Gpu, GpuSurface, Renderer, Scene, SurfaceBuffers, TargetFormats, offscreen,
 };
 
 #[derive(Debug, Args)]
@@ -62,6 +64,8 @@ pub struct RenderArgs {
     pub software: bool,
     #[command(flatten)]
     pub smoothing: SmoothingFlags,
+    #[command(flatten)]
+    pub files: FileFlags,
 }
 
 enum View {
@@ -93,19 +97,30 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
     if !(args.stripes > 0.0 && args.stripes.is_finite()) {
         return Err(format!("--stripes {}: must be a positive number", args.stripes));
     }
+    if !args.stripe_angle.is_finite() {
+        return Err(format!("--stripe-angle {}: must be a finite number of degrees", args.stripe_angle));
+    }
+    if !(args.stripe_width > 0.0 && args.stripe_width < 1.0) {
+        return Err(format!(
+            "--stripe-width {}: the black share of a stripe pair must lie strictly between 0 and 1",
+            args.stripe_width
+        ));
+    }
+    args.files.check_output(&[&args.input], &args.output)?;
 
     // The surface: a smoothed cage, or a mesh as it is.
     let cage_input = extension(&args.input) == "taut" || args.smoothing.any();
     let (surface, doc, solver) = if cage_input {
-        let mut doc = load_document(&args.input)?;
+        let mut doc = load_document(&args.input, &args.files)?;
         apply_flags(&mut doc, &args.smoothing)?;
         doc.validate().map_err(|e| e.to_string())?;
         let solver = solve_reporting(&doc)?;
         (solver.surface(), Some(doc), Some(solver))
     } else {
-        let (mesh, report) = io::import_mesh(&args.input).map_err(|e| e.to_string())?;
+        let (mesh, report) =
+            io::import_mesh_with(&args.input, &args.files.import_options()).map_err(|e| e.to_string())?;
         if !report.is_clean() {
-            eprintln!("note: {}: {report}", args.input.display());
+            note(format!("{}: {report}", args.input.display()));
         }
         (mesh, None, None)
     };
@@ -136,7 +151,8 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
             if args.legend {
                 data.legend = Some(Legend { map, min, max, title: overlay::legend_title(q).to_string() });
             }
-            let values: Vec<f32> = values.iter().map(|&v| v as f32).collect();
+            // The colours are chosen in f64: curvatures of a tiny model would overflow f32.
+            let values = taut_render::colormap::normalize(&values, min, max);
             return draw(
                 args,
                 &surface,
@@ -144,7 +160,7 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
                 solver.as_ref(),
                 &overlays,
                 data,
-                SurfaceMode::Curvature { map, min: min as f32, max: max as f32 },
+                SurfaceMode::Curvature { map, min: 0.0, max: 1.0 },
                 Some(&values),
                 (width, height),
             );
@@ -165,6 +181,10 @@ fn draw(
     values: Option<&[f32]>,
     (width, height): (u32, u32),
 ) -> Result<(), String> {
+    // Everything is drawn relative to the surface's own box, so any finite model fits f32.
+    let (lo, hi) = surface.bounding_box().ok_or("nothing to frame")?;
+    let frame = &DisplayFrame::for_bounds(lo, hi);
+    let normals: Option<&[DVec3]> = None;
     for &name in overlays {
         match name {
             "cage" => {
@@ -175,11 +195,12 @@ fn draw(
                     &doc.vertex_tension,
                     &doc.edge_tension,
                     &CageSelection::default(),
+                    frame,
                 );
                 data.on_top_lines.extend(lines);
                 data.points.extend(points);
             }
-            "wire" => data.surface_lines.extend(overlay::wireframe(surface, [0.05, 0.05, 0.06, 0.8], 1.0)),
+            "wire" => data.surface_lines.extend(overlay::wireframe(surface, [0.05, 0.05, 0.06, 0.8], 1.0, frame)),
             _ => {
                 // Curves along the cage edges (or the mesh's boundary loops), with combs
                 // scaled so the longest tooth is 6 % of the model's size.
@@ -192,7 +213,7 @@ fn draw(
                 let scale = if peak > 0.0 { 0.06 * diagonal / peak } else { 1.0 };
                 let style = CombStyle { scale, ..Default::default() };
                 for curve in &curves {
-                    data.surface_lines.extend(overlay::polyline_with_comb(curve, false, &style));
+                    data.surface_lines.extend(overlay::polyline_with_comb(curve, false, &style, frame));
                 }
             }
         }
@@ -203,12 +224,13 @@ fn draw(
     let targets = TargetFormats::for_adapter(&gpu.adapter, wgpu::TextureFormat::Rgba8UnormSrgb);
     let mut renderer = Renderer::new(&gpu, targets);
     let mut buffers = SurfaceBuffers::default();
-    buffers.update(surface);
+    buffers.update_with(surface, normals, frame);
     if let Some(values) = values {
         buffers.set_values(values);
     }
     let gpu_surface = GpuSurface::new(&gpu.device, &buffers);
-    let camera = camera_for(surface, args.camera.as_deref())?;
+    let margin = data.legend.as_ref().map_or(0, |l| legend_margin(l, width, height));
+    let camera = camera_for(surface, frame, args.camera.as_deref(), (width, height), margin)?;
     let mut scene = Scene::new(camera, Some(&gpu_surface), mode);
     scene.overlays = Some(&data);
     let picture = offscreen::render_image(&gpu, &mut renderer, &scene, width, height).map_err(|e| e.to_string())?;
@@ -255,10 +277,18 @@ fn curves_of(surface: &PolyMesh, solver: Option<&taut_core::nusd::surface::Surfa
     }
 }
 
-fn camera_for(surface: &PolyMesh, spec: Option<&str>) -> Result<Camera, String> {
-    let (lo, hi) = surface.bounding_box().ok_or("nothing to frame")?;
+/// The camera in the display coordinates of `frame`: the surface framed to fill the picture left
+/// of the legend's margin (`margin` pixels at the right), or placed by `--camera` (its distance in
+/// model units).
+fn camera_for(
+    surface: &PolyMesh,
+    frame: &DisplayFrame,
+    spec: Option<&str>,
+    (width, height): (u32, u32),
+    margin: u32,
+) -> Result<Camera, String> {
     let mut camera = Camera::default();
-    camera.frame(lo.as_vec3(), hi.as_vec3());
+    let mut distance = None;
     if let Some(spec) = spec {
         let numbers = parse_numbers(spec, "--camera")?;
         match numbers.as_slice() {
@@ -268,13 +298,28 @@ fn camera_for(surface: &PolyMesh, spec: Option<&str>) -> Result<Camera, String> 
             }
             _ => return Err(format!("--camera {spec}: expected AZIMUTH,ELEVATION[,DISTANCE]")),
         }
-        if let [_, _, distance] = numbers.as_slice() {
-            if *distance <= 0.0 {
-                return Err(format!("--camera {spec}: the distance must be positive"));
+        if let [_, _, d] = numbers.as_slice() {
+            let display = frame.length(*d);
+            if !(*d > 0.0 && display.is_finite() && (1e-6..=1e9).contains(&(display as f32))) {
+                return Err(format!(
+                    "--camera {spec}: the distance must be positive and within a billion times the model's size ({:.3e})",
+                    frame.scale
+                ));
             }
-            camera.distance = *distance as f32;
+            distance = Some(display as f32);
         }
     }
+    // Framing every vertex of a million-vertex surface is wasteful: a regular sample sees the
+    // same silhouette to within a pixel.
+    let step = (surface.vertex_count() / 20_000).max(1);
+    let points: Vec<glam::Vec3> = surface.positions().iter().step_by(step).map(|&p| frame.point(p)).collect();
+    let usable = width.saturating_sub(margin).max(1);
+    camera.frame_points(&points, usable as f32 / height.max(1) as f32);
+    if let Some(d) = distance {
+        camera.distance = d;
+    }
+    // Centre the model in the part of the picture the legend leaves free.
+    camera.pan(-(margin as f32) / 2.0, 0.0, height as f32);
     Ok(camera)
 }
 

@@ -5,6 +5,7 @@
 //! surface of the finest level (cage vertex `i` is vertex `i` of the output), `.taut` gets the
 //! cage document with the settings and tensions of this command applied, ready for the editor.
 
+use crate::cli::{FileFlags, note};
 use clap::Args;
 use std::path::{Path, PathBuf};
 use taut_core::nusd::Spacing;
@@ -20,6 +21,8 @@ pub struct SmoothArgs {
     pub output: PathBuf,
     #[command(flatten)]
     pub smoothing: SmoothingFlags,
+    #[command(flatten)]
+    pub files: FileFlags,
 }
 
 /// The smoothing flags shared by `smooth` and `render`.
@@ -67,7 +70,8 @@ impl SmoothingFlags {
 }
 
 pub fn run(args: &SmoothArgs) -> Result<(), String> {
-    let mut doc = load_document(&args.input)?;
+    args.files.check_output(&[&args.input], &args.output)?;
+    let mut doc = load_document(&args.input, &args.files)?;
     apply_flags(&mut doc, &args.smoothing)?;
     doc.validate().map_err(|e| e.to_string())?;
     let output_kind = extension(&args.output);
@@ -81,7 +85,7 @@ pub fn run(args: &SmoothArgs) -> Result<(), String> {
     }
     let solver = solve_reporting(&doc)?;
     let surface = solver.surface();
-    io::export_mesh(&surface, &args.output).map_err(|e| e.to_string())?;
+    io::export_mesh_with(&surface, &args.output, &args.files.export_options(None)).map_err(|e| e.to_string())?;
     println!("wrote {} ({} vertices, {} faces)", args.output.display(), surface.vertex_count(), surface.face_count());
     Ok(())
 }
@@ -92,7 +96,7 @@ pub fn solve_reporting(doc: &Document) -> Result<SurfaceSolver, String> {
     let started = std::time::Instant::now();
     let result = solver.solve();
     for event in solver.take_events() {
-        eprintln!("note: {event}");
+        note(event);
     }
     let reports = result.map_err(|e| e.to_string())?;
     let elapsed = started.elapsed();
@@ -119,13 +123,13 @@ pub fn solve_reporting(doc: &Document) -> Result<SurfaceSolver, String> {
 }
 
 /// Reads a cage document from any supported file, reporting what the import repaired.
-pub fn load_document(path: &Path) -> Result<Document, String> {
+pub fn load_document(path: &Path, files: &FileFlags) -> Result<Document, String> {
     if extension(path) == "taut" {
         return Document::load(path).map_err(|e| e.to_string());
     }
-    let (mesh, report) = io::import_mesh(path).map_err(|e| e.to_string())?;
-    if report.welded > 0 || report.repaired_faces > 0 || report.dropped_faces > 0 || !report.warnings.is_empty() {
-        eprintln!("note: {}: {report}", path.display());
+    let (mesh, report) = io::import_mesh_with(path, &files.import_options()).map_err(|e| e.to_string())?;
+    if !report.is_clean() {
+        note(format!("{}: {report}", path.display()));
     }
     Ok(Document::new(mesh))
 }

@@ -124,8 +124,8 @@ impl Document {
             version: FORMAT_VERSION,
             positions: self.cage.positions().iter().map(|p| p.to_array()).collect(),
             faces: self.cage.polygons(),
-            fixed: self.fixed.clone(),
-            vertex_tension: self.vertex_tension.clone(),
+            fixed: Some(self.fixed.clone()),
+            vertex_tension: Some(self.vertex_tension.clone()),
             edge_tension: self
                 .cage
                 .edges()
@@ -160,11 +160,13 @@ impl Document {
         let cage = PolyMesh::from_polygons(positions, &file.faces).map_err(|e| Error::format(origin, e.to_string()))?;
         let n = cage.vertex_count();
         let mut doc = Document::new(cage);
-        if !file.fixed.is_empty() {
-            doc.fixed = file.fixed;
+        // A missing key means the default for every vertex; a present one must have one entry
+        // per vertex (an empty list included: it is a mistake, not a shorthand).
+        if let Some(fixed) = file.fixed {
+            doc.fixed = fixed;
         }
-        if !file.vertex_tension.is_empty() {
-            doc.vertex_tension = file.vertex_tension;
+        if let Some(tension) = file.vertex_tension {
+            doc.vertex_tension = tension;
         }
         doc.settings = file.settings;
         if doc.fixed.len() != n || doc.vertex_tension.len() != n {
@@ -186,7 +188,7 @@ impl Document {
 
     /// Reads a `.taut` file.
     pub fn load(path: &Path) -> Result<Self> {
-        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+        let text = crate::io::file::read_regular_text(path)?;
         Self::from_json(&text, path)
     }
 
@@ -222,10 +224,10 @@ struct TautFile {
     version: u32,
     positions: Vec<[f64; 3]>,
     faces: Vec<Vec<u32>>,
-    #[serde(default)]
-    fixed: Vec<bool>,
-    #[serde(default)]
-    vertex_tension: Vec<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    fixed: Option<Vec<bool>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    vertex_tension: Option<Vec<f64>>,
     #[serde(default)]
     edge_tension: Vec<EdgeTension>,
     #[serde(default)]
@@ -259,6 +261,22 @@ mod tests {
         assert_eq!(back.to_json(), text);
     }
 
+    /// `text` with the JSON array under `key` replaced by `with`.
+    fn replace_array(text: &str, key: &str, with: &str) -> String {
+        let start = text.find(&format!("\"{key}\": [")).unwrap() + key.len() + 4;
+        let end = start + text[start..].find(']').unwrap() + 1;
+        format!("{}{with}{}", &text[..start], &text[end..])
+    }
+
+    #[test]
+    fn missing_lists_mean_defaults() {
+        let text =
+            r#"{"format": "taut-cage", "version": 1, "positions": [[0,0,0],[1,0,0],[0,1,0]], "faces": [[0,1,2]]}"#;
+        let doc = Document::from_json(text, Path::new("bare.taut")).unwrap();
+        assert_eq!(doc.fixed, vec![true; 3]);
+        assert_eq!(doc.vertex_tension, vec![0.0; 3]);
+    }
+
     #[test]
     fn bad_documents_are_explained() {
         let good = tetra().to_json();
@@ -270,6 +288,9 @@ mod tests {
             (good.replace("\"lambda\": 0.6", "\"lambda\": 1.5"), "lambda"),
             (good.replace("\"edge_tension\": []", "\"edge_tension\": [[0, 9, 1.0]]"), "does not exist"),
             (good.replace("\"edge_tension\": []", "\"edge_tension\": [[0, 1, -1.0]]"), "tension"),
+            (replace_array(&good, "fixed", "[]"), "4 vertices but 0 fixed flags"),
+            (replace_array(&good, "fixed", "[true]"), "4 vertices but 1 fixed flags"),
+            (replace_array(&good, "vertex_tension", "[]"), "0 vertex tensions"),
         ];
         for (text, expected) in cases {
             let err = Document::from_json(&text, Path::new("x.taut")).unwrap_err().to_string();

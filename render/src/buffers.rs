@@ -3,12 +3,16 @@
 //!
 //! [`SurfaceBuffers`] follows the mesh's two counters: a position-only edit (a drag) refreshes
 //! the vertex array and keeps the index array, which is rebuilt only when the connectivity
-//! changes, so the upload while dragging is positions and normals alone. [`GpuSurface`] mirrors
+//! changes, so the upload while dragging is positions and normals alone. Positions are written in
+//! the display coordinates of a [`DisplayFrame`], so any finite model fits f32. The normals drawn
+//! are the ones the surface gives (a subdivision scheme's exact limit normals, analytic patch
+//! normals); only a surface without normals of its own gets area-weighted ones. [`GpuSurface`] mirrors
 //! that on the GPU: it rewrites the vertex buffer in place and recreates the index buffer only
 //! when the indices changed.
 
+use crate::display::DisplayFrame;
 use bytemuck::{Pod, Zeroable};
-use taut_core::PolyMesh;
+use taut_core::{DVec3, PolyMesh};
 
 /// One vertex of the surface pass, as the shader reads it (`f32`, tightly packed).
 #[repr(C)]
@@ -27,6 +31,7 @@ pub struct SurfaceBuffers {
     indices: Vec<u32>,
     generation: Option<u64>,
     topology_generation: Option<u64>,
+    frame: Option<DisplayFrame>,
     index_rebuilds: u64,
     values_changed: bool,
 }
@@ -39,31 +44,49 @@ pub struct Changes {
 }
 
 impl SurfaceBuffers {
-    /// Brings the arrays up to date with `mesh` and says what changed.
+    /// Brings the arrays up to date with `mesh` drawn as it is, with area-weighted normals.
     pub fn update(&mut self, mesh: &PolyMesh) -> Changes {
+        self.update_with(mesh, None, &DisplayFrame::IDENTITY)
+    }
+
+    /// Brings the arrays up to date with `mesh` in the display coordinates of `frame`, with the
+    /// given unit normals (one per vertex; area-weighted ones when `None`), and says what changed.
+    /// Normals given belong to the mesh's current generation.
+    pub fn update_with(&mut self, mesh: &PolyMesh, normals: Option<&[DVec3]>, frame: &DisplayFrame) -> Changes {
         let topology_changed = self.topology_generation != Some(mesh.topology_generation());
-        let vertices_changed =
-            topology_changed || self.generation != Some(mesh.generation()) || std::mem::take(&mut self.values_changed);
-        let geometry_changed = topology_changed || self.generation != Some(mesh.generation());
+        let geometry_changed =
+            topology_changed || self.generation != Some(mesh.generation()) || self.frame != Some(*frame);
+        let vertices_changed = geometry_changed || std::mem::take(&mut self.values_changed);
         if topology_changed {
             self.indices = mesh.triangles().into_iter().flatten().collect();
             self.topology_generation = Some(mesh.topology_generation());
             self.index_rebuilds += 1;
         }
         if geometry_changed {
-            let normals = mesh.vertex_normals();
+            let computed;
+            let normals = match normals {
+                Some(n) if n.len() == mesh.vertex_count() => n,
+                _ => {
+                    computed = mesh.vertex_normals();
+                    &computed
+                }
+            };
+            let values: Vec<f32> = self.vertices.iter().map(|v| v.value).collect();
             self.vertices.clear();
-            self.vertices.extend(mesh.positions().iter().zip(&normals).map(|(p, n)| SurfaceVertex {
-                position: p.as_vec3().to_array(),
+            self.vertices.extend(mesh.positions().iter().zip(normals).enumerate().map(|(k, (&p, n))| SurfaceVertex {
+                position: frame.point(p).to_array(),
                 normal: n.as_vec3().to_array(),
-                value: 0.0,
+                value: if topology_changed { 0.0 } else { values.get(k).copied().unwrap_or(0.0) },
             }));
             self.generation = Some(mesh.generation());
+            self.frame = Some(*frame);
         }
         Changes { vertices: vertices_changed, indices: topology_changed }
     }
 
-    /// Sets the per-vertex scalar of the curvature view (one value per vertex, in order).
+    /// Sets the per-vertex scalar of the curvature view (one value per vertex, in order; the
+    /// callers pass values already mapped to the colour range, `[0, 1]`, see
+    /// [`crate::colormap::normalize`]).
     pub fn set_values(&mut self, values: &[f32]) {
         for (v, &x) in self.vertices.iter_mut().zip(values) {
             v.value = if x.is_finite() { x } else { 0.0 };

@@ -6,6 +6,9 @@
 
 use glam::{Mat4, Vec3};
 
+/// How much of the viewport's tighter side [`Camera::frame_points`] fills.
+pub const FRAME_FILL: f32 = 0.9;
+
 /// An orbiting perspective camera.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Camera {
@@ -94,11 +97,59 @@ impl Camera {
         self.distance = (self.distance * factor).clamp(1e-6, 1e9);
     }
 
-    /// Frames a bounding box so all of it is in view with a small margin.
+    /// Frames a bounding box so all of it is in view with a small margin, whatever the direction
+    /// the camera looks from (the box's bounding sphere fits the narrower side of a square view).
     pub fn frame(&mut self, min: Vec3, max: Vec3) {
         let radius = ((max - min).length() * 0.5).max(1e-6);
         self.target = (min + max) * 0.5;
         self.distance = 1.1 * radius / (self.fov_y.to_radians() * 0.5).sin();
+    }
+
+    /// Frames `points` seen from the current direction so they fill [`FRAME_FILL`] of a viewport
+    /// of aspect `aspect` (width over height) along its tighter side, centred on screen. This is
+    /// what "frame all" does: the model fills the view instead of its bounding sphere.
+    pub fn frame_points(&mut self, points: &[Vec3], aspect: f32) {
+        let Some(first) = points.first() else { return };
+        let (lo, hi) = points.iter().fold((*first, *first), |(lo, hi), &p| (lo.min(p), hi.max(p)));
+        let (right, up, back) = (self.right(), self.up(), self.backward());
+        // Centre the projected extent: the middle of the points along right and up, and the
+        // middle of the box in depth.
+        let centre = (lo + hi) * 0.5;
+        let span = |axis: Vec3| {
+            points.iter().fold((f32::INFINITY, f32::NEG_INFINITY), |(a, b), &p| {
+                let x = (p - centre).dot(axis);
+                (a.min(x), b.max(x))
+            })
+        };
+        let ((r0, r1), (u0, u1)) = (span(right), span(up));
+        self.target = centre + right * (r0 + r1) * 0.5 + up * (u0 + u1) * 0.5;
+        let tan_v = (self.fov_y.to_radians() * 0.5).tan() * FRAME_FILL;
+        let tan_h = tan_v * aspect.max(1e-3);
+        // Perspective makes the near side look larger: fit the distance, then move the target so
+        // the projected extent is centred, and fit again.
+        let fit = |target: Vec3| {
+            points.iter().fold(1e-6f32, |d, &p| {
+                let q = p - target;
+                let (x, y, z) = (q.dot(right).abs(), q.dot(up).abs(), q.dot(back));
+                d.max(z + x / tan_h).max(z + y / tan_v)
+            })
+        };
+        for _ in 0..6 {
+            let distance = fit(self.target);
+            let (mut x0, mut x1, mut y0, mut y1) = (f32::INFINITY, f32::NEG_INFINITY, f32::INFINITY, f32::NEG_INFINITY);
+            for &p in points {
+                let q = p - self.target;
+                let depth = (distance - q.dot(back)).max(1e-9);
+                let (x, y) = (q.dot(right) / depth, q.dot(up) / depth);
+                (x0, x1, y0, y1) = (x0.min(x), x1.max(x), y0.min(y), y1.max(y));
+            }
+            // Shift by the offset of the centre, measured at the target's depth.
+            self.target += right * (x0 + x1) * 0.5 * distance + up * (y0 + y1) * 0.5 * distance;
+        }
+        let distance = fit(self.target);
+        let size = (hi - lo).length().max(1e-6);
+        // Never inside the model: the eye stays at least its depth in front.
+        self.distance = distance.max(0.5 * size + 0.02 * size);
     }
 
     /// Jumps to a standard view, keeping target and distance.
@@ -150,6 +201,30 @@ mod tests {
             );
             let q = clip.project_point3(p);
             assert!(q.x.abs() <= 1.0 && q.y.abs() <= 1.0 && (0.0..=1.0).contains(&q.z), "{corner}: {q}");
+        }
+    }
+
+    #[test]
+    fn framing_points_fills_the_view_along_its_tighter_side() {
+        // A flat wide plate seen from the front at aspect 1.6: it should span 90 % of the width
+        // or of the height, whichever binds first, and stay inside both.
+        let points: Vec<Vec3> = (0..=20)
+            .flat_map(|i| (0..=4).map(move |k| Vec3::new(-3.0 + 0.3 * i as f32, 0.0, -0.5 + 0.25 * k as f32)))
+            .collect();
+        for (azimuth, aspect) in [(0.0, 1.6), (35.0, 1.6), (0.0, 0.5)] {
+            let mut c = Camera { azimuth, elevation: 10.0, ..Default::default() };
+            c.frame_points(&points, aspect);
+            let clip = c.clip_from_view(aspect) * c.view_from_world();
+            let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+            for &p in &points {
+                let q = clip.project_point3(p);
+                lo = lo.min(q);
+                hi = hi.max(q);
+            }
+            assert!(lo.x >= -0.901 && hi.x <= 0.901 && lo.y >= -0.901 && hi.y <= 0.901, "{lo} {hi}");
+            let fill = (hi.x - lo.x).max(hi.y - lo.y) / 2.0;
+            assert!(fill > 0.88, "fills {fill} at azimuth {azimuth}, aspect {aspect}");
+            assert!(((hi.x + lo.x) / 2.0).abs() < 0.05 && ((hi.y + lo.y) / 2.0).abs() < 0.05, "centred");
         }
     }
 

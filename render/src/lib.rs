@@ -10,6 +10,7 @@
 pub mod buffers;
 pub mod camera;
 pub mod colormap;
+pub mod display;
 pub mod frame;
 pub mod gpu;
 pub mod offscreen;
@@ -19,6 +20,7 @@ pub mod renderer;
 
 pub use buffers::{Changes, GpuSurface, SurfaceBuffers, SurfaceVertex};
 pub use camera::{Camera, StandardView};
+pub use display::DisplayFrame;
 pub use gpu::{AdapterPreference, Gpu};
 pub use overlay::{CageSelection, CombStyle, Legend, LineSegment, OverlayData, PointMark, PointStyle};
 pub use renderer::{Renderer, Scene};

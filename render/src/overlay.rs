@@ -17,6 +17,7 @@
 //!   towards white and enlarged; both are drawn after the others so they are never covered.
 
 use crate::colormap::ColorMap;
+use crate::display::DisplayFrame;
 use glam::Vec3;
 use taut_core::{DVec3, EdgeId, PolyMesh, VertexId};
 
@@ -135,6 +136,7 @@ pub fn cage_overlay(
     vertex_tension: &[f64],
     edge_tension: &[f64],
     selection: &CageSelection,
+    frame: &DisplayFrame,
 ) -> (Vec<LineSegment>, Vec<PointMark>) {
     let mut selected_edge = vec![false; cage.edge_count()];
     for e in &selection.selected_edges {
@@ -155,8 +157,8 @@ pub fn cage_overlay(
             let (a, b) = cage.edge_vertices(e);
             let s = tension_level(edge_tension.get(e.index()).copied().unwrap_or(0.0));
             let mut line = LineSegment {
-                a: cage.position(a).as_vec3(),
-                b: cage.position(b).as_vec3(),
+                a: frame.point(cage.position(a)),
+                b: frame.point(cage.position(b)),
                 color: mix(EDGE_NEUTRAL, TENSION_WARM, s),
                 width_px: EDGE_WIDTH + EDGE_WIDTH_PER_TENSION * s,
             };
@@ -177,7 +179,7 @@ pub fn cage_overlay(
 
     let mut points: Vec<(Emphasis, PointMark)> = Vec::with_capacity(cage.vertex_count() * 3);
     for v in cage.vertices() {
-        let position = cage.position(v).as_vec3();
+        let position = frame.point(cage.position(v));
         let is_fixed = fixed.get(v.index()).copied().unwrap_or(false);
         let s = tension_level(vertex_tension.get(v.index()).copied().unwrap_or(0.0));
         let mut emphasis = Emphasis::Plain;
@@ -211,11 +213,11 @@ pub fn cage_overlay(
 }
 
 /// Every edge of `mesh` once, as depth-tested lines (the refined wireframe).
-pub fn wireframe(mesh: &PolyMesh, color: [f32; 4], width_px: f32) -> Vec<LineSegment> {
+pub fn wireframe(mesh: &PolyMesh, color: [f32; 4], width_px: f32, frame: &DisplayFrame) -> Vec<LineSegment> {
     mesh.edges()
         .map(|e| {
             let (a, b) = mesh.edge_vertices(e);
-            LineSegment { a: mesh.position(a).as_vec3(), b: mesh.position(b).as_vec3(), color, width_px }
+            LineSegment { a: frame.point(mesh.position(a)), b: frame.point(mesh.position(b)), color, width_px }
         })
         .collect()
 }
@@ -275,8 +277,9 @@ fn comb_teeth(points: &[DVec3], closed: bool, comb: &CombStyle) -> Vec<(DVec3, D
 /// A curve and its curvature comb (porcupine): the polyline itself, a tooth along the
 /// curvature direction at every `density`-th point, `scale · κ` long, and the envelope joining
 /// the tooth tips. All lines are depth-tested (put them in [`OverlayData::surface_lines`]).
-pub fn polyline_with_comb(points: &[DVec3], closed: bool, comb: &CombStyle) -> Vec<LineSegment> {
-    let line = |a: DVec3, b: DVec3, color, width_px| LineSegment { a: a.as_vec3(), b: b.as_vec3(), color, width_px };
+pub fn polyline_with_comb(points: &[DVec3], closed: bool, comb: &CombStyle, frame: &DisplayFrame) -> Vec<LineSegment> {
+    let line =
+        |a: DVec3, b: DVec3, color, width_px| LineSegment { a: frame.point(a), b: frame.point(b), color, width_px };
     let n = points.len();
     let links = if closed && n > 2 { n } else { n.saturating_sub(1) };
     let mut out: Vec<LineSegment> =
@@ -365,7 +368,7 @@ mod tests {
             hovered_vertex: Some(VertexId(4)),
             ..Default::default()
         };
-        let (_, points) = cage_overlay(&cage, &fixed, &[0.0; 8], &[0.0; 12], &selection);
+        let (_, points) = cage_overlay(&cage, &fixed, &[0.0; 8], &[0.0; 12], &selection, &DisplayFrame::IDENTITY);
         let at = |v: u32| cage.position(VertexId(v)).as_vec3();
         let (fixed_mark, moving, selected_fixed, selected_moving, hovered) = (
             vertex_mark(&points, at(0)),
@@ -395,7 +398,7 @@ mod tests {
     fn tension_widens_edges_and_warms_them_monotonically() {
         let cage = cube();
         let taus = [0.0, 0.5, 1.0, 2.0, 3.0, 4.0, 8.0, 20.0, f64::NAN, -1.0, 0.0, 0.0];
-        let (lines, _) = cage_overlay(&cage, &[], &[], &taus, &CageSelection::default());
+        let (lines, _) = cage_overlay(&cage, &[], &[], &taus, &CageSelection::default(), &DisplayFrame::IDENTITY);
         assert_eq!(lines.len(), 12);
         let (w, red): (Vec<f32>, Vec<f32>) = lines[..8].iter().map(|l| (l.width_px, l.color[0])).unzip();
         assert!(w.windows(2).all(|p| p[1] >= p[0]) && w[5] > w[0], "{w:?}");
@@ -407,8 +410,10 @@ mod tests {
         assert_eq!(lines[5].color, TENSION_WARM);
 
         // Vertex tension enlarges the mark and adds a warm ring.
-        let (_, calm) = cage_overlay(&cage, &[false; 8], &[0.0; 8], &[], &CageSelection::default());
-        let (_, tense) = cage_overlay(&cage, &[false; 8], &[4.0; 8], &[], &CageSelection::default());
+        let (_, calm) =
+            cage_overlay(&cage, &[false; 8], &[0.0; 8], &[], &CageSelection::default(), &DisplayFrame::IDENTITY);
+        let (_, tense) =
+            cage_overlay(&cage, &[false; 8], &[4.0; 8], &[], &CageSelection::default(), &DisplayFrame::IDENTITY);
         assert!(tense.len() > calm.len());
         assert!(vertex_mark(&tense, Vec3::ZERO).radius_px > vertex_mark(&calm, Vec3::ZERO).radius_px);
         assert!(tense.iter().any(|p| p.color[..3] == TENSION_WARM[..3]));
@@ -419,7 +424,7 @@ mod tests {
         let cage = cube();
         let selection =
             CageSelection { selected_edges: vec![EdgeId(0)], hovered_edge: Some(EdgeId(1)), ..Default::default() };
-        let (lines, _) = cage_overlay(&cage, &[], &[], &[], &selection);
+        let (lines, _) = cage_overlay(&cage, &[], &[], &[], &selection, &DisplayFrame::IDENTITY);
         let (plain, selected, hovered) = (lines[0], lines[10], lines[11]);
         assert_eq!(selected.color, SELECTED);
         assert!(selected.width_px > plain.width_px && hovered.width_px > plain.width_px);
@@ -431,7 +436,7 @@ mod tests {
     #[test]
     fn wireframe_has_one_segment_per_edge() {
         let cage = cube();
-        let lines = wireframe(&cage, [1.0; 4], 1.0);
+        let lines = wireframe(&cage, [1.0; 4], 1.0, &DisplayFrame::IDENTITY);
         assert_eq!(lines.len(), cage.edge_count());
         let mut keys: Vec<_> = lines
             .iter()
@@ -466,7 +471,7 @@ mod tests {
                 let outward = tooth.normalize().dot((*p - centre).normalize());
                 assert!((outward - if inward { -1.0 } else { 1.0 }).abs() < 1e-9, "{outward}");
             }
-            let lines = polyline_with_comb(&circle, true, &comb);
+            let lines = polyline_with_comb(&circle, true, &comb, &DisplayFrame::IDENTITY);
             // The curve, the teeth, and a closed envelope.
             assert_eq!(lines.len(), n + 2 * teeth.len());
         }
@@ -479,9 +484,9 @@ mod tests {
         let teeth = comb_teeth(&line, false, &comb);
         assert_eq!(teeth.iter().map(|t| t.0.x).collect::<Vec<_>>(), [0.0, 4.0, 6.0]);
         assert!(teeth.iter().all(|(p, tip)| p == tip));
-        assert_eq!(polyline_with_comb(&line, false, &comb).len(), 6 + 3 + 2);
-        assert_eq!(polyline_with_comb(&line[..2], false, &comb).len(), 1);
-        assert!(polyline_with_comb(&[], true, &comb).is_empty());
+        assert_eq!(polyline_with_comb(&line, false, &comb, &DisplayFrame::IDENTITY).len(), 6 + 3 + 2);
+        assert_eq!(polyline_with_comb(&line[..2], false, &comb, &DisplayFrame::IDENTITY).len(), 1);
+        assert!(polyline_with_comb(&[], true, &comb, &DisplayFrame::IDENTITY).is_empty());
     }
 
     #[test]

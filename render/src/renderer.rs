@@ -426,14 +426,16 @@ mod tests {
             hovered_vertex: Some(VertexId(18)),
             hovered_edge: Some(EdgeId(20)),
         };
-        let (on_top_lines, points) = cage_overlay(&cage, &fixed, &vertex_tension, &edge_tension, &selection);
+        let identity = crate::DisplayFrame::IDENTITY;
+        let (on_top_lines, points) = cage_overlay(&cage, &fixed, &vertex_tension, &edge_tension, &selection, &identity);
         let curve: Vec<DVec3> =
             (0..=40).map(|i| -1.0 + i as f64 / 20.0).map(|x| DVec3::new(x, -0.5, bump(x, -0.5))).collect();
-        let mut surface_lines = wireframe(&smooth, [0.0, 0.0, 0.0, 0.35], 1.0);
+        let mut surface_lines = wireframe(&smooth, [0.0, 0.0, 0.0, 0.35], 1.0, &identity);
         surface_lines.extend(polyline_with_comb(
             &curve,
             false,
             &CombStyle { scale: 0.15, density: 2, ..Default::default() },
+            &identity,
         ));
         let legend = Some(Legend { map: ColorMap::Diverging, min: -0.25, max: 0.25, title: "Height".into() });
         let overlays = OverlayData { surface_lines, on_top_lines, points, legend };

@@ -5,7 +5,9 @@
 use glam::DVec3;
 use serde_json::json;
 use std::path::{Path, PathBuf};
-use taut_core::io::{MeshFormat, export_glb, export_mesh, export_obj, import_mesh};
+use taut_core::io::{
+    ImportOptions, MeshFormat, UpAxis, export_glb, export_mesh, export_obj, import_mesh, import_mesh_with,
+};
 use taut_core::nusd::Spacing;
 use taut_core::{Document, PolyMesh, VertexId};
 use taut_tests::{cube, prism};
@@ -132,14 +134,15 @@ fn gltf_node_hierarchy_is_placed_and_mirrors_stay_outward() {
     let (mesh, report) = import_mesh(&path).unwrap();
     assert!(report.is_clean(), "{report}: {:?}", report.warnings);
     assert_eq!((mesh.vertex_count(), mesh.face_count()), (16, 24));
-    // By hand: the child doubles, turns 90° about z ((x, y) -> (-y, x)) and moves by (10, 0, 0);
-    // the mirror negates x and moves by (-10, 0, 0).
+    // By hand, in the file's Y-up axes: the child doubles, turns 90° about z ((x, y) -> (-y, x))
+    // and moves by (10, 0, 0); the mirror negates x and moves by (-10, 0, 0).
+    let in_file: Vec<DVec3> = mesh.positions().iter().map(|&p| UpAxis::Y.from_taut(p)).collect();
     for (k, c) in corners.iter().enumerate() {
         let [x, y, z] = c.map(f64::from);
         let child = DVec3::new(10.0 - 2.0 * y, 2.0 * x, 2.0 * z);
         let mirror = DVec3::new(-10.0 - x, y, z);
-        assert!((mesh.positions()[k] - child).length() < 1e-12, "child corner {k}");
-        assert!((mesh.positions()[8 + k] - mirror).length() < 1e-12, "mirrored corner {k}");
+        assert!((in_file[k] - child).length() < 1e-12, "child corner {k}");
+        assert!((in_file[8 + k] - mirror).length() < 1e-12, "mirrored corner {k}");
     }
     // Volumes 8 and 1, both positive: a mirror that kept its winding would count -1.
     assert!((signed_volume(&mesh) - 9.0).abs() < 1e-9, "{}", signed_volume(&mesh));
@@ -196,8 +199,9 @@ fn shared_obj_vertices_keep_the_file_numbering() {
             face.iter().map(|&v| if k % 2 == 0 { (v + 1).to_string() } else { format!("{}", v as i64 - 9) }).collect();
         text += &format!("{}f {}\n", if k == 3 { "g second\n" } else { "" }, corners.join(" "));
     }
+    // Written in Taut's own axes: read as a Z-up file.
     let path = dir.file("scrambled.obj", &text);
-    let (mesh, report) = import_mesh(&path).unwrap();
+    let (mesh, report) = import_mesh_with(&path, &ImportOptions { obj_up: UpAxis::Z }).unwrap();
     assert!(report.is_clean(), "{report}");
     assert_eq!(mesh.vertex_count(), 9);
     assert!(mesh.is_isolated(VertexId(8)));
@@ -308,9 +312,12 @@ fn bad_files_are_clear_errors_not_panics() {
         "buffers": [{ "byteLength": 36, "uri": "gone.bin" }]
     });
     let path = dir.file("lonely.gltf", serde_json::to_vec(&gltf).unwrap());
-    refused(&path, "buffer 0 refers to 'gone.bin', which cannot be read");
+    refused(&path, "buffer 0 refers to 'gone.bin', which Taut will not read: it cannot be read");
     dir.file("gone.bin", [0u8; 20]);
-    refused(&path, "buffer 0 has 20 bytes but the file declares 36");
+    refused(
+        &path,
+        "buffer 0 refers to 'gone.bin', which cannot be read: the file has 20 bytes, fewer than the 36 declared",
+    );
 }
 
 #[test]
@@ -327,8 +334,16 @@ fn export_refuses_what_it_cannot_write() {
     assert_eq!(MeshFormat::from_path(Path::new("A.GlB")).unwrap(), MeshFormat::Glb);
 }
 
+/// What an import accepts is a valid cage: connectivity checked, finite coordinates, faces.
+fn accepted_is_valid(result: taut_core::Result<(PolyMesh, taut_core::io::ImportReport)>) {
+    if let Ok((mesh, report)) = result {
+        mesh.validate().unwrap_or_else(|e| panic!("accepted an invalid mesh ({report}): {e}"));
+        assert!(mesh.face_count() > 0 && mesh.positions().iter().all(|p| p.is_finite()), "{report}");
+    }
+}
+
 #[test]
-fn damaged_copies_of_good_files_never_panic() {
+fn damaged_copies_of_good_files_never_panic_and_what_they_accept_is_valid() {
     let dir = TempDir::new("damaged");
     let glb = dir.path("good.glb");
     export_glb(&prism(5, 1.0, 1.0), &glb).unwrap();
@@ -361,7 +376,7 @@ fn damaged_copies_of_good_files_never_panic() {
         let bytes = std::fs::read(good).unwrap();
         let name = format!("damaged.{}", good.extension().unwrap().to_string_lossy());
         for cut in (0..bytes.len()).step_by(7) {
-            let _ = import_mesh(&dir.file(&name, &bytes[..cut]));
+            accepted_is_valid(import_mesh(&dir.file(&name, &bytes[..cut])));
         }
         for _ in 0..400 {
             let mut damaged = bytes.clone();
@@ -373,7 +388,173 @@ fn damaged_copies_of_good_files_never_panic() {
                     _ => damaged[k] ^ (1 << random(8)),
                 };
             }
-            let _ = import_mesh(&dir.file(&name, &damaged));
+            accepted_is_valid(import_mesh(&dir.file(&name, &damaged)));
         }
+    }
+}
+
+/// A one-triangle glTF whose buffer lives at `uri`, with extra top-level JSON merged in.
+fn triangle_gltf(uri: &str, extra: serde_json::Value) -> Vec<u8> {
+    let mut doc = json!({
+        "asset": { "version": "2.0" },
+        "meshes": [{ "primitives": [{ "attributes": { "POSITION": 0 } }] }],
+        "accessors": [{ "bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0] }],
+        "bufferViews": [{ "buffer": 0, "byteLength": 36 }],
+        "buffers": [{ "byteLength": 36, "uri": uri }]
+    });
+    for (k, v) in extra.as_object().unwrap() {
+        doc[k] = v.clone();
+    }
+    serde_json::to_vec(&doc).unwrap()
+}
+
+fn triangle_bytes() -> Vec<u8> {
+    [[0.0f32, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]].iter().flatten().flat_map(|c| c.to_le_bytes()).collect()
+}
+
+#[test]
+fn a_gltf_reads_nothing_outside_its_own_folder() {
+    let outer = TempDir::new("sandbox");
+    let secret = outer.file("secret.bin", [0x41u8; 64]);
+    let model = outer.path("model");
+    std::fs::create_dir_all(&model).unwrap();
+    std::fs::write(model.join("good.bin"), triangle_bytes()).unwrap();
+    let write = |name: &str, bytes: Vec<u8>| {
+        let path = model.join(name);
+        std::fs::write(&path, bytes).unwrap();
+        path
+    };
+    // A relative URI inside the folder is read.
+    import_mesh(&write("good.gltf", triangle_gltf("good.bin", json!({})))).unwrap();
+    let absolute = secret.to_string_lossy().into_owned();
+    let cases = [
+        ("absolute.gltf", absolute.as_str(), "absolute path"),
+        ("climb.gltf", "../secret.bin", "leads outside the glTF file's folder"),
+        ("zero.gltf", "/dev/zero", "absolute path"),
+    ];
+    for (name, uri, expected) in cases {
+        let path = write(name, triangle_gltf(uri, json!({})));
+        refused(&path, expected);
+        let message = import_mesh(&path).unwrap_err().to_string();
+        assert!(!message.contains("1094795585") && !message.contains("AAAA"), "bytes of the file leak: {message}");
+    }
+    #[cfg(unix)]
+    {
+        std::os::unix::fs::symlink(&secret, model.join("link.bin")).unwrap();
+        refused(&write("link.gltf", triangle_gltf("link.bin", json!({}))), "leads outside");
+        std::os::unix::fs::symlink("/dev/zero", model.join("zero.bin")).unwrap();
+        refused(&write("device.gltf", triangle_gltf("zero.bin", json!({}))), "leads outside");
+        // A buffer file longer than declared is read only up to byteLength.
+        let mut long = triangle_bytes();
+        long.extend([0xFFu8; 1000]);
+        std::fs::write(model.join("long.bin"), long).unwrap();
+        import_mesh(&write("long.gltf", triangle_gltf("long.bin", json!({})))).unwrap();
+    }
+    // Images are never read, wherever they point.
+    let images = json!({ "images": [{ "uri": "/dev/zero" }, { "uri": "../secret.bin" }] });
+    import_mesh(&write("images.gltf", triangle_gltf("good.bin", images))).unwrap();
+}
+
+#[test]
+fn inputs_that_are_not_regular_files_are_refused_before_reading() {
+    let dir = TempDir::new("special");
+    std::fs::create_dir_all(dir.path("folder.obj")).unwrap();
+    refused(&dir.path("folder.obj"), "a folder, not a regular file");
+    #[cfg(unix)]
+    {
+        std::os::unix::fs::symlink("/dev/zero", dir.path("zero.obj")).unwrap();
+        refused(&dir.path("zero.obj"), "a device, not a regular file");
+        let fifo = dir.path("pipe.glb");
+        assert!(std::process::Command::new("mkfifo").arg(&fifo).status().unwrap().success());
+        refused(&fifo, "a named pipe");
+        let fifo = dir.path("pipe.taut");
+        assert!(std::process::Command::new("mkfifo").arg(&fifo).status().unwrap().success());
+        let err = Document::load(&fifo).unwrap_err().to_string();
+        assert!(err.contains("named pipe"), "{err}");
+    }
+}
+
+#[test]
+fn required_extensions_and_broken_triangle_lists_are_refused_by_name() {
+    let dir = TempDir::new("required");
+    dir.file("t.bin", triangle_bytes());
+    let required =
+        json!({ "extensionsRequired": ["KHR_materials_variants"], "extensionsUsed": ["KHR_materials_variants"] });
+    refused(
+        &dir.file("variants.gltf", triangle_gltf("t.bin", required)),
+        "requires the glTF extension KHR_materials_variants",
+    );
+    let mut bin = triangle_bytes();
+    bin.extend([0u32, 1, 2, 0].iter().flat_map(|i| i.to_le_bytes()));
+    dir.file("four.bin", &bin);
+    let four = json!({
+        "asset": { "version": "2.0" },
+        "meshes": [{ "primitives": [{ "attributes": { "POSITION": 0 }, "indices": 1 }] }],
+        "accessors": [
+            { "bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0] },
+            { "bufferView": 1, "componentType": 5125, "count": 4, "type": "SCALAR" }
+        ],
+        "bufferViews": [{ "buffer": 0, "byteLength": 36 }, { "buffer": 0, "byteOffset": 36, "byteLength": 16 }],
+        "buffers": [{ "byteLength": 52, "uri": "four.bin" }]
+    });
+    refused(&dir.file("four.gltf", serde_json::to_vec(&four).unwrap()), "from 4 indices, which is not a multiple of 3");
+}
+
+/// The Blender fixtures: where they are, and Suzanne's bounding box in Blender's own (Z-up)
+/// coordinates, which are Taut's.
+fn blender_fixture(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/blender").join(name)
+}
+
+#[test]
+fn blender_files_open_upright_and_welded_where_they_should_be() {
+    // Suzanne: ears ±1.367 along x, the face looking along −y (±0.852), ±0.984 tall along z.
+    let monkey = (DVec3::new(-1.367188, -0.851562, -0.984375), DVec3::new(1.367188, 0.851562, 0.984375));
+    for name in ["monkey.obj", "monkey_smooth.obj", "monkey.glb", "monkey_smooth.glb"] {
+        let (mesh, report) = import_mesh(&blender_fixture(name)).unwrap_or_else(|e| panic!("{name}: {e}"));
+        mesh.validate().unwrap();
+        let (lo, hi) = mesh.bounding_box().unwrap();
+        assert!((lo - monkey.0).length() < 1e-6 && (hi - monkey.1).length() < 1e-6, "{name} lies {lo} .. {hi}");
+        // The eyes touch the head at two points and stay parts of their own.
+        assert_eq!(report.kept_apart, 2, "{name}: {report}");
+        assert_eq!(mesh.vertex_count(), 507, "{name}: {report}");
+        // Suzanne looks along −y: the face, with most of the detail, is on that side.
+        let front = mesh.positions().iter().filter(|p| p.y < 0.0).count();
+        let back = mesh.positions().iter().filter(|p| p.y > 0.0).count();
+        assert!(front > 2 * back, "{name}: {front} vertices in front, {back} behind");
+    }
+    for name in ["uv_sphere.obj", "uv_sphere_smooth.obj", "uv_sphere.glb", "uv_sphere_smooth.glb"] {
+        let (mesh, report) = import_mesh(&blender_fixture(name)).unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert!(mesh.is_closed(), "{name}: {report}");
+        assert_eq!(mesh.euler_characteristic(), 2, "{name}");
+        assert_eq!(report.kept_apart, 0);
+        // Blender's UV sphere has its poles on its z axis.
+        let top = mesh.positions().iter().max_by(|a, b| a.z.total_cmp(&b.z)).unwrap();
+        assert!((*top - DVec3::Z).length() < 1e-6, "{name}: the top pole is at {top}");
+    }
+}
+
+/// Taut's OBJ and GLB files read back in place, and OBJ is written Y up with smooth shading.
+#[test]
+fn written_files_are_y_up_and_read_back_in_place() {
+    let dir = TempDir::new("axes");
+    let mut tall = prism(5, 1.0, 3.0);
+    for p in tall.positions_mut() {
+        p.z += 10.0;
+    }
+    let obj = dir.path("tall.obj");
+    export_obj(&tall, &obj).unwrap();
+    let text = std::fs::read_to_string(&obj).unwrap();
+    assert!(text.contains("\ns 1\n"), "OBJ output must ask for smooth shading");
+    let first = text.lines().find(|l| l.starts_with("v ")).unwrap();
+    let y: f64 = first.split_whitespace().nth(2).unwrap().parse().unwrap();
+    assert_eq!(y, tall.positions()[0].z, "Taut's height is the file's y");
+    let (back, _) = import_mesh(&obj).unwrap();
+    assert_eq!(bits(back.positions()), bits(tall.positions()));
+    let glb = dir.path("tall.glb");
+    export_glb(&tall, &glb).unwrap();
+    let (back, _) = import_mesh(&glb).unwrap();
+    for (a, b) in back.positions().iter().zip(tall.positions()) {
+        assert!((*a - *b).length() < 1e-5, "{a} vs {b}");
     }
 }

@@ -150,6 +150,7 @@ fn chord_and_uniform_spacing_differ_and_tension_shows() {
         &tense.vertex_tension,
         &tense.edge_tension,
         &CageSelection::default(),
+        &taut_render::DisplayFrame::IDENTITY,
     );
     let overlays = OverlayData { on_top_lines: lines, points, ..Default::default() };
     golden("zebra-default-tension-cage", &picture(&t, ZEBRA, None, Some(&overlays), VIEW));

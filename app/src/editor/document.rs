@@ -16,7 +16,7 @@
 use std::collections::VecDeque;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
-use taut_core::io::{self, ImportReport};
+use taut_core::io::{self, ImportReport, UpAxis};
 use taut_core::nusd::SolverSettings;
 use taut_core::{DVec3, Document, EdgeId, PolyMesh, VertexId};
 
@@ -120,11 +120,16 @@ impl EditorDocument {
     /// `.taut` file); [`source`](Self::source) names it and [`import_report`](Self::import_report)
     /// says what the import repaired.
     pub fn open(path: &Path) -> Result<Self, String> {
+        Self::open_with(path, UpAxis::default())
+    }
+
+    /// [`open`](Self::open), reading OBJ files with the given up axis.
+    pub fn open_with(path: &Path, obj_up: UpAxis) -> Result<Self, String> {
         if is_taut(path) {
             let doc = Document::load(path).map_err(|e| e.to_string())?;
             return Ok(Self::new(doc, Some(path.to_path_buf())));
         }
-        let (mesh, report) = io::import_mesh(path).map_err(|e| e.to_string())?;
+        let (mesh, report) = io::import_mesh_with(path, &io::ImportOptions { obj_up }).map_err(|e| e.to_string())?;
         let doc = Document::new(mesh);
         doc.validate().map_err(|e| format!("{}: {e}", path.display()))?;
         let mut opened = Self::new(doc, None);
@@ -295,14 +300,22 @@ impl EditorDocument {
     }
 
     /// Writes a smoothed surface as `.obj` or `.glb` (by extension, atomically).
-    pub fn export_surface(surface: &PolyMesh, path: &Path) -> Result<(), String> {
+    pub fn export_surface(&self, surface: &PolyMesh, path: &Path, obj_up: UpAxis) -> Result<(), String> {
         if is_taut(path) {
             return Err(format!(
                 "{}: export writes the smoothed surface as .obj or .glb; use Save As for a .taut cage",
                 path.display()
             ));
         }
-        io::export_mesh(surface, path).map_err(|e| e.to_string())
+        if let Some(source) = self.source.as_deref().filter(|s| io::file::same_file(s, path)) {
+            return Err(format!(
+                "{} is the file this cage was opened from: exporting the surface there would replace it; \
+                 choose another name",
+                source.display()
+            ));
+        }
+        let options = io::ExportOptions { normals: None, obj_up };
+        io::export_mesh_with(surface, path, &options).map_err(|e| e.to_string())
     }
 
     fn take_state(&mut self) -> u64 {

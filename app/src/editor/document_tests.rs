@@ -1,6 +1,7 @@
 //! Tests of `document.rs`, kept apart from the code they check.
 
 use super::*;
+use taut_core::io::UpAxis;
 use taut_core::nusd::Spacing;
 
 /// A unique, empty folder under the system's temp folder.
@@ -307,9 +308,13 @@ fn an_imported_mesh_asks_for_a_taut_file() {
     let dir = temp_dir("import");
     let obj = dir.join("cube.obj");
     let cube = cube_doc();
-    EditorDocument::export_surface(&cube.cage, &obj).unwrap();
-    assert!(EditorDocument::export_surface(&cube.cage, &dir.join("x.taut")).is_err());
+    let writer = EditorDocument::new(cube.clone(), None);
+    writer.export_surface(&cube.cage, &obj, UpAxis::Y).unwrap();
+    assert!(writer.export_surface(&cube.cage, &dir.join("x.taut"), UpAxis::Y).is_err());
     let mut ed = EditorDocument::open(&obj).unwrap();
+    // Exporting the surface over the mesh the cage came from is refused: it would replace it.
+    let err = ed.export_surface(&cube.cage, &obj, UpAxis::Y).unwrap_err();
+    assert!(err.contains("the file this cage was opened from"), "{err}");
     assert_eq!(ed.doc().cage.positions(), cube.cage.positions());
     assert!(ed.path().is_none());
     assert_eq!(ed.source(), Some(obj.as_path()));

@@ -1,11 +1,29 @@
 //! The editor's menu bar and its modal dialogs (path field, unsaved changes, crash recovery).
 
 use super::primitives;
+use super::shortcuts::{self, Action};
 use super::state::EditorState;
 use super::ui::{MakeDocument, PathPurpose, Pending, UiState};
 use egui::Key;
 use std::path::PathBuf;
-use taut_render::StandardView;
+use taut_core::io::UpAxis;
+
+/// What the mouse and the keys during a drag do, for Help ▸ Keyboard shortcuts.
+const MOUSE_AND_DRAG_KEYS: &[(&str, &str)] = &[
+    ("Left click", "Select a cage vertex or edge (Shift adds or removes)"),
+    ("Left drag on a vertex", "Move the selection in the view plane"),
+    ("X, Y or Z while dragging", "Lock the move to that axis (again: unlock)"),
+    ("Esc while dragging", "Cancel the move"),
+    ("Left drag on empty space", "Box select (Shift adds)"),
+    ("Right or middle drag", "Orbit"),
+    ("Shift + right or middle drag", "Pan"),
+    ("Wheel", "Zoom"),
+];
+
+/// A menu entry's text: its name and its first shortcut.
+fn item(action: Action) -> String {
+    format!("{}  {}", shortcuts::describe(action), shortcuts::label(action))
+}
 
 impl EditorState {
     pub(super) fn menu(&mut self, ui: &mut egui::Ui, ui_state: &mut UiState) {
@@ -23,8 +41,8 @@ impl EditorState {
                     }
                 }
             });
-            if ui.button("Open…  Ctrl+O").clicked() {
-                self.request(Pending::Open(None), ui_state);
+            if ui.button(item(Action::Open)).clicked() {
+                self.run_action(Action::Open, ui_state);
             }
             ui.menu_button("Open recent", |ui| {
                 let recent: Vec<PathBuf> = self.recent.paths().to_vec();
@@ -42,13 +60,14 @@ impl EditorState {
             });
             if ui.button("Type a path to open…").clicked() {
                 ui_state.path_dialog = Some((PathPurpose::Open, String::new()));
+                ui_state.focus_path_field = true;
             }
             ui.separator();
-            if ui.button("Save  Ctrl+S").clicked() && !self.save() {
-                self.ask_path(PathPurpose::SaveAs, ui_state);
+            if ui.button(item(Action::Save)).clicked() {
+                self.run_action(Action::Save, ui_state);
             }
-            if ui.button("Save as…  Ctrl+Shift+S").clicked() {
-                self.ask_path(PathPurpose::SaveAs, ui_state);
+            if ui.button(item(Action::SaveAs)).clicked() {
+                self.run_action(Action::SaveAs, ui_state);
             }
             if ui.button("Export surface as OBJ…").clicked() {
                 self.ask_path(PathPurpose::ExportObj, ui_state);
@@ -60,48 +79,107 @@ impl EditorState {
                 self.ask_path(PathPurpose::Screenshot, ui_state);
             }
             ui.separator();
-            if ui.button("Quit  Ctrl+Q").clicked() {
-                self.request(Pending::Quit, ui_state);
+            ui.menu_button("OBJ files are", |ui| {
+                ui.radio_value(&mut self.obj_up, UpAxis::Y, "Y up (Blender, most tools)")
+                    .on_hover_text("Read and write OBJ files with +Y up, as Blender exports them by default");
+                ui.radio_value(&mut self.obj_up, UpAxis::Z, "Z up (Taut's own axes)")
+                    .on_hover_text("Read and write OBJ coordinates as they are");
+            });
+            ui.separator();
+            if ui.button(item(Action::Quit)).clicked() {
+                self.run_action(Action::Quit, ui_state);
             }
         });
         ui.menu_button("Edit", |ui| {
-            if ui.add_enabled(self.document.can_undo(), egui::Button::new("Undo  Ctrl+Z")).clicked() {
-                self.undo();
+            if ui.add_enabled(self.document.can_undo(), egui::Button::new(item(Action::Undo))).clicked() {
+                self.run_action(Action::Undo, ui_state);
             }
-            if ui.add_enabled(self.document.can_redo(), egui::Button::new("Redo  Ctrl+Shift+Z")).clicked() {
-                self.redo();
+            if ui.add_enabled(self.document.can_redo(), egui::Button::new(item(Action::Redo))).clicked() {
+                self.run_action(Action::Redo, ui_state);
             }
             ui.separator();
-            if ui.button("Select all  Ctrl+A").clicked() {
-                self.selection.clear();
-                self.selection.vertices = self.document.doc().cage.vertices().collect();
+            if ui.button(item(Action::SelectAll)).clicked() {
+                self.run_action(Action::SelectAll, ui_state);
             }
-            if ui.button("Select none  Esc").clicked() {
-                self.selection.clear();
+            if ui.button(format!("Select none  {}", shortcuts::label(Action::SelectNone))).clicked() {
+                self.run_action(Action::SelectNone, ui_state);
             }
         });
         ui.menu_button("View", |ui| {
-            for (label, view) in [
-                ("Front  1", StandardView::Front),
-                ("Right  3", StandardView::Right),
-                ("Top  7", StandardView::Top),
-                ("Perspective  5", StandardView::Perspective),
-            ] {
-                if ui.button(label).clicked() {
-                    self.camera.set_view(view);
+            for action in [Action::ViewFront, Action::ViewRight, Action::ViewTop, Action::ViewPerspective] {
+                if ui.button(item(action)).clicked() {
+                    self.run_action(action, ui_state);
                 }
             }
             ui.separator();
-            if ui.button("Frame all  Home").clicked() {
-                self.frame_all();
+            if ui.button(item(Action::FrameAll)).clicked() {
+                self.run_action(Action::FrameAll, ui_state);
             }
-            if ui.button("Frame selection  F").clicked() {
-                self.frame_selection();
+            if ui.button(item(Action::FrameSelection)).clicked() {
+                self.run_action(Action::FrameSelection, ui_state);
+            }
+            ui.separator();
+            if ui.button(format!("Messages ({})", self.messages.len())).clicked() {
+                ui_state.show_messages = true;
+            }
+        });
+        ui.menu_button("Help", |ui| {
+            if ui.button(item(Action::ShowShortcuts)).clicked() {
+                self.run_action(Action::ShowShortcuts, ui_state);
             }
         });
     }
 
+    /// Help ▸ Keyboard shortcuts: every key of the table, and the mouse.
+    fn shortcuts_window(&mut self, ctx: &egui::Context, ui_state: &mut UiState) {
+        let mut open = ui_state.show_shortcuts;
+        egui::Window::new("Keyboard shortcuts").open(&mut open).collapsible(false).resizable(false).show(ctx, |ui| {
+            egui::Grid::new("shortcut table").striped(true).num_columns(2).show(ui, |ui| {
+                let mut seen = Vec::new();
+                for s in shortcuts::SHORTCUTS {
+                    if seen.contains(&s.action) {
+                        continue;
+                    }
+                    seen.push(s.action);
+                    ui.label(shortcuts::all_labels(s.action));
+                    ui.label(shortcuts::describe(s.action));
+                    ui.end_row();
+                }
+                for (keys, what) in MOUSE_AND_DRAG_KEYS {
+                    ui.label(*keys);
+                    ui.label(*what);
+                    ui.end_row();
+                }
+            });
+        });
+        ui_state.show_shortcuts = open;
+    }
+
+    /// Every message of this session, newest last, wrapped to the window.
+    fn messages_window(&mut self, ctx: &egui::Context, ui_state: &mut UiState) {
+        let mut open = ui_state.show_messages;
+        egui::Window::new("Messages").open(&mut open).default_width(520.0).show(ctx, |ui| {
+            if self.messages.is_empty() {
+                ui.label("No messages yet.");
+            }
+            egui::ScrollArea::vertical().max_height(360.0).stick_to_bottom(true).show(ui, |ui| {
+                for m in &self.messages {
+                    let color = if m.is_error { egui::Color32::LIGHT_RED } else { ui.visuals().text_color() };
+                    ui.add(egui::Label::new(egui::RichText::new(&m.text).color(color)).wrap());
+                    ui.separator();
+                }
+            });
+            if !self.messages.is_empty() && ui.button("Clear").clicked() {
+                self.messages.clear();
+                self.notice = None;
+            }
+        });
+        ui_state.show_messages = open;
+    }
+
     pub(super) fn dialogs(&mut self, ctx: &egui::Context, ui_state: &mut UiState) {
+        self.shortcuts_window(ctx, ui_state);
+        self.messages_window(ctx, ui_state);
         if let Some((purpose, mut text)) = ui_state.path_dialog.take() {
             let mut keep = true;
             let mut chosen = None;
@@ -109,8 +187,12 @@ impl EditorState {
                 ui.label(purpose.title());
                 let field = ui
                     .add(egui::TextEdit::singleline(&mut text).desired_width(420.0).id(egui::Id::unique("path field")));
-                field.request_focus();
-                let enter = field.lost_focus() && ui.input(|i| i.key_pressed(Key::Enter));
+                // Focus once when the dialog opens: taking it every frame would swallow the
+                // Enter that confirms the path.
+                if std::mem::take(&mut ui_state.focus_path_field) {
+                    field.request_focus();
+                }
+                let enter = (field.lost_focus() || field.has_focus()) && ui.input(|i| i.key_pressed(Key::Enter));
                 ui.horizontal(|ui| {
                     if ui.button("OK").clicked() || enter {
                         chosen = Some(PathBuf::from(text.trim()));

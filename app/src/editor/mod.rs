@@ -9,7 +9,10 @@ pub mod interaction;
 pub mod menus;
 #[cfg(test)]
 mod panel_tests;
+mod panels;
 pub mod primitives;
+pub mod shortcuts;
 pub mod state;
 pub mod ui;
+mod viewport;
 pub mod window;

@@ -8,12 +8,13 @@ use super::files::{Autosave, RecentFiles};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 use taut_core::curvature::{CurvatureQuantity, robust_range, vertex_curvature};
+use taut_core::io::UpAxis;
 use taut_core::nusd::surface::{Budget, Phase, Status, SurfaceSolver};
 use taut_core::{EdgeId, PolyMesh, VertexId};
-use taut_render::Camera;
 use taut_render::colormap::ColorMap;
 use taut_render::overlay::{self, CageSelection, CombStyle, Legend, OverlayData};
 use taut_render::passes::surface::SurfaceMode;
+use taut_render::{Camera, DisplayFrame};
 
 /// Solver time per frame: enough to converge a small cage in a few frames while keeping the
 /// window responsive (about 30 frames a second with drawing on a software rasteriser).
@@ -40,6 +41,10 @@ pub struct Display {
     pub show_cage: bool,
     pub show_wire: bool,
     pub show_curves: bool,
+    /// Curvature combs: the longest tooth as a fraction of the model's size.
+    pub comb_length: f64,
+    /// Curvature combs: a tooth at every n-th point of a curve.
+    pub comb_density: usize,
 }
 
 impl Default for Display {
@@ -54,6 +59,8 @@ impl Default for Display {
             show_cage: true,
             show_wire: false,
             show_curves: false,
+            comb_length: 0.12,
+            comb_density: 1,
         }
     }
 }
@@ -102,12 +109,15 @@ impl Selection {
     }
 }
 
-/// A message for the designer, shown until dismissed or replaced.
+/// A message for the designer, shown until dismissed or replaced, and kept in the history.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Notice {
     pub text: String,
     pub is_error: bool,
 }
+
+/// Most messages the history keeps (oldest dropped first).
+pub const MAX_MESSAGES: usize = 200;
 
 /// The smoothed surface the viewport draws, kept in step with the solver.
 #[derive(Debug)]
@@ -132,6 +142,8 @@ pub struct EditorState {
     pub selection: Selection,
     pub display: Display,
     pub notice: Option<Notice>,
+    /// Every message of the session, oldest first (at most [`MAX_MESSAGES`]).
+    pub messages: Vec<Notice>,
     pub status: Option<Status>,
     pub frame_time: Duration,
     pub recent: RecentFiles,
@@ -139,6 +151,13 @@ pub struct EditorState {
     pub last_autosave: Instant,
     /// The solver could not even start (a degenerate cage): the message.
     pub solver_error: Option<String>,
+    /// The up axis of OBJ files opened and exported.
+    pub obj_up: UpAxis,
+    /// Model to display coordinates: the camera and every GPU position live in display space.
+    pub display_frame: DisplayFrame,
+    /// The viewport's width over height and the legend's margin at its right, in points, as last
+    /// laid out (framing fits the model into what the legend leaves free).
+    pub viewport_shape: (f32, f32),
 }
 
 impl EditorState {
@@ -153,12 +172,16 @@ impl EditorState {
             selection: Selection::default(),
             display: Display::default(),
             notice: None,
+            messages: Vec::new(),
             status: None,
             frame_time: Duration::ZERO,
             recent,
             autosave,
             last_autosave: Instant::now(),
             solver_error: None,
+            obj_up: UpAxis::default(),
+            display_frame: DisplayFrame::IDENTITY,
+            viewport_shape: (1.6, 0.0),
         };
         state.frame_all();
         state
@@ -171,8 +194,14 @@ impl EditorState {
         }
     }
 
+    /// Shows a message in the status bar and keeps it in the history.
     pub fn notify(&mut self, text: impl Into<String>, is_error: bool) {
-        self.notice = Some(Notice { text: text.into(), is_error });
+        let notice = Notice { text: text.into(), is_error };
+        if self.messages.len() == MAX_MESSAGES {
+            self.messages.remove(0);
+        }
+        self.messages.push(notice.clone());
+        self.notice = Some(notice);
     }
 
     /// Replaces the document (open, new, recover); the old one is kept if `document` fails.
@@ -191,7 +220,7 @@ impl EditorState {
 
     /// Opens a file; an unreadable one is reported and the current document stays.
     pub fn open(&mut self, path: &Path) {
-        match EditorDocument::open(path) {
+        match EditorDocument::open_with(path, self.obj_up) {
             Ok(document) => {
                 let _ = self.recent.add(path);
                 let repaired = document.import_report().filter(|r| !r.is_clean()).map(|r| r.to_string());
@@ -247,7 +276,7 @@ impl EditorState {
             self.notify("there is no surface to export yet", true);
             return;
         };
-        match EditorDocument::export_surface(&surface.mesh, path) {
+        match self.document.export_surface(&surface.mesh, path, self.obj_up) {
             Ok(()) => self.notify(format!("exported {}", path.display()), false),
             Err(message) => self.notify(format!("could not export {}: {message}", path.display()), true),
         }
@@ -280,7 +309,12 @@ impl EditorState {
             before
         };
         for event in solver.take_events() {
-            self.notice = Some(Notice { text: format!("solver: {event}"), is_error: true });
+            let text = format!("solver: {event}");
+            if self.messages.len() == MAX_MESSAGES {
+                self.messages.remove(0);
+            }
+            self.messages.push(Notice { text: text.clone(), is_error: true });
+            self.notice = Some(Notice { text, is_error: true });
         }
         if status.phase == Phase::Diverged && before.phase != Phase::Diverged {
             self.notify(
@@ -332,15 +366,17 @@ impl EditorState {
         }
         let q = self.display.quantity;
         let r = (q == CurvatureQuantity::NusdR).then(|| solver.surface_second_derivatives());
-        match vertex_curvature(&surface.mesh).values(q, r) {
-            Ok(values) => {
-                let (min, max) = self.display.fixed_range.unwrap_or_else(|| robust_range(&values, q.is_signed()));
-                surface.values = Some((values.iter().map(|&v| v as f32).collect(), min, max));
-            }
-            Err(e) => self.notice = Some(Notice { text: e.to_string(), is_error: true }),
-        }
+        let result = vertex_curvature(&surface.mesh).values(q, r);
         surface.values_stale = false;
         surface.values_at = Some(Instant::now());
+        match result {
+            Ok(values) => {
+                let (min, max) = self.display.fixed_range.unwrap_or_else(|| robust_range(&values, q.is_signed()));
+                // Mapped to the colour range in f64: a tiny model's curvatures overflow f32.
+                surface.values = Some((taut_render::colormap::normalize(&values, min, max), min, max));
+            }
+            Err(e) => self.notify(e.to_string(), true),
+        }
     }
 
     /// Marks the curvature values for recomputation (quantity or range changed).
@@ -359,10 +395,8 @@ impl EditorState {
             DisplayMode::Zebra => {
                 SurfaceMode::Zebra { stripes: d.stripes, angle_degrees: d.stripe_angle, width_ratio: d.stripe_width }
             }
-            DisplayMode::Curvature => {
-                let (min, max) = self.value_range();
-                SurfaceMode::Curvature { map: self.color_map(), min: min as f32, max: max as f32 }
-            }
+            // The values are uploaded already mapped to the range (see `refresh_values`).
+            DisplayMode::Curvature => SurfaceMode::Curvature { map: self.color_map(), min: 0.0, max: 1.0 },
         }
     }
 
@@ -375,14 +409,16 @@ impl EditorState {
         self.surface.as_ref().and_then(|s| s.values.as_ref()).map_or((-1.0, 1.0), |(_, a, b)| (*a, *b))
     }
 
-    /// Cage, wireframe, curves and the legend, from the current document and selection.
+    /// Cage, wireframe, curves and the legend, from the current document and selection, in
+    /// display coordinates.
     pub fn overlays(&self) -> OverlayData {
         let mut data = OverlayData::default();
         let doc = self.document.doc();
+        let frame = &self.display_frame;
         if self.display.show_wire
             && let Some(s) = &self.surface
         {
-            data.surface_lines.extend(overlay::wireframe(&s.mesh, [0.05, 0.05, 0.06, 0.7], 1.0));
+            data.surface_lines.extend(overlay::wireframe(&s.mesh, [0.05, 0.05, 0.06, 0.7], 1.0, frame));
         }
         if self.display.show_curves
             && let (Some(s), Some(solver)) = (&self.surface, &self.solver)
@@ -394,14 +430,10 @@ impl EditorState {
                     chain.iter().filter(|v| v.index() < s.mesh.vertex_count()).map(|&v| s.mesh.position(v)).collect()
                 })
                 .collect();
-            let peak = curves
-                .iter()
-                .flat_map(|c| taut_core::curvature::polyline_curvature(c, false).magnitude())
-                .fold(0.0f64, f64::max);
-            let scale = if peak > 0.0 { 0.06 * s.mesh.bounding_diagonal() / peak } else { 1.0 };
-            let style = CombStyle { scale, ..Default::default() };
+            let style =
+                comb_style(&curves, s.mesh.bounding_diagonal(), self.display.comb_length, self.display.comb_density);
             for c in &curves {
-                data.surface_lines.extend(overlay::polyline_with_comb(c, false, &style));
+                data.surface_lines.extend(overlay::polyline_with_comb(c, false, &style, frame));
             }
         }
         if self.display.show_cage {
@@ -412,28 +444,48 @@ impl EditorState {
                 hovered_edge: self.selection.hovered_edge,
             };
             let (lines, points) =
-                overlay::cage_overlay(&doc.cage, &doc.fixed, &doc.vertex_tension, &doc.edge_tension, &selection);
+                overlay::cage_overlay(&doc.cage, &doc.fixed, &doc.vertex_tension, &doc.edge_tension, &selection, frame);
             data.on_top_lines = lines;
             data.points = points;
         }
-        if self.display.mode == DisplayMode::Curvature {
-            let (min, max) = self.value_range();
-            let title = overlay::legend_title(self.display.quantity).to_string();
-            data.legend = Some(Legend { map: self.color_map(), min, max, title });
-        }
+        data.legend = self.legend();
         data
     }
 
-    /// Frames the whole cage and surface.
+    /// The colour legend, when the curvature view is on.
+    pub fn legend(&self) -> Option<Legend> {
+        (self.display.mode == DisplayMode::Curvature).then(|| {
+            let (min, max) = self.value_range();
+            let title = overlay::legend_title(self.display.quantity).to_string();
+            Legend { map: self.color_map(), min, max, title }
+        })
+    }
+
+    /// Frames the whole cage and surface: a display frame fitted to them, and the camera filling
+    /// the viewport (left of the legend, when one is shown).
     pub fn frame_all(&mut self) {
         let cage = &self.document.doc().cage;
         let mut points: Vec<taut_core::DVec3> = cage.positions().to_vec();
         if let Some(s) = &self.surface {
-            points.extend_from_slice(s.mesh.positions());
+            let step = (s.mesh.vertex_count() / 20_000).max(1);
+            points.extend(s.mesh.positions().iter().step_by(step));
         }
-        if let Some((lo, hi)) = taut_core::mesh::bounding_box(&points) {
-            self.camera.frame(lo.as_vec3(), hi.as_vec3());
+        if points.is_empty() {
+            return;
         }
+        self.display_frame = DisplayFrame::for_points(&points);
+        self.frame_display_points(&points);
+    }
+
+    /// Frames model points in the current display frame.
+    fn frame_display_points(&mut self, points: &[taut_core::DVec3]) {
+        let display: Vec<glam::Vec3> = points.iter().map(|&p| self.display_frame.point(p)).collect();
+        let (aspect, margin_fraction) = self.viewport_shape;
+        let margin_fraction = if self.display.mode == DisplayMode::Curvature { margin_fraction } else { 0.0 };
+        self.camera.frame_points(&display, aspect * (1.0 - margin_fraction));
+        // Centre the model in what the legend leaves free: half the margin to the left, in
+        // pixels of a viewport one unit high.
+        self.camera.pan(-0.5 * margin_fraction * aspect, 0.0, 1.0);
     }
 
     /// Frames the selected vertices (or everything when nothing is selected).
@@ -446,10 +498,30 @@ impl EditorState {
         }
         match taut_core::mesh::bounding_box(&points) {
             Some((lo, hi)) => {
-                let pad = (0.15 * cage.bounding_diagonal()) as f32;
-                self.camera.frame(lo.as_vec3() - pad, hi.as_vec3() + pad);
+                // A lone vertex is framed with some of the model around it.
+                let pad = taut_core::DVec3::splat(0.15 * cage.bounding_diagonal());
+                let (lo, hi) = (lo - pad, hi + pad);
+                let corners: Vec<taut_core::DVec3> = (0..8)
+                    .map(|k| {
+                        taut_core::DVec3::new(
+                            if k & 1 == 0 { lo.x } else { hi.x },
+                            if k & 2 == 0 { lo.y } else { hi.y },
+                            if k & 4 == 0 { lo.z } else { hi.z },
+                        )
+                    })
+                    .collect();
+                self.frame_display_points(&corners);
             }
             None => self.frame_all(),
+        }
+    }
+
+    /// When the next autosave is due (far away while there is nothing to save).
+    pub fn next_autosave(&self) -> Instant {
+        if self.autosave.is_some() && self.document.is_dirty() {
+            self.last_autosave + super::files::AUTOSAVE_INTERVAL
+        } else {
+            Instant::now() + Duration::from_secs(3600)
         }
     }
 
@@ -493,6 +565,17 @@ impl EditorState {
             self.selection.hovered_edge = None;
         }
     }
+}
+
+/// The comb style for `curves` on a model of size `diagonal`: the longest tooth `length` of the
+/// size, a tooth every `density` points.
+pub fn comb_style(curves: &[Vec<taut_core::DVec3>], diagonal: f64, length: f64, density: usize) -> CombStyle {
+    let peak = curves
+        .iter()
+        .flat_map(|c| taut_core::curvature::polyline_curvature(c, false).magnitude())
+        .fold(0.0f64, f64::max);
+    let scale = if peak > 0.0 && peak.is_finite() { length * diagonal / peak } else { 0.0 };
+    CombStyle { scale, density: density.max(1), tooth_width_px: 1.5, envelope_width_px: 2.0, ..Default::default() }
 }
 
 /// `path` with `.ext` appended when it has no extension.

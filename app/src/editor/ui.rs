@@ -1,23 +1,17 @@
-//! The editor's panels and its viewport input, in egui. Everything the designer does becomes an
-//! [`Edit`] of the document or a change of the camera, selection or display; nothing here touches
-//! the GPU, so the panels are tested with egui_kittest.
-//!
-//! Mouse, as Blender and Rhino users expect: left click selects (Shift adds), left drag on a
-//! selected cage vertex moves the selection in the view plane (X, Y or Z while dragging locks an
-//! axis, Esc cancels), left drag elsewhere box-selects; right or middle drag orbits, with Shift
-//! pans; the wheel zooms. Keys: Ctrl+Z undo, Ctrl+Shift+Z or Ctrl+Y redo, Ctrl+S save,
-//! Ctrl+Shift+S save as, Ctrl+O open, Ctrl+A select all, F frame selection, Home or A frame all,
-//! 1 / 3 / 7 (or the numpad) front, right and top views, 5 perspective, Ctrl+Q quit.
+//! The editor's frame of egui: the layout of menus, panels and viewport, the keyboard, and the
+//! actions that need the designer's answer (unsaved changes, paths). Everything the designer
+//! does becomes an [`Edit`] of the document or a change of the camera, selection or display;
+//! nothing here touches the GPU, so the panels are tested with egui_kittest. The panels are in
+//! [`super::panels`], the viewport's mouse handling in [`super::viewport`], the keys in
+//! [`super::shortcuts`].
 
 use super::document::{Edit, EditorDocument};
 use super::files::Recovery;
-use super::interaction::{self, Axis, ViewportRect};
-use super::state::{DisplayMode, EditorState};
-use egui::{Key, Modifiers, PointerButton, Sense};
+use super::interaction::Axis;
+use super::shortcuts::{self, Action};
+use super::state::EditorState;
+use egui::Key;
 use std::path::PathBuf;
-use taut_core::curvature::CurvatureQuantity;
-use taut_core::nusd::Spacing;
-use taut_core::nusd::surface::Phase;
 use taut_core::{DVec3, VertexId};
 use taut_render::StandardView;
 
@@ -67,10 +61,20 @@ pub enum Pending {
 
 /// A drag of cage vertices in progress.
 #[derive(Clone, Debug)]
-struct VertexDrag {
-    start: Vec<(VertexId, DVec3)>,
-    mouse_start: glam::Vec2,
-    axis: Option<Axis>,
+pub(super) struct VertexDrag {
+    /// The dragged vertices where the drag began, in model coordinates.
+    pub(super) start: Vec<(VertexId, DVec3)>,
+    pub(super) mouse_start: glam::Vec2,
+    pub(super) axis: Option<Axis>,
+}
+
+/// A rubber band being drawn: its corners, and whether it adds to the selection (Shift was held
+/// when it began: letting go of Shift before the button does not change what it does).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct BoxSelect {
+    pub(super) from: glam::Vec2,
+    pub(super) to: glam::Vec2,
+    pub(super) add: bool,
 }
 
 /// Dialog and gesture state of the UI.
@@ -88,12 +92,18 @@ pub struct UiState {
     pub screenshot: Option<PathBuf>,
     /// The viewport's rectangle in physical pixels, for the renderer.
     pub viewport_px: Option<[u32; 4]>,
-    drag: Option<VertexDrag>,
-    box_select: Option<(glam::Vec2, glam::Vec2)>,
+    pub(super) drag: Option<VertexDrag>,
+    pub(super) box_select: Option<BoxSelect>,
     /// Tension slider values while a slider is held (one undo step a movement).
-    slider_active: bool,
+    pub(super) slider_active: bool,
     /// Use the in-app path field even when a system dialog might exist (tests, Xvfb).
     pub no_native_dialogs: bool,
+    /// Help ▸ Keyboard shortcuts is open.
+    pub show_shortcuts: bool,
+    /// The message history is open.
+    pub show_messages: bool,
+    /// The path field was just opened: it takes the keyboard focus once.
+    pub(super) focus_path_field: bool,
 }
 
 impl EditorState {
@@ -104,7 +114,10 @@ impl EditorState {
         egui::Panel::top("menu").show(ui_root, |ui| {
             egui::MenuBar::new().ui(ui, |ui| self.menu(ui, ui_state));
         });
-        egui::Panel::bottom("status").show(ui_root, |ui| self.status_bar(ui));
+        egui::Panel::bottom("status").show(ui_root, |ui| self.status_bar(ui, ui_state));
+        if self.notice.is_some() {
+            egui::Panel::bottom("notice").show(ui_root, |ui| self.notice_strip(ui, ui_state));
+        }
         egui::Panel::left("cage").resizable(false).exact_size(260.0).show(ui_root, |ui| {
             egui::ScrollArea::vertical().show(ui, |ui| self.cage_panel(ui, ui_state));
         });
@@ -124,57 +137,16 @@ impl EditorState {
         if ctx.text_edit_focused() {
             return;
         }
-        let command = Modifiers::COMMAND;
-        let command_shift = Modifiers::COMMAND | Modifiers::SHIFT;
-        let (undo, redo, redo_y, save, save_as, open, select_all, quit) = ctx.input_mut(|i| {
-            (
-                i.consume_key(command, Key::Z),
-                i.consume_key(command_shift, Key::Z),
-                i.consume_key(command, Key::Y),
-                i.consume_key(command, Key::S),
-                i.consume_key(command_shift, Key::S),
-                i.consume_key(command, Key::O),
-                i.consume_key(command, Key::A),
-                i.consume_key(command, Key::Q),
-            )
-        });
-        if undo {
-            self.undo();
-        }
-        if redo || redo_y {
-            self.redo();
-        }
-        // Save without a path asks for one, as Save As does.
-        if save_as || (save && !self.save()) {
-            self.ask_path(PathPurpose::SaveAs, ui_state);
-        }
-        if open {
-            self.request(Pending::Open(None), ui_state);
-        }
-        if select_all {
-            self.selection.clear();
-            self.selection.vertices = self.document.doc().cage.vertices().collect();
-        }
-        if quit {
-            self.request(Pending::Quit, ui_state);
-        }
-        let keys = ctx.input(|i| {
-            let pressed = |k: Key| i.key_pressed(k) && !i.modifiers.command;
-            [
-                pressed(Key::F),
-                pressed(Key::Home) || pressed(Key::A),
-                pressed(Key::Num1),
-                pressed(Key::Num3),
-                pressed(Key::Num7),
-                pressed(Key::Num5),
-                pressed(Key::X),
-                pressed(Key::Y),
-                pressed(Key::Z),
-                pressed(Key::Escape),
-            ]
-        });
-        let [frame_selection, frame_all, front, right, top, perspective, x, y, z, escape] = keys;
         if let Some(drag) = &mut ui_state.drag {
+            // While dragging, X, Y and Z lock an axis and Esc cancels; nothing else runs.
+            let (x, y, z, escape) = ctx.input_mut(|i| {
+                (
+                    shortcuts::take_plain(i, Key::X),
+                    shortcuts::take_plain(i, Key::Y),
+                    shortcuts::take_plain(i, Key::Z),
+                    shortcuts::take_plain(i, Key::Escape),
+                )
+            });
             for (pressed, axis) in [(x, Axis::X), (y, Axis::Y), (z, Axis::Z)] {
                 if pressed {
                     drag.axis = if drag.axis == Some(axis) { None } else { Some(axis) };
@@ -186,27 +158,42 @@ impl EditorState {
                 self.document.end_gesture();
                 ui_state.drag = None;
             }
-        } else {
-            if frame_selection {
-                self.frame_selection();
-            }
-            if frame_all {
-                self.frame_all();
-            }
-            for (pressed, view) in [
-                (front, StandardView::Front),
-                (right, StandardView::Right),
-                (top, StandardView::Top),
-                (perspective, StandardView::Perspective),
-            ] {
-                if pressed {
-                    self.camera.set_view(view);
+            return;
+        }
+        for action in ctx.input_mut(shortcuts::pressed) {
+            self.run_action(action, ui_state);
+        }
+    }
+
+    /// Runs what a shortcut or a menu entry asks for.
+    pub(super) fn run_action(&mut self, action: Action, ui_state: &mut UiState) {
+        match action {
+            Action::Undo => self.undo(),
+            Action::Redo => self.redo(),
+            // Save without a path asks for one, as Save As does.
+            Action::Save => {
+                if !self.save() {
+                    self.ask_path(PathPurpose::SaveAs, ui_state);
                 }
             }
-            if escape {
+            Action::SaveAs => self.ask_path(PathPurpose::SaveAs, ui_state),
+            Action::Open => self.request(Pending::Open(None), ui_state),
+            Action::Quit => self.request(Pending::Quit, ui_state),
+            Action::SelectAll => {
+                self.selection.clear();
+                self.selection.vertices = self.document.doc().cage.vertices().collect();
+            }
+            Action::SelectNone => {
                 self.selection.clear();
                 ui_state.box_select = None;
             }
+            Action::FrameAll => self.frame_all(),
+            Action::FrameSelection => self.frame_selection(),
+            Action::ViewFront => self.camera.set_view(StandardView::Front),
+            Action::ViewRight => self.camera.set_view(StandardView::Right),
+            Action::ViewTop => self.camera.set_view(StandardView::Top),
+            Action::ViewPerspective => self.camera.set_view(StandardView::Perspective),
+            Action::ShowShortcuts => ui_state.show_shortcuts = true,
         }
     }
 
@@ -263,12 +250,28 @@ impl EditorState {
             }
             return;
         }
-        let suggestion = match (purpose, self.document.path()) {
-            (PathPurpose::Open, _) => String::new(),
-            (p, Some(path)) => path.with_extension(p.extension()).display().to_string(),
-            (p, None) => format!("untitled.{}", p.extension()),
+        ui_state.path_dialog = Some((purpose, self.suggested_path(purpose)));
+        ui_state.focus_path_field = true;
+    }
+
+    /// What the path field offers: the document's own name (the `.taut` file, or the mesh it was
+    /// imported from) with the purpose's extension; an export never suggests the mesh the cage
+    /// came from, so it is not replaced by accident.
+    pub(super) fn suggested_path(&self, purpose: PathPurpose) -> String {
+        let named = self.document.path().or(self.document.source());
+        let (Some(path), true) = (named, purpose != PathPurpose::Open) else {
+            return if purpose == PathPurpose::Open {
+                String::new()
+            } else {
+                format!("untitled.{}", purpose.extension())
+            };
         };
-        ui_state.path_dialog = Some((purpose, suggestion));
+        let stem = path.file_stem().map_or_else(|| "untitled".into(), |s| s.to_string_lossy().into_owned());
+        let name = match purpose {
+            PathPurpose::ExportObj | PathPurpose::ExportGlb => format!("{stem}-surface.{}", purpose.extension()),
+            _ => format!("{stem}.{}", purpose.extension()),
+        };
+        path.with_file_name(name).display().to_string()
     }
 
     pub(super) fn path_chosen(&mut self, purpose: PathPurpose, path: PathBuf, ui_state: &mut UiState) {
@@ -282,371 +285,6 @@ impl EditorState {
             }
         }
     }
-
-    fn status_bar(&mut self, ui: &mut egui::Ui) {
-        ui.horizontal(|ui| {
-            ui.label(self.document.title());
-            ui.separator();
-            match (&self.status, &self.solver_error) {
-                (_, Some(error)) => {
-                    ui.colored_label(egui::Color32::LIGHT_RED, format!("cannot smooth: {error}"));
-                }
-                (Some(s), None) => {
-                    let state = match s.phase {
-                        Phase::Iterating => "settling",
-                        Phase::Done
-                            if self.solver.as_ref().is_some_and(|x| x.reports().iter().all(|r| r.converged)) =>
-                        {
-                            "converged"
-                        }
-                        Phase::Done => "stopped at the iteration cap",
-                        Phase::Diverged => "diverged (rolled back)",
-                    };
-                    ui.label(format!(
-                        "level {}/{}  iterations {}  step {:.2e}  {}",
-                        s.level, s.levels, s.total_iterations, s.last_step, state
-                    ));
-                    if s.lambda != self.document.doc().settings.lambda {
-                        ui.label(format!("λ reduced to {}", s.lambda));
-                    }
-                }
-                (None, None) => {
-                    ui.label("starting");
-                }
-            }
-            ui.separator();
-            let ms = self.frame_time.as_secs_f64() * 1e3;
-            ui.label(format!("frame {ms:.1} ms ({:.0} fps)", if ms > 0.0 { 1e3 / ms } else { 0.0 }));
-            ui.separator();
-            ui.label(format!(
-                "{} vertices, {} edges selected",
-                self.selection.vertices.len(),
-                self.selection.edges.len()
-            ));
-            if let Some(notice) = self.notice.clone() {
-                ui.separator();
-                let color = if notice.is_error { egui::Color32::LIGHT_RED } else { ui.visuals().text_color() };
-                ui.colored_label(color, &notice.text);
-                if ui.small_button("✕").clicked() {
-                    self.notice = None;
-                }
-            }
-        });
-    }
-
-    fn cage_panel(&mut self, ui: &mut egui::Ui, ui_state: &mut UiState) {
-        ui.heading("Cage");
-        let doc = self.document.doc().clone();
-        let vertices = self.selected_vertices_with_edge_ends();
-        if self.selection.is_empty() {
-            ui.label("Click a cage vertex or edge to select it; Shift adds, a drag on empty space box-selects.");
-            return;
-        }
-        if let [v] = self.selection.vertices.as_slice()
-            && self.selection.edges.is_empty()
-        {
-            let v = *v;
-            ui.label(format!("vertex {}", v.0));
-            let mut p = doc.cage.position(v);
-            let mut changed = false;
-            let mut responses = Vec::new();
-            ui.horizontal(|ui| {
-                for (label, value) in [("X", &mut p.x), ("Y", &mut p.y), ("Z", &mut p.z)] {
-                    let name = ui.label(label);
-                    let response = ui
-                        .add(egui::DragValue::new(value).speed(0.01 * doc.cage.bounding_diagonal()).max_decimals(4))
-                        .labelled_by(name.id);
-                    changed |= response.changed();
-                    responses.push(response);
-                }
-            });
-            for r in &responses {
-                self.gesture_start(r, ui_state);
-            }
-            if changed {
-                self.edit(Edit::MoveVertices(vec![(v, p)]));
-            }
-            for r in &responses {
-                self.gesture_end(r, ui_state);
-            }
-        } else {
-            ui.label(format!("{} vertices, {} edges", self.selection.vertices.len(), self.selection.edges.len()));
-        }
-        ui.separator();
-        let all_fixed = vertices.iter().all(|v| doc.fixed[v.index()]);
-        let mut fixed = all_fixed;
-        if ui.checkbox(&mut fixed, "fixed (the surface passes through)").changed() {
-            self.edit(Edit::SetFixed(vertices.clone(), fixed));
-        }
-        ui.separator();
-        if !self.selection.vertices.is_empty() {
-            let mut tau = self.selection.vertices.iter().map(|v| doc.vertex_tension[v.index()]).fold(0.0, f64::max);
-            let name = ui.label("vertex tension τ");
-            let response = ui
-                .add(egui::Slider::new(&mut tau, 0.0..=8.0).clamping(egui::SliderClamping::Never))
-                .labelled_by(name.id);
-            self.gesture_start(&response, ui_state);
-            if response.changed() {
-                self.edit(Edit::SetVertexTension(self.selection.vertices.clone(), tau.max(0.0)));
-            }
-            self.gesture_end(&response, ui_state);
-        }
-        if !self.selection.edges.is_empty() {
-            let mut tau = self.selection.edges.iter().map(|e| doc.edge_tension[e.index()]).fold(0.0, f64::max);
-            let name = ui.label("edge tension τ");
-            let response = ui
-                .add(egui::Slider::new(&mut tau, 0.0..=8.0).clamping(egui::SliderClamping::Never))
-                .labelled_by(name.id);
-            self.gesture_start(&response, ui_state);
-            if response.changed() {
-                self.edit(Edit::SetEdgeTension(self.selection.edges.clone(), tau.max(0.0)));
-            }
-            self.gesture_end(&response, ui_state);
-        }
-        if ui.button("Reset tension").clicked() {
-            self.edit(Edit::ResetTension {
-                vertices: self.selection.vertices.clone(),
-                edges: self.selection.edges.clone(),
-            });
-        }
-        ui.small("Tension above about 4 over-flattens: the curve bends back.");
-    }
-
-    /// A slider or field drag is one undo step: the gesture opens when the drag starts and
-    /// closes after the edit of the frame the drag stops in.
-    fn gesture_start(&mut self, response: &egui::Response, ui_state: &mut UiState) {
-        if response.drag_started() && !ui_state.slider_active && !self.document.in_gesture() {
-            ui_state.slider_active = true;
-            self.document.begin_gesture();
-        }
-    }
-
-    fn gesture_end(&mut self, response: &egui::Response, ui_state: &mut UiState) {
-        if response.drag_stopped() && ui_state.slider_active {
-            ui_state.slider_active = false;
-            self.document.end_gesture();
-        }
-    }
-
-    fn solver_panel(&mut self, ui: &mut egui::Ui, ui_state: &mut UiState) {
-        ui.heading("Smoothing");
-        let mut settings = self.document.doc().settings;
-        let before = settings;
-        let mut responses = Vec::new();
-        ui.horizontal(|ui| {
-            let name = ui.label("levels");
-            responses.push(ui.add(egui::Slider::new(&mut settings.levels, 0..=5)).labelled_by(name.id));
-        });
-        ui.horizontal(|ui| {
-            let name = ui.label("λ");
-            responses.push(ui.add(egui::Slider::new(&mut settings.lambda, 0.05..=0.95)).labelled_by(name.id));
-        });
-        ui.horizontal(|ui| {
-            let name = ui.label("tolerance");
-            responses
-                .push(ui.add(egui::Slider::new(&mut settings.tol, 1e-6..=1e-2).logarithmic(true)).labelled_by(name.id));
-        });
-        for r in &responses {
-            self.gesture_start(r, ui_state);
-        }
-        egui::ComboBox::from_label("spacing").selected_text(format!("{:?}", settings.spacing).to_lowercase()).show_ui(
-            ui,
-            |ui| {
-                for s in [Spacing::Chord, Spacing::Uniform, Spacing::Centripetal] {
-                    ui.selectable_value(&mut settings.spacing, s, format!("{s:?}").to_lowercase());
-                }
-            },
-        );
-        if settings != before {
-            self.edit(Edit::SetSettings(settings));
-        }
-        for r in &responses {
-            self.gesture_end(r, ui_state);
-        }
-    }
-
-    fn display_panel(&mut self, ui: &mut egui::Ui) {
-        ui.heading("Display");
-        let before = self.display.clone();
-        let d = &mut self.display;
-        ui.horizontal(|ui| {
-            ui.radio_value(&mut d.mode, DisplayMode::Shaded, "shaded");
-            ui.radio_value(&mut d.mode, DisplayMode::Zebra, "zebra");
-            ui.radio_value(&mut d.mode, DisplayMode::Curvature, "curvature");
-        });
-        match d.mode {
-            DisplayMode::Shaded => {}
-            DisplayMode::Zebra => {
-                ui.add(egui::Slider::new(&mut d.stripes, 2.0..=40.0).text("stripes"));
-                ui.add(egui::Slider::new(&mut d.stripe_angle, -90.0..=90.0).text("angle °"));
-                ui.add(egui::Slider::new(&mut d.stripe_width, 0.1..=0.9).text("black share"));
-            }
-            DisplayMode::Curvature => {
-                egui::ComboBox::from_label("quantity").selected_text(d.quantity.display_name()).show_ui(ui, |ui| {
-                    for q in CurvatureQuantity::ALL {
-                        ui.selectable_value(&mut d.quantity, q, q.display_name());
-                    }
-                });
-                let mut automatic = d.fixed_range.is_none();
-                if ui.checkbox(&mut automatic, "automatic range (2–98 %)").changed() {
-                    d.fixed_range = if automatic { None } else { Some(self_range(&self.surface)) };
-                }
-                if let Some((min, max)) = &mut d.fixed_range {
-                    ui.horizontal(|ui| {
-                        let name = ui.label("min");
-                        ui.add(egui::DragValue::new(min).speed(0.001)).labelled_by(name.id);
-                        let name = ui.label("max");
-                        ui.add(egui::DragValue::new(max).speed(0.001)).labelled_by(name.id);
-                    });
-                    if *max <= *min {
-                        *max = *min + 1e-9_f64.max(min.abs() * 1e-6);
-                    }
-                }
-            }
-        }
-        ui.separator();
-        ui.checkbox(&mut d.show_cage, "cage");
-        ui.checkbox(&mut d.show_wire, "refined wireframe");
-        ui.checkbox(&mut d.show_curves, "curves with curvature combs");
-        if self.display != before {
-            self.invalidate_values();
-        }
-    }
-
-    fn viewport(&mut self, ui: &mut egui::Ui, ui_state: &mut UiState) {
-        let (rect, response) = ui.allocate_exact_size(ui.available_size(), Sense::click_and_drag());
-        let ppp = ui.ctx().pixels_per_point();
-        ui_state.viewport_px = Some([
-            (rect.min.x * ppp).round().max(0.0) as u32,
-            (rect.min.y * ppp).round().max(0.0) as u32,
-            (rect.width() * ppp).round().max(1.0) as u32,
-            (rect.height() * ppp).round().max(1.0) as u32,
-        ]);
-        // Interaction works in points; the viewport rectangle in the same units.
-        let view = ViewportRect {
-            min: glam::Vec2::new(rect.min.x, rect.min.y),
-            size: glam::Vec2::new(rect.width(), rect.height()),
-        };
-        let (shift, scroll, pointer) =
-            ui.ctx().input(|i| (i.modifiers.shift, i.smooth_scroll_delta.y, i.pointer.hover_pos()));
-        let mouse = pointer.map(|p| glam::Vec2::new(p.x, p.y));
-        let cage = self.document.doc().cage.clone();
-
-        // Hover.
-        if ui_state.drag.is_none() {
-            let hovered = response.hovered().then_some(mouse).flatten();
-            self.selection.hovered_vertex =
-                hovered.and_then(|m| interaction::pick_vertex(&self.camera, &view, cage.positions(), m, 8.0));
-            self.selection.hovered_edge = match (hovered, self.selection.hovered_vertex) {
-                (Some(m), None) => interaction::pick_edge(&self.camera, &view, &cage, m, 5.0),
-                _ => None,
-            };
-        }
-
-        // Navigation.
-        if response.hovered() && scroll != 0.0 {
-            self.camera.zoom(interaction::zoom_factor(scroll / 50.0));
-        }
-        for button in [PointerButton::Secondary, PointerButton::Middle] {
-            if response.dragged_by(button) {
-                let delta = response.drag_delta();
-                if shift {
-                    self.camera.pan(delta.x, delta.y, rect.height());
-                } else {
-                    let (da, de) = interaction::orbit_from_drag(glam::Vec2::new(delta.x, delta.y));
-                    self.camera.orbit(da, de);
-                }
-            }
-        }
-
-        // Selection and dragging with the primary button.
-        if response.drag_started_by(PointerButton::Primary) {
-            let origin = ui.ctx().input(|i| i.pointer.press_origin()).map(|p| glam::Vec2::new(p.x, p.y)).or(mouse);
-            if let Some(origin) = origin {
-                match interaction::pick_vertex(&self.camera, &view, cage.positions(), origin, 8.0) {
-                    Some(v) => {
-                        if !self.selection.vertices.contains(&v) {
-                            self.selection.click_vertex(v, shift);
-                        }
-                        let start: Vec<(VertexId, DVec3)> = self
-                            .selected_vertices_with_edge_ends()
-                            .into_iter()
-                            .map(|v| (v, cage.position(v)))
-                            .collect();
-                        self.document.begin_gesture();
-                        ui_state.drag = Some(VertexDrag { start, mouse_start: origin, axis: None });
-                    }
-                    None => ui_state.box_select = Some((origin, origin)),
-                }
-            }
-        }
-        if response.dragged_by(PointerButton::Primary)
-            && let Some(m) = mouse
-        {
-            if let Some(drag) = &ui_state.drag {
-                let moved =
-                    interaction::drag_positions(&self.camera, &view, &drag.start, drag.mouse_start, m, drag.axis);
-                self.edit(Edit::MoveVertices(moved));
-            } else if let Some((_, end)) = &mut ui_state.box_select {
-                *end = m;
-            }
-        }
-        if response.drag_stopped_by(PointerButton::Primary) {
-            if ui_state.drag.take().is_some() {
-                self.document.end_gesture();
-            }
-            if let Some((a, b)) = ui_state.box_select.take() {
-                if !shift {
-                    self.selection.clear();
-                }
-                for v in interaction::box_select(&self.camera, &view, cage.positions(), a, b) {
-                    if !self.selection.vertices.contains(&v) {
-                        self.selection.vertices.push(v);
-                    }
-                }
-            }
-        }
-        if response.clicked_by(PointerButton::Primary) {
-            match (self.selection.hovered_vertex, self.selection.hovered_edge) {
-                (Some(v), _) => self.selection.click_vertex(v, shift),
-                (None, Some(e)) => self.selection.click_edge(e, shift),
-                (None, None) if !shift => self.selection.clear(),
-                _ => {}
-            }
-        }
-
-        // What is drawn in the viewport by egui itself: the box and the drag axis.
-        let painter = ui.painter_at(rect);
-        if let Some((a, b)) = ui_state.box_select {
-            let r = egui::Rect::from_two_pos(egui::pos2(a.x, a.y), egui::pos2(b.x, b.y));
-            painter.rect_stroke(
-                r,
-                0.0,
-                egui::Stroke::new(1.0, egui::Color32::from_rgb(255, 170, 60)),
-                egui::StrokeKind::Inside,
-            );
-        }
-        if let Some(drag) = &ui_state.drag {
-            let text = match drag.axis {
-                Some(axis) => format!("moving along {axis:?} (X, Y, Z to change, Esc to cancel)"),
-                None => "moving in the view plane (X, Y or Z locks an axis, Esc cancels)".to_string(),
-            };
-            painter.text(
-                rect.left_top() + egui::vec2(8.0, 8.0),
-                egui::Align2::LEFT_TOP,
-                text,
-                egui::FontId::proportional(14.0),
-                egui::Color32::WHITE,
-            );
-        }
-        if self.busy() {
-            ui.ctx().request_repaint();
-        }
-    }
-}
-
-fn self_range(surface: &Option<super::state::SurfaceView>) -> (f64, f64) {
-    surface.as_ref().and_then(|s| s.values.as_ref()).map_or((-1.0, 1.0), |(_, a, b)| (*a, *b))
 }
 
 /// True when a system file dialog can be shown (an XDG desktop portal on the session bus).

@@ -60,6 +60,10 @@ struct Running {
     gpu_surface: Option<GpuSurface>,
     drawn_generation: Option<(u64, u64)>,
     drawn_values: Option<*const f32>,
+    drawn_frame: Option<taut_render::DisplayFrame>,
+    title: String,
+    /// When egui wants the next frame (a tooltip delay, a cursor blink), if not at once.
+    repaint_at: Option<Instant>,
 }
 
 impl ApplicationHandler for App {
@@ -77,6 +81,9 @@ impl ApplicationHandler for App {
     fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
         let Some(running) = &mut self.running else { return };
         let response = running.egui_state.on_window_event(&running.window, &event);
+        // egui asks to repaint after every redraw; honouring that would redraw for ever. A frame
+        // that needs another one says so itself (see the end of `frame`).
+        let repaint = response.repaint && !matches!(event, WindowEvent::RedrawRequested);
         match event {
             WindowEvent::CloseRequested => {
                 running.editor.request(Pending::Quit, &mut running.ui);
@@ -98,16 +105,28 @@ impl ApplicationHandler for App {
             }
             _ => {}
         }
-        if response.repaint {
+        if repaint {
             running.window.request_redraw();
         }
     }
 
-    fn about_to_wait(&mut self, _event_loop: &ActiveEventLoop) {
-        if let Some(running) = &self.running
-            && running.editor.busy()
-        {
+    fn about_to_wait(&mut self, event_loop: &ActiveEventLoop) {
+        let Some(running) = &mut self.running else { return };
+        if running.editor.busy() {
             running.window.request_redraw();
+            return;
+        }
+        // Wake for what egui scheduled (a tooltip, a blinking cursor) and for the autosave;
+        // otherwise sleep until the next event.
+        let now = Instant::now();
+        let wake = [running.repaint_at, Some(running.editor.next_autosave())].into_iter().flatten().min();
+        match wake {
+            Some(at) if at <= now => {
+                running.repaint_at = None;
+                running.window.request_redraw();
+            }
+            Some(at) => event_loop.set_control_flow(ControlFlow::WaitUntil(at)),
+            None => event_loop.set_control_flow(ControlFlow::Wait),
         }
     }
 }
@@ -176,7 +195,8 @@ impl Running {
         }
         let mut ui = UiState::default();
         ui.recovery = recovery;
-        window.set_title(&format!("Taut — {}", editor.document.title()));
+        let title = format!("Taut — {}", editor.document.title());
+        window.set_title(&title);
         Ok(Running {
             window,
             gpu,
@@ -192,6 +212,9 @@ impl Running {
             gpu_surface: None,
             drawn_generation: None,
             drawn_values: None,
+            drawn_frame: None,
+            title,
+            repaint_at: None,
         })
     }
 
@@ -217,7 +240,13 @@ impl Running {
         self.editor.step_solver(SOLVER_BUDGET);
         self.editor.refresh_values();
         self.editor.autosave_if_due();
-        self.window.set_title(&format!("Taut — {}", self.editor.document.title()));
+        // Setting the title makes the window system send events, and every event a redraw: set it
+        // only when it changes, or an idle editor redraws for ever.
+        let title = format!("Taut — {}", self.editor.document.title());
+        if title != self.title {
+            self.window.set_title(&title);
+            self.title = title;
+        }
         // Render.
         self.upload_surface();
         let overlays = self.editor.overlays();
@@ -285,8 +314,11 @@ impl Running {
             self.screenshot(&path);
         }
         self.editor.frame_time = started.elapsed();
-        if self.editor.busy() || output.viewport_output.values().any(|v| v.repaint_delay.is_zero()) {
+        let delay = output.viewport_output.values().map(|v| v.repaint_delay).min();
+        if self.editor.busy() || delay.is_some_and(|d| d.is_zero()) {
             self.window.request_redraw();
+        } else if let Some(d) = delay.filter(|d| *d < std::time::Duration::from_secs(3600)) {
+            self.repaint_at = Some(Instant::now() + d);
         }
     }
 
@@ -299,15 +331,20 @@ impl Running {
         };
         let generation = (surface.mesh.topology_generation(), surface.mesh.generation());
         let values = surface.values.as_ref().map(|(v, _, _)| v.as_ptr());
-        if self.drawn_generation == Some(generation) && self.drawn_values == values && self.gpu_surface.is_some() {
+        let frame = self.editor.display_frame;
+        if self.drawn_generation == Some(generation)
+            && self.drawn_values == values
+            && self.drawn_frame == Some(frame)
+            && self.gpu_surface.is_some()
+        {
             return;
         }
-        let mut changes = self.buffers.update(&surface.mesh);
+        let mut changes = self.buffers.update_with(&surface.mesh, None, &frame);
         if let Some((v, _, _)) = &surface.values
             && v.len() == surface.mesh.vertex_count()
         {
             self.buffers.set_values(v);
-            changes = self.buffers.update(&surface.mesh);
+            changes = self.buffers.update_with(&surface.mesh, None, &frame);
             changes.vertices = true;
         }
         match &mut self.gpu_surface {
@@ -316,6 +353,7 @@ impl Running {
         }
         self.drawn_generation = Some(generation);
         self.drawn_values = values;
+        self.drawn_frame = Some(frame);
     }
 
     /// Saves the viewport (without the panels) as a PNG of its size on screen.

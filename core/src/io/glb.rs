@@ -2,9 +2,12 @@
 //!
 //! Follows the spec's GLB layout: positions and normals as f32, indices as u32 from the fan
 //! triangulation of each polygon, with the `min`/`max` bounds the spec requires on positions.
+//! glTF is Y up (spec §3.4): Taut's Z-up coordinates are turned on the way out, so the file
+//! stands upright in Blender and every other viewer. The generator string names Taut's version.
 //! Weak spot: f32 storage rounds positions (vertices closer than that precision become one
 //! position, and importing the file again welds them).
 
+use super::UpAxis;
 use crate::mesh::PolyMesh;
 use crate::{DVec3, Error, Result};
 use ::gltf::json::accessor::{ComponentType, GenericComponentType, Type};
@@ -17,11 +20,12 @@ use std::path::Path;
 
 /// The mesh as GLB bytes: one node, one mesh, one triangle primitive; vertex *i* of the file is
 /// vertex *i* of the mesh.
-pub fn glb_bytes(mesh: &PolyMesh) -> Result<Vec<u8>> {
+pub fn glb_bytes(mesh: &PolyMesh, normals: Option<&[DVec3]>) -> Result<Vec<u8>> {
     if mesh.face_count() == 0 {
         return Err(Error::Input("the mesh has no faces; there is nothing to export".into()));
     }
-    let positions: Vec<[f32; 3]> = mesh.positions().iter().map(|p| p.as_vec3().to_array()).collect();
+    let up = UpAxis::Y;
+    let positions: Vec<[f32; 3]> = mesh.positions().iter().map(|&p| up.from_taut(p).as_vec3().to_array()).collect();
     if let Some(v) = positions.iter().position(|p| !p.iter().all(|c| c.is_finite())) {
         return Err(Error::Input(format!(
             "vertex {v} at {:?} is beyond the range of the 32-bit floats glTF stores",
@@ -29,10 +33,20 @@ pub fn glb_bytes(mesh: &PolyMesh) -> Result<Vec<u8>> {
         )));
     }
     // The spec wants unit normals; isolated or degenerate vertices get +Z.
-    let normals: Vec<[f32; 3]> = mesh
-        .vertex_normals()
+    let computed;
+    let given = match normals {
+        Some(n) if n.len() == mesh.vertex_count() => n,
+        _ => {
+            computed = mesh.vertex_normals();
+            &computed
+        }
+    };
+    let normals: Vec<[f32; 3]> = given
         .iter()
-        .map(|n| if *n == DVec3::ZERO { [0.0, 0.0, 1.0] } else { n.as_vec3().to_array() })
+        .map(|&n| {
+            let n = up.from_taut(n).normalize_or_zero().as_vec3();
+            if n == glam::Vec3::ZERO || !n.is_finite() { [0.0, 1.0, 0.0] } else { n.to_array() }
+        })
         .collect();
     let indices: Vec<u32> = mesh.triangles().into_iter().flatten().collect();
     let mut bin = Vec::with_capacity(24 * positions.len() + 4 * indices.len());
@@ -47,7 +61,7 @@ pub fn glb_bytes(mesh: &PolyMesh) -> Result<Vec<u8>> {
         (std::array::from_fn(|k| lo[k].min(p[k])), std::array::from_fn(|k| hi[k].max(p[k])))
     });
     let mut root = json::Root {
-        asset: json::Asset { generator: Some("Taut".into()), ..Default::default() },
+        asset: json::Asset { generator: Some(format!("Taut {}", env!("CARGO_PKG_VERSION"))), ..Default::default() },
         ..Default::default()
     };
     let buffer = root.push(json::Buffer {
@@ -132,7 +146,12 @@ pub fn glb_bytes(mesh: &PolyMesh) -> Result<Vec<u8>> {
 /// Positions are rounded to f32: vertices closer than that precision become one position, and
 /// importing the file again welds them.
 pub fn export_glb(mesh: &PolyMesh, path: &Path) -> Result<()> {
-    let bytes = glb_bytes(mesh).map_err(|e| Error::format(path, e.to_string()))?;
+    export_glb_with(mesh, path, None)
+}
+
+/// [`export_glb`] with given unit normals (exact limit normals) instead of area-weighted ones.
+pub fn export_glb_with(mesh: &PolyMesh, path: &Path, normals: Option<&[DVec3]>) -> Result<()> {
+    let bytes = glb_bytes(mesh, normals).map_err(|e| Error::format(path, e.to_string()))?;
     super::write_atomic(path, &bytes)
 }
 
@@ -153,7 +172,7 @@ mod tests {
         ];
         let mesh =
             PolyMesh::from_polygons(p.clone(), &[vec![0, 2, 1], vec![0, 1, 3], vec![1, 2, 3], vec![0, 3, 2]]).unwrap();
-        let bytes = glb_bytes(&mesh).unwrap();
+        let bytes = glb_bytes(&mesh, None).unwrap();
         let word = |k: usize| u32::from_le_bytes(bytes[k..k + 4].try_into().unwrap()) as usize;
         assert_eq!(&bytes[..4], b"glTF");
         assert_eq!((word(4), word(8)), (2, bytes.len()));
@@ -164,8 +183,13 @@ mod tests {
         let position_accessor =
             &doc["accessors"][doc["meshes"][0]["primitives"][0]["attributes"]["POSITION"].as_u64().unwrap() as usize];
         let as_f32 = |v: &DVec3| v.as_vec3();
-        let lo = p.iter().map(as_f32).fold(glam::Vec3::INFINITY, glam::Vec3::min);
-        let hi = p.iter().map(as_f32).fold(glam::Vec3::NEG_INFINITY, glam::Vec3::max);
+        // glTF is Y up: Taut's (x, y, z) is written as (x, z, −y).
+        let in_file = |v: &DVec3| glam::Vec3::new(v.x as f32, v.z as f32, -v.y as f32);
+        let lo = p.iter().map(in_file).fold(glam::Vec3::INFINITY, glam::Vec3::min);
+        let hi = p.iter().map(in_file).fold(glam::Vec3::NEG_INFINITY, glam::Vec3::max);
+        assert_eq!(hi.y, 7.0, "the highest point in Taut (z = 7) is the highest in the file (y)");
+        let generator = doc["asset"]["generator"].as_str().unwrap();
+        assert_eq!(generator, format!("Taut {}", env!("CARGO_PKG_VERSION")));
         let read = |v: &Value| {
             glam::Vec3::from_slice(
                 &v.as_array().unwrap().iter().map(|c| c.as_f64().unwrap() as f32).collect::<Vec<_>>(),
@@ -177,6 +201,6 @@ mod tests {
         let expected: Vec<DVec3> = p.iter().map(|v| as_f32(v).as_dvec3()).collect();
         assert_eq!(soup.positions, expected);
         let triangles: Vec<Vec<u32>> = mesh.triangles().iter().map(|t| t.to_vec()).collect();
-        assert_eq!(soup.faces, triangles);
+        assert_eq!(soup.faces.to_vecs(), triangles);
     }
 }

@@ -10,10 +10,18 @@
 //! mirrors (negative determinant) has its triangles' winding reversed so the orientation stays
 //! consistent. Triangle strips and fans are converted to triangles (spec §3.7.2.1).
 //!
+//! glTF is Y up (spec §3.4); positions are turned into Taut's Z-up axes as they are read.
+//! External buffers are read only from relative URIs that stay inside the `.gltf` file's own
+//! folder once links are followed, only from regular files, and never beyond the declared
+//! `byteLength` (a shorter file is an error). Images are never read. A file that requires any
+//! extension (`extensionsRequired`) is refused, naming it: the spec says such a file cannot be
+//! loaded correctly without it.
+//!
 //! Weak spots: sparse, quantized and compressed (Draco, meshopt) geometry is refused; morph
 //! targets and skins are ignored (the rest pose is read); f32 storage rounds positions.
 
-use super::weld::Soup;
+use super::UpAxis;
+use super::soup::Soup;
 use crate::{DVec3, Error, Result};
 use ::gltf::json::accessor::{ComponentType, GenericComponentType, Type};
 use ::gltf::json::mesh::{Mode, Semantic};
@@ -24,13 +32,14 @@ use std::borrow::Cow;
 use std::cell::OnceCell;
 use std::path::Path;
 
-/// Extensions without which a file's geometry cannot be read.
+/// Extensions that change how geometry is stored, named in the refusal so the designer knows what
+/// to turn off when exporting again.
 const GEOMETRY_EXTENSIONS: [&str; 3] =
     ["KHR_draco_mesh_compression", "EXT_meshopt_compression", "KHR_mesh_quantization"];
 
 /// Reads a `.gltf` or `.glb` file into a polygon soup (not yet welded).
 pub(crate) fn read_gltf(path: &Path) -> Result<Soup> {
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    let bytes = super::file::read_regular_file(path)?;
     let binary = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("glb"));
     parse_gltf(&bytes, path, binary)
 }
@@ -54,13 +63,13 @@ pub(crate) fn parse_gltf(bytes: &[u8], origin: &Path, binary: bool) -> Result<So
         return Err(fail(format!("glTF version {} is not supported; Taut reads glTF 2.0", root.asset.version)));
     }
     let mut soup = Soup::default();
-    for ext in &root.extensions_required {
-        if GEOMETRY_EXTENSIONS.contains(&ext.as_str()) {
-            return Err(fail(format!(
-                "the file requires the extension {ext}, which Taut cannot read; export it again without mesh compression or quantization"
-            )));
-        }
-        soup.warnings.push(format!("ignored the required extension {ext}; the geometry is read without it"));
+    if let Some(ext) = root.extensions_required.first() {
+        let advice = if GEOMETRY_EXTENSIONS.contains(&ext.as_str()) {
+            "export it again without mesh compression or quantization"
+        } else {
+            "export it again without that extension"
+        };
+        return Err(fail(format!("the file requires the glTF extension {ext}, which Taut does not support; {advice}")));
     }
     let buffers = (0..root.buffers.len()).map(|_| OnceCell::new()).collect();
     let reader = Reader { origin, document: ::gltf::Document::from_json_without_validation(root), blob, buffers };
@@ -250,7 +259,7 @@ impl Reader<'_> {
             return Err(self.fail("the file has more vertices than Taut can index"));
         }
         for (k, p) in positions.iter().enumerate() {
-            let q = at.world_from_mesh.transform_point3(*p);
+            let q = UpAxis::Y.to_taut(at.world_from_mesh.transform_point3(*p));
             if !q.is_finite() {
                 return Err(self.fail(format!(
                     "{label}: vertex {k} has a non-finite coordinate ({:?}) once placed",
@@ -259,14 +268,17 @@ impl Reader<'_> {
             }
             soup.positions.push(q);
         }
-        let triangles = triangles(mode, &indices);
         if mode == Mode::Triangles && indices.len() % 3 != 0 {
-            soup.warnings.push(format!("{label}: ignored {} indices after the last whole triangle", indices.len() % 3));
+            return Err(self.fail(format!(
+                "{label} draws triangles from {} indices, which is not a multiple of 3",
+                indices.len()
+            )));
         }
+        let triangles = triangles(mode, &indices);
         let mirrored = determinant < 0.0;
         for [a, b, c] in triangles {
             let [a, b, c] = [a, b, c].map(|i| base as u32 + i);
-            soup.faces.push(if mirrored { vec![a, c, b] } else { vec![a, b, c] });
+            soup.faces.push(if mirrored { [a, c, b] } else { [a, b, c] });
         }
         Ok(())
     }
@@ -388,13 +400,18 @@ impl Reader<'_> {
                 let relative = percent_decode(uri).ok_or_else(|| {
                     self.fail(format!("buffer {index} refers to '{uri}', which is not a valid percent-encoded path"))
                 })?;
-                let file = self.origin.parent().unwrap_or(Path::new("")).join(relative);
-                std::fs::read(&file).map_err(|e| {
-                    self.fail(format!(
-                        "buffer {index} refers to '{uri}', which cannot be read ({}): {e}",
-                        file.display()
-                    ))
-                })?
+                let folder = self.origin.parent().unwrap_or(Path::new(""));
+                let file = super::file::resolve_inside(folder, &relative).map_err(|why| {
+                    self.fail(format!("buffer {index} refers to '{uri}', which Taut will not read: {why}"))
+                })?;
+                let declared = buffer.byte_length.0;
+                return super::file::read_regular_prefix(&file, declared).map_err(|e| {
+                    let why = match e {
+                        Error::Format { message, .. } => message,
+                        other => other.to_string(),
+                    };
+                    self.fail(format!("buffer {index} refers to '{uri}', which cannot be read: {why}"))
+                });
             }
         };
         let declared = buffer.byte_length.0;
@@ -520,12 +537,15 @@ mod tests {
         // By hand: scale by 2, turn 90° about z ((x, y) -> (-y, x)), move 10 along x; and mirror x.
         let expected =
             [[10.0, 0.0, 0.0], [10.0, 2.0, 0.0], [8.0, 0.0, 0.0], [0.0, 0.0, 0.0], [-1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
-        for (p, e) in soup.positions.iter().zip(expected) {
+        // The soup is in Taut's axes: glTF's (x, y, z) is Taut's (x, −z, y).
+        let in_file: Vec<DVec3> = soup.positions.iter().map(|&p| UpAxis::Y.from_taut(p)).collect();
+        for (p, e) in in_file.iter().zip(expected) {
             assert!((*p - DVec3::from_array(e)).length() < 1e-6, "{p} vs {e:?}");
         }
-        assert_eq!(soup.faces, vec![vec![0, 1, 2], vec![3, 5, 4]]);
-        for face in &soup.faces {
-            let [a, b, c] = [0, 1, 2].map(|k| soup.positions[face[k] as usize]);
+        assert!((soup.positions[1] - DVec3::new(10.0, 0.0, 2.0)).length() < 1e-6, "glTF +Y is Taut's up");
+        assert_eq!(soup.faces.to_vecs(), vec![vec![0, 1, 2], vec![3, 5, 4]]);
+        for face in soup.faces.iter() {
+            let [a, b, c] = [0, 1, 2].map(|k| in_file[face[k] as usize]);
             assert!((b - a).cross(c - a).z > 0.0, "face {face:?} faces the wrong way");
         }
     }
@@ -538,7 +558,7 @@ mod tests {
             document(&TRIANGLE, Some(&[0, 1, 2]), 4, json!([{ "matrix": m, "mesh": 0 }]), json!([{ "nodes": [0] }]));
         doc.as_object_mut().unwrap().remove("scene");
         let soup = parse(&doc).unwrap();
-        assert_eq!(soup.positions[1], DVec3::new(1.0, 0.0, 5.0));
+        assert_eq!(soup.positions[1], DVec3::new(1.0, -5.0, 0.0));
         // No scenes at all: the mesh is read where it is.
         doc.as_object_mut().unwrap().remove("scenes");
         assert_eq!(parse(&doc).unwrap().positions[1], DVec3::X);
@@ -596,7 +616,10 @@ mod tests {
             (edit(&|d| d["buffers"][0]["uri"] = json!("data:application/octet-stream;base64,@@@")), "cannot decode"),
             (edit(&|d| d["buffers"][0]["byteLength"] = json!(4096)), "truncated?"),
             (edit(&|d| d["asset"]["version"] = json!("1.0")), "glTF version 1.0 is not supported"),
-            (edit(&|d| d["extensionsRequired"] = json!(["KHR_draco_mesh_compression"])), "requires the extension"),
+            (
+                edit(&|d| d["extensionsRequired"] = json!(["KHR_draco_mesh_compression"])),
+                "requires the glTF extension KHR_draco_mesh_compression",
+            ),
             (json!({ "hello": "world" }), "not a glTF 2.0 file: missing field `asset`"),
         ];
         for (doc, expected) in cases {
@@ -624,7 +647,7 @@ mod tests {
             &[[0, 1, 2]],
         )
         .unwrap();
-        let good = glb_bytes(&mesh).unwrap();
+        let good = glb_bytes(&mesh, None).unwrap();
         let with_word = |k: usize, v: u32| {
             let mut b = good.clone();
             b[k..k + 4].copy_from_slice(&v.to_le_bytes());

@@ -1,19 +1,95 @@
 //! Reading and writing cages and surfaces: OBJ, glTF 2.0 (`.gltf`, `.glb`) and `.taut`.
 //!
 //! [`import_mesh`] reads a mesh file by its extension into a polygon soup, welds vertices at
-//! identical positions and repairs what welding collapses ([`weld()`]), then builds the cage;
-//! the [`ImportReport`] says what changed. [`export_mesh`] writes a surface keeping its vertex
-//! order, so a refined surface's file starts with the cage's vertices in input order. `.taut`
-//! documents are read and written by [`Document`](crate::Document).
+//! identical positions where the surface stays manifold and repairs what welding collapses
+//! ([`weld()`]), then builds the cage; the [`ImportReport`] says what changed. [`export_mesh`]
+//! writes a surface keeping its vertex order, so a refined surface's file starts with the cage's
+//! vertices in input order. `.taut` documents are read and written by
+//! [`Document`](crate::Document). Every reader reads only regular files ([`file`]).
+//!
+//! Axes: Taut models Z up. glTF is Y up by its specification, so glTF files are converted on the
+//! way in and out; OBJ has no rule and is taken as Y up by default, as Blender and most tools
+//! write it ([`UpAxis`]).
 
+pub mod file;
 pub mod glb;
 pub mod gltf;
 pub mod obj;
+pub mod soup;
 pub mod weld;
 
 pub use glb::export_glb;
-pub use obj::export_obj;
-pub use weld::{ImportReport, weld};
+pub use obj::{export_obj, export_obj_with};
+pub use soup::{FaceList, Soup};
+pub use weld::{ImportReport, weld, weld_faces};
+
+use crate::DVec3;
+
+/// Which axis points up in a file. Taut's own axes are Z up.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum UpAxis {
+    /// Y up (glTF's rule; OBJ as Blender, Maya and most tools write it): the file's `(x, y, z)`
+    /// is Taut's `(x, −z, y)`.
+    #[default]
+    Y,
+    /// Z up, as Taut models: no conversion.
+    Z,
+}
+
+impl UpAxis {
+    /// A point or direction of the file in Taut's axes (exact: a swap and a sign).
+    #[inline]
+    pub fn to_taut(self, p: DVec3) -> DVec3 {
+        match self {
+            UpAxis::Y => DVec3::new(p.x, -p.z, p.y),
+            UpAxis::Z => p,
+        }
+    }
+
+    /// A point or direction of Taut in the file's axes; the inverse of [`to_taut`](Self::to_taut).
+    #[inline]
+    pub fn from_taut(self, p: DVec3) -> DVec3 {
+        match self {
+            UpAxis::Y => DVec3::new(p.x, p.z, -p.y),
+            UpAxis::Z => p,
+        }
+    }
+
+    /// `"Y"` or `"Z"`.
+    pub fn name(self) -> &'static str {
+        match self {
+            UpAxis::Y => "Y",
+            UpAxis::Z => "Z",
+        }
+    }
+}
+
+impl std::str::FromStr for UpAxis {
+    type Err = String;
+    fn from_str(s: &str) -> std::result::Result<Self, String> {
+        match s {
+            "y" | "Y" => Ok(UpAxis::Y),
+            "z" | "Z" => Ok(UpAxis::Z),
+            other => Err(format!("unknown up axis '{other}' (use y or z)")),
+        }
+    }
+}
+
+/// How mesh files are read.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ImportOptions {
+    /// The up axis of OBJ files (glTF is always Y up).
+    pub obj_up: UpAxis,
+}
+
+/// How a surface is written.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct ExportOptions<'a> {
+    /// Per-vertex unit normals to write (exact limit normals); area-weighted ones when `None`.
+    pub normals: Option<&'a [DVec3]>,
+    /// The up axis of OBJ files (glTF is always Y up).
+    pub obj_up: UpAxis,
+}
 
 use crate::mesh::PolyMesh;
 use crate::{Error, Result};
@@ -58,8 +134,13 @@ impl MeshFormat {
 /// repairs the faces welding collapses, and reports what it changed. Vertex *i* of an OBJ
 /// without duplicate positions is its *i*-th `v` line.
 pub fn import_mesh(path: &Path) -> Result<(PolyMesh, ImportReport)> {
+    import_mesh_with(path, &ImportOptions::default())
+}
+
+/// [`import_mesh`] with options (the up axis of OBJ files).
+pub fn import_mesh_with(path: &Path, options: &ImportOptions) -> Result<(PolyMesh, ImportReport)> {
     let soup = match MeshFormat::from_path(path)? {
-        MeshFormat::Obj => obj::read_obj(path)?,
+        MeshFormat::Obj => obj::read_obj(path, options.obj_up)?,
         MeshFormat::Gltf | MeshFormat::Glb => self::gltf::read_gltf(path)?,
     };
     weld::into_mesh(path, soup)
@@ -67,9 +148,14 @@ pub fn import_mesh(path: &Path) -> Result<(PolyMesh, ImportReport)> {
 
 /// Exports a mesh by extension (`.obj` or `.glb`), atomically, keeping its vertex order.
 pub fn export_mesh(mesh: &PolyMesh, path: &Path) -> Result<()> {
+    export_mesh_with(mesh, path, &ExportOptions::default())
+}
+
+/// [`export_mesh`] with options (normals to write, the up axis of OBJ files).
+pub fn export_mesh_with(mesh: &PolyMesh, path: &Path, options: &ExportOptions<'_>) -> Result<()> {
     match MeshFormat::from_path(path)? {
-        MeshFormat::Obj => export_obj(mesh, path),
-        MeshFormat::Glb => export_glb(mesh, path),
+        MeshFormat::Obj => export_obj_with(mesh, path, options.normals, options.obj_up),
+        MeshFormat::Glb => glb::export_glb_with(mesh, path, options.normals),
         MeshFormat::Gltf => {
             Err(Error::format(path, "Taut exports glTF as binary .glb only; choose a .glb (or .obj) file name"))
         }

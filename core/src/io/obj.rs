@@ -1,72 +1,144 @@
 //! Wavefront OBJ: reading a cage's polygons and writing a surface with vertex normals.
 //!
-//! Faces are parsed by `tobj` (relative indices, `v/vt/vn` corners), polygons kept as they are,
-//! every object and group of the file merged into one mesh. `tobj` renumbers vertices in order
-//! of first use, which would lose the file's numbering (and drop unused vertices), so Taut reads
-//! the `v` lines itself and hands `tobj` each vertex's file index in place of its coordinates:
-//! the index comes back exactly and vertex *i* of the result is the *i*-th `v` line of the file.
-//! Only `v` and `f` lines reach `tobj`, which also keeps it away from its panicking paths
-//! (texture-coordinate and normal indices out of range, malformed material files).
+//! The reader keeps the file's numbering: vertex *i* of the result is the *i*-th `v` line, unused
+//! vertices included. Faces take `v`, `v/vt`, `v//vn` and `v/vt/vn` corners with absolute or
+//! relative (negative) indices; every object and group of the file goes into one mesh. It reads
+//! the bytes in one pass without copying the text and stores faces flat, so memory stays a small
+//! multiple of the file's size whatever the shape of its lines (a single face line of hundreds of
+//! megabytes included).
 //!
-//! Writing uses Rust's shortest round-trip float formatting, so re-reading gives the same bits.
+//! Axes: OBJ has no rule, but Blender, Maya and most tools write Y up by default, so Taut reads
+//! and writes OBJ as Y up unless told otherwise ([`UpAxis`]), converting to its own Z up: a model
+//! goes to Blender and back standing up, with its coordinates unchanged.
+//!
+//! Writing uses Rust's shortest round-trip float formatting, so re-reading gives the same bits,
+//! and `s 1` so other tools shade the surface smoothly with the written normals.
 //! Weak spots: `\` line continuations, materials, texture coordinates and free-form geometry are
 //! not read; points (`p`), lines (`l`) and faces with fewer than three corners are skipped with a
 //! warning.
 
-use super::weld::Soup;
+use super::UpAxis;
+use super::soup::Soup;
 use crate::mesh::PolyMesh;
 use crate::{DVec3, Error, Result};
 use std::fmt::Write as _;
 use std::path::Path;
 
-/// Reads an OBJ file into a polygon soup (not yet welded).
-pub(crate) fn read_obj(path: &Path) -> Result<Soup> {
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+/// Reads an OBJ file into a polygon soup in Taut's axes (not yet welded).
+pub(crate) fn read_obj(path: &Path, up: UpAxis) -> Result<Soup> {
+    let bytes = super::file::read_regular_file(path)?;
     if bytes.contains(&0) {
         return Err(Error::format(path, "not a text OBJ file: it contains binary data (NUL bytes)"));
     }
-    // Lossy: names and comments in Latin-1 are harmless; geometry is ASCII anyway.
-    parse_obj(&String::from_utf8_lossy(&bytes), path)
+    let mut soup = parse_obj(&bytes, path)?;
+    drop(bytes);
+    for p in &mut soup.positions {
+        *p = up.to_taut(*p);
+    }
+    Ok(soup)
 }
 
-/// Parses OBJ text; `origin` names the source in messages.
-pub(crate) fn parse_obj(text: &str, origin: &Path) -> Result<Soup> {
+/// A face corner's vertex as written: 1-based, or negative and relative to the vertices before.
+fn corner_vertex(corner: &[u8]) -> std::result::Result<i64, String> {
+    let text = || String::from_utf8_lossy(corner).into_owned();
+    let mut parts = corner.split(|&b| b == b'/');
+    let v = parts.next().unwrap_or_default();
+    let rest: Vec<&[u8]> = parts.collect();
+    if rest.len() > 2 {
+        return Err(format!("face corner '{}' has more than 3 parts (v/vt/vn)", text()));
+    }
+    for part in &rest {
+        if !part.is_empty() && std::str::from_utf8(part).ok().and_then(|s| s.parse::<i64>().ok()).is_none() {
+            return Err(format!("cannot read face corner '{}' (expected v, v/vt, v//vn or v/vt/vn)", text()));
+        }
+    }
+    std::str::from_utf8(v)
+        .ok()
+        .and_then(|s| s.parse::<i64>().ok())
+        .ok_or_else(|| format!("cannot read face corner '{}' (expected v, v/vt, v//vn or v/vt/vn)", text()))
+}
+
+/// Parses OBJ bytes in the file's own axes; `origin` names the source in messages.
+pub(crate) fn parse_obj(bytes: &[u8], origin: &Path) -> Result<Soup> {
+    let fail = |line: usize, m: String| Error::format(origin, format!("line {line}: {m}"));
     let mut soup = Soup::default();
-    let mut for_tobj = String::with_capacity(text.len() / 2);
-    let mut face_lines: Vec<(usize, usize)> = Vec::new(); // (line number, vertices before it)
     let (mut short_faces, mut lines_and_points) = (0usize, 0usize);
-    for (k, line) in text.lines().enumerate() {
+    // Absolute indices may refer to `v` lines further down: checked once the count is known.
+    let mut largest_absolute: Option<(i64, usize)> = None;
+    let mut corners: Vec<u32> = Vec::new();
+    for (k, line) in bytes.split(|&b| b == b'\n').enumerate() {
         let line_no = k + 1;
-        let mut words = line.split_whitespace();
+        let mut words = line.split(|b| b.is_ascii_whitespace()).filter(|w| !w.is_empty());
         match words.next() {
-            Some("v") => {
-                let p = parse_vertex(words).map_err(|m| Error::format(origin, format!("line {line_no}: {m}")))?;
+            Some(b"v") => {
+                let p = parse_vertex(words).map_err(|m| fail(line_no, m))?;
                 if !p.is_finite() {
-                    return Err(Error::format(
-                        origin,
+                    return Err(fail(
+                        line_no,
                         format!(
-                            "line {line_no}: vertex {} has a non-finite coordinate ({:?}); every coordinate must be a finite number",
+                            "vertex {} has a non-finite coordinate ({:?}); every coordinate must be a finite number",
                             soup.positions.len(),
                             p.to_array()
                         ),
                     ));
                 }
-                let _ = writeln!(for_tobj, "v {} 0 0", soup.positions.len());
                 soup.positions.push(p);
             }
-            Some("f") if words.clone().count() < 3 => short_faces += 1,
-            Some("f") => {
-                face_lines.push((line_no, soup.positions.len()));
-                for_tobj.push_str("f ");
+            Some(b"f") => {
+                corners.clear();
+                let before = soup.positions.len() as i64;
                 for corner in words {
-                    for_tobj.push_str(corner);
-                    for_tobj.push(' ');
+                    let index = corner_vertex(corner).map_err(|m| fail(line_no, m))?;
+                    let resolved = match index {
+                        0 => {
+                            return Err(fail(
+                                line_no,
+                                format!(
+                                    "face corner '{}' uses index 0; OBJ indices start at 1",
+                                    String::from_utf8_lossy(corner)
+                                ),
+                            ));
+                        }
+                        i if i < 0 => {
+                            let r = before + i;
+                            if r < 0 {
+                                return Err(fail(
+                                    line_no,
+                                    format!(
+                                        "face refers to vertex {i}, but the file has {before} vertices before this line"
+                                    ),
+                                ));
+                            }
+                            r
+                        }
+                        i => {
+                            if largest_absolute.is_none_or(|(m, _)| i > m) {
+                                largest_absolute = Some((i, line_no));
+                            }
+                            i - 1
+                        }
+                    };
+                    if resolved >= u32::MAX as i64 / 2 {
+                        return Err(fail(line_no, format!("face refers to vertex {index}, more than Taut can index")));
+                    }
+                    corners.push(resolved as u32);
                 }
-                for_tobj.push('\n');
+                if corners.len() < 3 {
+                    short_faces += 1;
+                } else {
+                    soup.faces.push(&corners);
+                }
             }
-            Some("l" | "p") => lines_and_points += 1,
+            Some(b"l" | b"p") => lines_and_points += 1,
             _ => {}
         }
+    }
+    let total = soup.positions.len();
+    if let Some((index, line_no)) = largest_absolute.filter(|&(i, _)| i > total as i64) {
+        return Err(fail(
+            line_no,
+            format!("face refers to vertex {index}, but the file has {total} vertices (v lines, counted from 1)"),
+        ));
     }
     if short_faces > 0 {
         soup.warnings.push(format!("skipped {short_faces} faces with fewer than 3 corners"));
@@ -74,54 +146,24 @@ pub(crate) fn parse_obj(text: &str, origin: &Path) -> Result<Soup> {
     if lines_and_points > 0 {
         soup.warnings.push(format!("skipped {lines_and_points} point and line elements (p, l)"));
     }
-
-    let options =
-        tobj::LoadOptions { single_index: false, triangulate: false, ignore_points: true, ignore_lines: true };
-    let no_materials = |_: &Path| Err(tobj::LoadError::GenericFailure);
-    let (models, _) = tobj::load_obj_buf(&mut for_tobj.as_bytes(), &options, no_materials).map_err(|e| {
-        let detail = explain_face_error(text, &face_lines, soup.positions.len())
-            .unwrap_or_else(|| format!("could not read the faces ({e})"));
-        Error::format(origin, detail)
-    })?;
-
-    let n = soup.positions.len();
-    for model in &models {
-        let mesh = &model.mesh;
-        // tobj drops the arities when every face is a triangle.
-        let arities: Vec<usize> = if mesh.face_arities.is_empty() {
-            vec![3; mesh.indices.len() / 3]
-        } else {
-            mesh.face_arities.iter().map(|&a| a as usize).collect()
-        };
-        let mut corners = mesh.indices.iter();
-        for arity in arities {
-            let mut face = Vec::with_capacity(arity);
-            for &i in corners.by_ref().take(arity) {
-                // Each "position" tobj returns is the file index we handed it as x.
-                let file_index = mesh.positions.get(3 * i as usize).copied().unwrap_or(f64::NAN);
-                if !(file_index >= 0.0 && file_index < n as f64) {
-                    return Err(Error::format(origin, "could not read the faces (inconsistent vertex indices)"));
-                }
-                face.push(file_index as u32);
-            }
-            soup.faces.push(face);
-        }
-    }
     Ok(soup)
 }
 
 /// Reads the coordinates of a `v` line: x y z, then either a homogeneous weight w or colour
 /// values (ignored).
-fn parse_vertex(mut words: std::str::SplitWhitespace<'_>) -> std::result::Result<DVec3, String> {
+fn parse_vertex<'a>(mut words: impl Iterator<Item = &'a [u8]>) -> std::result::Result<DVec3, String> {
+    let number = |word: &[u8]| std::str::from_utf8(word).ok().and_then(|s| s.parse::<f64>().ok());
     let mut xyz = [0.0; 3];
     for (c, slot) in xyz.iter_mut().enumerate() {
         let word = words.next().ok_or_else(|| format!("a vertex needs 3 coordinates, found {c}"))?;
-        *slot = word.parse::<f64>().map_err(|_| format!("cannot read vertex coordinate '{word}' as a number"))?;
+        *slot = number(word)
+            .ok_or_else(|| format!("cannot read vertex coordinate '{}' as a number", String::from_utf8_lossy(word)))?;
     }
-    let rest: Vec<&str> = words.collect();
+    let rest: Vec<&[u8]> = words.collect();
     let mut p = DVec3::from_array(xyz);
     if let [w] = rest[..] {
-        let w: f64 = w.parse().map_err(|_| format!("cannot read the vertex weight '{w}' as a number"))?;
+        let w = number(w)
+            .ok_or_else(|| format!("cannot read the vertex weight '{}' as a number", String::from_utf8_lossy(w)))?;
         if w == 0.0 {
             return Err("the vertex weight w is 0 (a point at infinity)".to_string());
         }
@@ -130,61 +172,37 @@ fn parse_vertex(mut words: std::str::SplitWhitespace<'_>) -> std::result::Result
     Ok(p)
 }
 
-/// Finds the face line `tobj` refused and says what is wrong with it, in the file's own terms.
-fn explain_face_error(text: &str, face_lines: &[(usize, usize)], total: usize) -> Option<String> {
-    let lines: Vec<&str> = text.lines().collect();
-    for &(line_no, before) in face_lines {
-        let line = lines.get(line_no - 1)?;
-        for corner in line.split_whitespace().skip(1) {
-            for (slot, part) in corner.split('/').enumerate() {
-                if slot > 2 {
-                    return Some(format!("line {line_no}: face corner '{corner}' has more than 3 parts (v/vt/vn)"));
-                }
-                if part.is_empty() && slot > 0 {
-                    continue;
-                }
-                let Ok(index) = part.parse::<i64>() else {
-                    return Some(format!(
-                        "line {line_no}: cannot read face corner '{corner}' (expected v, v/vt, v//vn or v/vt/vn)"
-                    ));
-                };
-                if slot > 0 {
-                    continue;
-                }
-                let resolved = match index {
-                    0 => {
-                        return Some(format!(
-                            "line {line_no}: face corner '{corner}' uses index 0; OBJ indices start at 1"
-                        ));
-                    }
-                    i if i < 0 => before as i64 + i,
-                    i => i - 1,
-                };
-                if resolved < 0 || resolved >= total as i64 {
-                    return Some(format!(
-                        "line {line_no}: face refers to vertex {index}, but the file has {} vertices{}",
-                        if index < 0 { before } else { total },
-                        if index < 0 { " before this line" } else { " (v lines, counted from 1)" }
-                    ));
-                }
-            }
-        }
-    }
-    None
-}
-
-/// The mesh as OBJ text: `v` positions, `vn` area-weighted vertex normals and `f v//vn`
-/// polygons, vertex *i* of the mesh being vertex *i* + 1 of the file.
-pub fn obj_text(mesh: &PolyMesh) -> String {
+/// The mesh as OBJ text in the axes `up`: `v` positions, `vn` normals (the given ones, or
+/// area-weighted vertex normals), `s 1` and `f v//vn` polygons, vertex *i* of the mesh being
+/// vertex *i* + 1 of the file.
+pub fn obj_text(mesh: &PolyMesh, normals: Option<&[DVec3]>, up: UpAxis) -> String {
     let mut out = String::with_capacity(64 * mesh.vertex_count() + 32 * mesh.halfedge_count());
-    let _ = writeln!(out, "# Taut surface: {} vertices, {} faces", mesh.vertex_count(), mesh.face_count());
-    for p in mesh.positions() {
+    let _ = writeln!(
+        out,
+        "# Taut {} surface: {} vertices, {} faces, {} up",
+        env!("CARGO_PKG_VERSION"),
+        mesh.vertex_count(),
+        mesh.face_count(),
+        up.name()
+    );
+    for &p in mesh.positions() {
+        let p = up.from_taut(p);
         // `{:?}` is Rust's shortest representation that reads back to the same f64.
         let _ = writeln!(out, "v {:?} {:?} {:?}", p.x, p.y, p.z);
     }
-    for n in mesh.vertex_normals() {
+    let computed;
+    let normals = match normals {
+        Some(n) if n.len() == mesh.vertex_count() => n,
+        _ => {
+            computed = mesh.vertex_normals();
+            &computed
+        }
+    };
+    for &n in normals {
+        let n = up.from_taut(n);
         let _ = writeln!(out, "vn {:?} {:?} {:?}", n.x, n.y, n.z);
     }
+    out.push_str("s 1\n");
     for f in mesh.faces() {
         out.push('f');
         for v in mesh.face_vertices(f) {
@@ -197,10 +215,15 @@ pub fn obj_text(mesh: &PolyMesh) -> String {
 
 /// Writes the mesh as an OBJ file (atomically), keeping its vertex order.
 pub fn export_obj(mesh: &PolyMesh, path: &Path) -> Result<()> {
+    export_obj_with(mesh, path, None, UpAxis::default())
+}
+
+/// [`export_obj`] with given normals and axes.
+pub fn export_obj_with(mesh: &PolyMesh, path: &Path, normals: Option<&[DVec3]>, up: UpAxis) -> Result<()> {
     if mesh.face_count() == 0 {
         return Err(Error::Input(format!("{}: the mesh has no faces; there is nothing to export", path.display())));
     }
-    super::write_atomic(path, obj_text(mesh).as_bytes())
+    super::write_atomic(path, obj_text(mesh, normals, up).as_bytes())
 }
 
 #[cfg(test)]
@@ -208,7 +231,7 @@ mod tests {
     use super::*;
 
     fn parse(text: &str) -> Result<Soup> {
-        parse_obj(text, Path::new("test.obj"))
+        parse_obj(text.as_bytes(), Path::new("test.obj"))
     }
 
     #[test]
@@ -220,7 +243,7 @@ mod tests {
         let soup = parse(text).unwrap();
         assert_eq!(soup.positions.len(), 6);
         assert_eq!(soup.positions[4], DVec3::splat(2.0));
-        assert_eq!(soup.faces, vec![vec![3, 2, 1, 0], vec![4, 3, 4]]);
+        assert_eq!(soup.faces.to_vecs(), vec![vec![3, 2, 1, 0], vec![4, 3, 4]]);
         assert!(soup.warnings.is_empty());
     }
 
@@ -233,7 +256,7 @@ mod tests {
     #[test]
     fn lines_points_and_short_faces_are_skipped_with_a_warning() {
         let soup = parse("v 0 0 0\nv 1 0 0\nv 0 1 0\nl 1 2\np 1\nf 1 2\nf 1 2 3\n").unwrap();
-        assert_eq!(soup.faces, vec![vec![0, 1, 2]]);
+        assert_eq!(soup.faces.to_vecs(), vec![vec![0, 1, 2]]);
         assert_eq!(soup.warnings.len(), 2, "{:?}", soup.warnings);
     }
 
@@ -265,19 +288,19 @@ mod tests {
     fn hostile_texture_and_normal_indices_do_not_panic() {
         // tobj would index its texture-coordinate array with these; we never give it one.
         let soup = parse("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\nf 1/0/0 2/-99/99 3/9999999999/1\n").unwrap();
-        assert_eq!(soup.faces, vec![vec![0, 1, 2]]);
+        assert_eq!(soup.faces.to_vecs(), vec![vec![0, 1, 2]]);
     }
 
     #[test]
     fn export_text_is_one_based_with_exact_floats() {
         let p = vec![DVec3::new(0.1, 1.0 / 3.0, -0.0), DVec3::new(1e-300, 2.0, 0.0), DVec3::new(0.0, 1e300, 5.0)];
         let mesh = PolyMesh::from_polygons(p.clone(), &[[0, 1, 2]]).unwrap();
-        let text = obj_text(&mesh);
-        assert!(text.contains("\nf 1//1 2//2 3//3\n"), "{text}");
+        let text = obj_text(&mesh, None, UpAxis::Z);
+        assert!(text.contains("\ns 1\nf 1//1 2//2 3//3\n"), "{text}");
         let back = parse(&text).unwrap();
         let bits = |v: &[DVec3]| v.iter().map(|p| p.to_array().map(f64::to_bits)).collect::<Vec<_>>();
         assert_eq!(bits(&back.positions), bits(&p));
-        assert_eq!(back.faces, vec![vec![0, 1, 2]]);
+        assert_eq!(back.faces.to_vecs(), vec![vec![0, 1, 2]]);
         // A lone triangle's vertex normal is its plane's normal: compare with the cross product.
         let expected = (p[1] - p[0]).cross(p[2] - p[0]).normalize();
         let vn: Vec<f64> = text.lines().find(|l| l.starts_with("vn ")).unwrap()[3..]
@@ -285,5 +308,34 @@ mod tests {
             .map(|w| w.parse().unwrap())
             .collect();
         assert!((DVec3::from_slice(&vn) - expected).length() < 1e-12);
+    }
+
+    #[test]
+    fn y_up_files_are_turned_to_z_up_and_back_exactly() {
+        // Blender writes (x, z, −y) for its own (x, y, z): a point up in the file is up in Taut.
+        let soup = parse("v 1 2 3\nv 0 1 0\nv 0 0 1\nf 1 2 3\n").unwrap();
+        let taut: Vec<DVec3> = soup.positions.iter().map(|&p| UpAxis::Y.to_taut(p)).collect();
+        assert_eq!(taut[0], DVec3::new(1.0, -3.0, 2.0));
+        assert_eq!(taut[1], DVec3::Z);
+        let mesh = PolyMesh::from_polygons(taut.clone(), &[[0, 1, 2]]).unwrap();
+        let text = obj_text(&mesh, None, UpAxis::Y);
+        assert!(text.contains("\nv 1.0 2.0 3.0\n"), "{text}");
+        let back = parse(&text).unwrap();
+        let again: Vec<DVec3> = back.positions.iter().map(|&p| UpAxis::Y.to_taut(p)).collect();
+        let bits = |v: &[DVec3]| v.iter().map(|p| p.to_array().map(f64::to_bits)).collect::<Vec<_>>();
+        assert_eq!(bits(&again), bits(&taut));
+    }
+
+    #[test]
+    fn one_huge_face_line_fails_fast_on_its_first_repeat() {
+        // The text is parsed without copies; the pinch is found at the fourth corner by the weld.
+        let mut text = String::from("v 0 0 0\nv 1 0 0\nv 0 1 0\nf");
+        for _ in 0..200_000 {
+            text.push_str(" 1 2 3");
+        }
+        let soup = parse(&text).unwrap();
+        assert_eq!(soup.faces.corner_count(), 600_000);
+        let err = super::super::weld::weld_faces(&soup.positions, &soup.faces).unwrap_err().to_string();
+        assert!(err.contains("face 0 passes through vertex 0 twice"), "{err}");
     }
 }

@@ -7,21 +7,38 @@
 //! numbering exactly. Merging can shorten an edge to nothing; the documented repair removes
 //! consecutive repeats of a vertex in a face (cyclically), drops faces left with fewer than three
 //! vertices and drops faces that repeat an earlier face's vertex cycle (in either orientation).
-//! A face that passes through one vertex twice with other vertices between is refused: it
+//!
+//! Welding never makes the surface non-manifold. Two faces are joined across an edge only when,
+//! after welding, that edge is used once in each direction; around every welded vertex the faces
+//! joined that way form fans, and each fan keeps a vertex of its own. So two parts that only
+//! touch at a point or along an edge (Blender's monkey: the eyes touch the head at two points)
+//! stay two parts, and the report says which positions were left apart. Vertices that are one
+//! vertex in the file are never split: a file that is non-manifold by itself is refused by the
+//! mesh, as it should be.
+//!
+//! A face that passes through one file vertex twice with other vertices between is refused: it
 //! pinches, and guessing how to split it would change the designer's surface.
+//!
+//! Memory: a few machine words per corner and per vertex; the pinch check runs while the faces are
+//! read, before anything per corner is allocated, so one hostile face with millions of repeated
+//! corners fails at once.
 //!
 //! Weak where a file relies on nearly equal positions: welding is exact, with no tolerance, so
 //! vertices that differ in the last bit stay apart and the surface stays torn there.
 
+use super::soup::{FaceList, Soup};
 use crate::mesh::PolyMesh;
 use crate::{DVec3, Error, Result};
 use std::collections::HashMap;
 use std::collections::hash_map::Entry;
 use std::fmt;
+use std::hash::{Hash, Hasher};
 use std::path::Path;
 
 /// How many cases of one kind of repair are listed by face in the warnings.
 const LISTED_CASES: usize = 5;
+
+const NONE: u32 = u32::MAX;
 
 /// What an import changed on the way from the file to the cage, and what it skipped.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
@@ -29,6 +46,9 @@ const LISTED_CASES: usize = 5;
 pub struct ImportReport {
     /// Vertices merged into an earlier vertex at the same position.
     pub welded: usize,
+    /// Positions where welding was held back because it would have joined separate fans of faces
+    /// at one vertex (parts that only touch): one more vertex for each fan kept apart.
+    pub kept_apart: usize,
     /// Faces that lost a repeated vertex (a zero-length edge) but were kept.
     pub repaired_faces: usize,
     /// Faces dropped, for either reason: fewer than three distinct vertices were left, or an
@@ -44,17 +64,25 @@ pub struct ImportReport {
 impl ImportReport {
     /// True when the file was read as it is, with nothing merged, repaired or skipped.
     pub fn is_clean(&self) -> bool {
-        self.welded == 0 && self.repaired_faces == 0 && self.dropped_faces == 0 && self.warnings.is_empty()
+        self.welded == 0
+            && self.kept_apart == 0
+            && self.repaired_faces == 0
+            && self.dropped_faces == 0
+            && self.warnings.is_empty()
     }
 }
 
 impl fmt::Display for ImportReport {
-    /// One line, e.g. `welded 16 vertices, dropped 2 duplicate faces (1 warning)`.
+    /// One line, e.g. `welded 16 vertices, dropped 2 duplicate faces; dropped face 6: it repeats
+    /// face 2; ...` — the counts, then every warning's text.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let plural = |n: usize, one: &str, many: &str| format!("{n} {}", if n == 1 { one } else { many });
         let mut parts = Vec::new();
         if self.welded > 0 {
             parts.push(format!("welded {}", plural(self.welded, "vertex", "vertices")));
+        }
+        if self.kept_apart > 0 {
+            parts.push(format!("kept {} apart where parts only touch", plural(self.kept_apart, "vertex", "vertices")));
         }
         if self.repaired_faces > 0 {
             parts.push(format!("repaired {}", plural(self.repaired_faces, "face", "faces")));
@@ -70,28 +98,20 @@ impl fmt::Display for ImportReport {
             parts.push("nothing welded or repaired".to_string());
         }
         write!(f, "{}", parts.join(", "))?;
-        if !self.warnings.is_empty() {
-            write!(f, " ({})", plural(self.warnings.len(), "warning", "warnings"))?;
+        for warning in &self.warnings {
+            write!(f, "; {warning}")?;
         }
         Ok(())
     }
 }
 
-/// Polygons as a file describes them, before welding: the common output of every reader.
-#[derive(Clone, Debug, Default)]
-pub(crate) struct Soup {
-    pub positions: Vec<DVec3>,
-    pub faces: Vec<Vec<u32>>,
-    pub warnings: Vec<String>,
-}
-
 /// Welded positions and repaired faces.
 #[derive(Clone, Debug)]
 pub struct Welded {
-    /// One position per distinct input position, in order of first occurrence.
+    /// One position per vertex of the cage, in order of the first file vertex each stands for.
     pub positions: Vec<DVec3>,
     /// The faces that survived, renumbered, in input order.
-    pub faces: Vec<Vec<u32>>,
+    pub faces: FaceList,
     /// Counts of what was merged, repaired and dropped (no format warnings).
     pub report: ImportReport,
 }
@@ -100,41 +120,68 @@ pub struct Welded {
 /// Faces are numbered from 0 in input order in messages. Fails on an index out of range or a
 /// face that passes through one vertex twice, not consecutively.
 pub fn weld<F: AsRef<[u32]>>(positions: &[DVec3], faces: &[F]) -> Result<Welded> {
-    let n = positions.len();
-    let mut first: HashMap<[u64; 3], u32> = HashMap::with_capacity(n);
-    let mut remap = Vec::with_capacity(n);
-    let mut welded_positions = Vec::with_capacity(n);
-    for &p in positions {
-        // Adding 0.0 turns −0.0 into 0.0 and leaves every other value alone.
-        let key = (p + DVec3::ZERO).to_array().map(f64::to_bits);
-        let next = welded_positions.len() as u32;
-        match first.entry(key) {
-            Entry::Occupied(e) => remap.push(*e.get()),
-            Entry::Vacant(e) => {
-                e.insert(next);
-                remap.push(next);
-                welded_positions.push(p);
-            }
-        }
-    }
+    weld_faces(positions, &faces.iter().collect())
+}
 
-    let mut report = ImportReport { welded: n - welded_positions.len(), ..ImportReport::default() };
-    let mut listed = Listed::default();
-    let mut seen_cycles: HashMap<Vec<u32>, usize> = HashMap::with_capacity(faces.len());
-    let mut out_faces = Vec::with_capacity(faces.len());
-    let mut ring: Vec<u32> = Vec::new();
-    for (f, face) in faces.iter().enumerate() {
-        let face = face.as_ref();
-        ring.clear();
-        for &v in face {
-            let Some(&w) = remap.get(v as usize) else {
-                return Err(Error::Input(format!("face {f} refers to vertex {v}, but there are only {n} vertices")));
-            };
-            if ring.last() != Some(&w) {
-                ring.push(w);
+/// [`weld`] on faces already in a [`FaceList`].
+pub fn weld_faces(positions: &[DVec3], faces: &FaceList) -> Result<Welded> {
+    let n = positions.len();
+    if n >= NONE as usize || faces.corner_count() >= NONE as usize {
+        return Err(Error::Input(format!("{n} vertices is more than Taut can index")));
+    }
+    // 1. The first file vertex at each position.
+    let mut first: HashMap<[u64; 3], u32> = HashMap::with_capacity(n);
+    let tentative: Vec<u32> = positions
+        .iter()
+        .enumerate()
+        .map(|(v, &p)| {
+            // Adding 0.0 turns −0.0 into 0.0 and leaves every other value alone.
+            let key = (p + DVec3::ZERO).to_array().map(f64::to_bits);
+            match first.entry(key) {
+                Entry::Occupied(e) => *e.get(),
+                Entry::Vacant(e) => *e.insert(v as u32),
             }
+        })
+        .collect();
+    drop(first);
+
+    // 2. Faces in tentative numbering, repeats removed; the file's own pinches are refused here.
+    let mut report = ImportReport::default();
+    let mut listed = Listed::default();
+    let mut kept = Kept::default();
+    let mut stamp = vec![NONE; n];
+    let mut ring: Vec<(u32, u32)> = Vec::new();
+    for (f, face) in faces.iter().enumerate() {
+        // The file's own repeats: consecutive ones are zero-length edges (repaired below); any
+        // other is a pinch, found at the first corner that proves it.
+        let mut closing = false;
+        for &v in face {
+            if v as usize >= n {
+                return Err(Error::Input(format!("face {f} refers to vertex {v}, but there are only {n} vertices")));
+            }
+            if closing {
+                if v == ring[0].1 {
+                    continue;
+                }
+                return Err(pinch(f, ring[0].1, None));
+            }
+            if ring.last().map(|&(_, o)| o) == Some(v) {
+                continue;
+            }
+            if stamp[v as usize] == f as u32 {
+                if ring[0].1 == v {
+                    // Back at the first vertex: only repeats of it may follow.
+                    closing = true;
+                    continue;
+                }
+                return Err(pinch(f, v, None));
+            }
+            stamp[v as usize] = f as u32;
+            ring.push((tentative[v as usize], v));
         }
-        while ring.len() > 1 && ring.first() == ring.last() {
+        // Welding makes neighbours equal: remove those repeats too, cyclically.
+        ring.dedup_by_key(|c| c.0);
+        while ring.len() > 1 && ring.first().map(|c| c.0) == ring.last().map(|c| c.0) {
             ring.pop();
         }
         if ring.len() < 3 {
@@ -142,47 +189,306 @@ pub fn weld<F: AsRef<[u32]>>(positions: &[DVec3], faces: &[F]) -> Result<Welded>
             note(&mut listed.dropped, || {
                 format!("dropped face {f}: fewer than 3 distinct vertices are left once repeats are removed")
             });
-            continue;
+        } else {
+            if ring.len() != face.len() {
+                report.repaired_faces += 1;
+                note(&mut listed.repaired, || {
+                    format!(
+                        "repaired face {f}: removed {} repeated vertices (zero-length edges)",
+                        face.len() - ring.len()
+                    )
+                });
+            }
+            kept.push(f as u32, &ring);
         }
-        if let Some(v) = repeated_vertex(&ring) {
-            let cause = if repeated_vertex(face).is_some() {
-                String::new()
-            } else {
-                format!(
-                    " once vertices at the same position are welded (position {:?})",
-                    welded_positions[v as usize].to_array()
-                )
-            };
-            return Err(Error::Topology(format!(
-                "face {f} passes through vertex {v} twice{cause}; the polygon pinches at that vertex, which a cage \
-                 cannot represent: split the face in two or move one of its corners"
-            )));
-        }
-        if ring.len() != face.len() {
-            report.repaired_faces += 1;
-            note(&mut listed.repaired, || {
-                format!("repaired face {f}: removed {} repeated vertices (zero-length edges)", face.len() - ring.len())
+        ring.clear();
+    }
+    drop(stamp);
+
+    // 3. Faces repeating an earlier face's cycle (either way round) are dropped.
+    let duplicates = find_duplicates(&kept);
+    if !duplicates.is_empty() {
+        for &(f, g, reversed) in &duplicates {
+            report.dropped_faces += 1;
+            report.duplicate_faces += 1;
+            note(&mut listed.duplicate, || {
+                if reversed {
+                    format!("dropped face {f}: it is face {g} facing the other way")
+                } else {
+                    format!("dropped face {f}: it repeats face {g}")
+                }
             });
         }
-        let forward = canonical_cycle(ring.iter().copied());
-        let backward = canonical_cycle(ring.iter().rev().copied());
-        if let Some(&g) = seen_cycles.get(&forward) {
-            report.dropped_faces += 1;
-            report.duplicate_faces += 1;
-            note(&mut listed.duplicate, || format!("dropped face {f}: it repeats face {g}"));
-            continue;
+        let gone: std::collections::HashSet<u32> = duplicates.iter().map(|d| d.0).collect();
+        kept.retain(|source| !gone.contains(&source));
+    }
+
+    // 4. Fans: corners of one file vertex belong together, and so do the corners on either side of
+    //    an edge used once each way.
+    let corners = kept.t.len();
+    let mut sets = UnionFind::new(corners);
+    let mut corner_of_file_vertex = vec![NONE; n];
+    for c in 0..corners {
+        let v = kept.orig[c] as usize;
+        match corner_of_file_vertex[v] {
+            NONE => corner_of_file_vertex[v] = c as u32,
+            other => sets.union(other, c as u32),
         }
-        if let Some(&g) = seen_cycles.get(&backward) {
-            report.dropped_faces += 1;
-            report.duplicate_faces += 1;
-            note(&mut listed.duplicate, || format!("dropped face {f}: it is face {g} facing the other way"));
-            continue;
+    }
+    let mut sides: Vec<(u32, u32, u32)> = Vec::with_capacity(corners); // (lo, hi, corner | direction bit)
+    for face in 0..kept.len() {
+        for c in kept.range(face) {
+            let next = kept.next(face, c);
+            let (a, b) = (kept.t[c], kept.t[next]);
+            let backward = u32::from(a > b);
+            sides.push((a.min(b), a.max(b), ((c as u32) << 1) | backward));
         }
-        seen_cycles.insert(forward, f);
-        out_faces.push(ring.clone());
+    }
+    sides.sort_unstable();
+    let mut k = 0;
+    while k < sides.len() {
+        let mut end = k + 1;
+        while end < sides.len() && (sides[end].0, sides[end].1) == (sides[k].0, sides[k].1) {
+            end += 1;
+        }
+        if end - k == 2 && (sides[k].2 & 1) != (sides[k + 1].2 & 1) {
+            // Side c runs a → b in its face, side d runs b → a in its: glue a to a and b to b.
+            let (c, d) = ((sides[k].2 >> 1) as usize, (sides[k + 1].2 >> 1) as usize);
+            let (c_next, d_next) = (kept.next_corner(c), kept.next_corner(d));
+            sets.union(c as u32, d_next as u32);
+            sets.union(c_next as u32, d as u32);
+        }
+        k = end;
+    }
+    drop(sides);
+
+    // 5. One cage vertex per fan, numbered by the first file vertex it stands for.
+    let mut representative = vec![NONE; corners];
+    for c in 0..corners {
+        let root = sets.find(c as u32) as usize;
+        representative[root] = representative[root].min(kept.orig[c]);
+    }
+    // Per file vertex: the fan it heads (if any); per position: the fan with the first file vertex.
+    let mut heads = vec![false; n];
+    for c in 0..corners {
+        if sets.find(c as u32) as usize == c {
+            heads[representative[c] as usize] = true;
+        }
+    }
+    let mut used_positions = vec![false; n];
+    for c in 0..corners {
+        used_positions[kept.t[c] as usize] = true;
+    }
+    let mut new_index = vec![NONE; n];
+    let mut out_positions = Vec::with_capacity(n);
+    let mut fans_at_position = vec![0u32; n];
+    for v in 0..n {
+        let t = tentative[v] as usize;
+        if heads[v] {
+            new_index[v] = out_positions.len() as u32;
+            out_positions.push(positions[v]);
+            fans_at_position[t] += 1;
+        } else if !used_positions[t] && t == v {
+            // An unused position keeps one vertex, so numbering survives.
+            new_index[v] = out_positions.len() as u32;
+            out_positions.push(positions[v]);
+        }
+    }
+    report.welded = n - out_positions.len();
+    let apart: Vec<usize> = (0..n).filter(|&t| fans_at_position[t] > 1).collect();
+    report.kept_apart = apart.iter().map(|&t| fans_at_position[t] as usize - 1).sum();
+    if !apart.is_empty() {
+        let shown: Vec<String> =
+            apart.iter().take(LISTED_CASES).map(|&t| format!("{:?}", positions[t].to_array())).collect();
+        let more = if apart.len() > LISTED_CASES {
+            format!(" and {} more", apart.len() - LISTED_CASES)
+        } else {
+            String::new()
+        };
+        listed
+            .apart
+            .push(format!("parts only touch at {}{more}: each keeps a vertex of its own there", shown.join(", ")));
+    }
+
+    let mut out_faces = FaceList::default();
+    for face in 0..kept.len() {
+        for c in kept.range(face) {
+            let root = sets.find(c as u32) as usize;
+            out_faces.push_corner(new_index[representative[root] as usize]);
+        }
+        out_faces.end_face();
+    }
+    // A weld can still make a face pass through one vertex twice (its own corners glued).
+    let mut stamp = vec![NONE; out_positions.len()];
+    for (k, face) in out_faces.iter().enumerate() {
+        for &v in face {
+            if stamp[v as usize] == k as u32 {
+                return Err(pinch(kept.source[k] as usize, v, Some(out_positions[v as usize])));
+            }
+            stamp[v as usize] = k as u32;
+        }
     }
     report.warnings = listed.finish(&report);
-    Ok(Welded { positions: welded_positions, faces: out_faces, report })
+    Ok(Welded { positions: out_positions, faces: out_faces, report })
+}
+
+fn pinch(f: usize, v: u32, welded_at: Option<DVec3>) -> Error {
+    let cause = welded_at.map_or(String::new(), |p| {
+        format!(" once vertices at the same position are welded (position {:?})", p.to_array())
+    });
+    Error::Topology(format!(
+        "face {f} passes through vertex {v} twice{cause}; the polygon pinches at that vertex, which a cage \
+         cannot represent: split the face in two or move one of its corners"
+    ))
+}
+
+/// The kept faces: per corner the tentative (welded) vertex and the file vertex.
+#[derive(Default)]
+struct Kept {
+    offsets: Vec<u32>,
+    t: Vec<u32>,
+    orig: Vec<u32>,
+    /// The input face each kept face came from.
+    source: Vec<u32>,
+    /// The kept face of each corner.
+    face_of: Vec<u32>,
+}
+
+impl Kept {
+    fn push(&mut self, source: u32, ring: &[(u32, u32)]) {
+        if self.offsets.is_empty() {
+            self.offsets.push(0);
+        }
+        let face = self.source.len() as u32;
+        for &(t, o) in ring {
+            self.t.push(t);
+            self.orig.push(o);
+            self.face_of.push(face);
+        }
+        self.offsets.push(self.t.len() as u32);
+        self.source.push(source);
+    }
+
+    fn len(&self) -> usize {
+        self.source.len()
+    }
+
+    fn range(&self, face: usize) -> std::ops::Range<usize> {
+        self.offsets[face] as usize..self.offsets[face + 1] as usize
+    }
+
+    fn next(&self, face: usize, c: usize) -> usize {
+        if c + 1 == self.offsets[face + 1] as usize { self.offsets[face] as usize } else { c + 1 }
+    }
+
+    fn next_corner(&self, c: usize) -> usize {
+        self.next(self.face_of[c] as usize, c)
+    }
+
+    fn cycle(&self, face: usize) -> &[u32] {
+        &self.t[self.range(face)]
+    }
+
+    /// Keeps the faces whose source passes `keep`, in order.
+    fn retain(&mut self, keep: impl Fn(u32) -> bool) {
+        let old = std::mem::take(self);
+        let mut ring = Vec::new();
+        for face in 0..old.len() {
+            if keep(old.source[face]) {
+                ring.clear();
+                ring.extend(old.range(face).map(|c| (old.t[c], old.orig[c])));
+                self.push(old.source[face], &ring);
+            }
+        }
+    }
+}
+
+/// `(face, earlier face, reversed)` for every kept face whose cycle repeats an earlier one's.
+fn find_duplicates(kept: &Kept) -> Vec<(u32, u32, bool)> {
+    let mut keyed: Vec<(u64, u32)> = (0..kept.len()).map(|f| (cycle_hash(kept.cycle(f)), f as u32)).collect();
+    keyed.sort_unstable();
+    let mut out = Vec::new();
+    let mut dropped = vec![false; kept.len()];
+    let mut k = 0;
+    while k < keyed.len() {
+        let mut end = k + 1;
+        while end < keyed.len() && keyed[end].0 == keyed[k].0 {
+            end += 1;
+        }
+        for later in k + 1..end {
+            let f = keyed[later].1 as usize;
+            let earlier = (k..later)
+                .map(|e| keyed[e].1 as usize)
+                .filter(|&g| !dropped[g])
+                .find_map(|g| same_cycle(kept.cycle(g), kept.cycle(f)).map(|reversed| (g, reversed)));
+            if let Some((g, reversed)) = earlier {
+                dropped[f] = true;
+                out.push((kept.source[f], kept.source[g], reversed));
+            }
+        }
+        k = end;
+    }
+    out.sort_unstable();
+    out
+}
+
+/// A hash of a cycle that is the same for every rotation and both orientations.
+fn cycle_hash(cycle: &[u32]) -> u64 {
+    let mut sorted_pairs: u64 = 0;
+    let mut sum: u64 = 0;
+    for (k, &v) in cycle.iter().enumerate() {
+        let w = cycle[(k + 1) % cycle.len()];
+        let (a, b) = (u64::from(v.min(w)), u64::from(v.max(w)));
+        let mut h = std::collections::hash_map::DefaultHasher::new();
+        (a, b).hash(&mut h);
+        sorted_pairs = sorted_pairs.wrapping_add(h.finish());
+        sum = sum.wrapping_add(u64::from(v).wrapping_mul(0x9E37_79B9_7F4A_7C15));
+    }
+    sorted_pairs ^ sum.rotate_left(17) ^ (cycle.len() as u64)
+}
+
+/// `Some(false)` when `b` is `a` rotated, `Some(true)` when it is `a` reversed, else `None`.
+fn same_cycle(a: &[u32], b: &[u32]) -> Option<bool> {
+    let n = a.len();
+    if b.len() != n {
+        return None;
+    }
+    let start = b.iter().position(|&v| v == a[0])?;
+    if (0..n).all(|k| a[k] == b[(start + k) % n]) {
+        return Some(false);
+    }
+    if (0..n).all(|k| a[k] == b[(start + n - k) % n]) {
+        return Some(true);
+    }
+    None
+}
+
+/// Disjoint sets over corners, with path halving; the smaller index becomes the root.
+struct UnionFind {
+    parent: Vec<u32>,
+}
+
+impl UnionFind {
+    fn new(n: usize) -> Self {
+        UnionFind { parent: (0..n as u32).collect() }
+    }
+
+    fn find(&mut self, mut x: u32) -> u32 {
+        while self.parent[x as usize] != x {
+            let grand = self.parent[self.parent[x as usize] as usize];
+            self.parent[x as usize] = grand;
+            x = grand;
+        }
+        x
+    }
+
+    fn union(&mut self, a: u32, b: u32) {
+        let (a, b) = (self.find(a), self.find(b));
+        if a != b {
+            let (lo, hi) = (a.min(b), a.max(b));
+            self.parent[hi as usize] = lo;
+        }
+    }
 }
 
 /// Welds a soup read from `path` and builds the cage; every failure names the file.
@@ -197,19 +503,19 @@ pub(crate) fn into_mesh(path: &Path, soup: Soup) -> Result<(PolyMesh, ImportRepo
             ),
         ));
     }
-    let welded = weld(&soup.positions, &soup.faces).map_err(|e| Error::format(path, numbering_note(e, 0)))?;
+    let face_count = soup.faces.len();
+    let welded = weld_faces(&soup.positions, &soup.faces).map_err(|e| Error::format(path, numbering_note(e, 0)))?;
+    drop(soup.faces);
     if welded.faces.is_empty() {
         return Err(Error::format(
             path,
-            format!(
-                "no faces: all {} faces collapse once vertices at the same position are welded{hint}",
-                soup.faces.len()
-            ),
+            format!("no faces: all {face_count} faces collapse once vertices at the same position are welded{hint}"),
         ));
     }
     let mut report = welded.report;
-    let mesh = PolyMesh::from_polygons(welded.positions, &welded.faces)
-        .map_err(|e| Error::format(path, numbering_note(e, report.welded)))?;
+    let changed = report.welded + report.kept_apart;
+    let mesh = PolyMesh::from_face_list(welded.positions, welded.faces.offsets(), welded.faces.indices())
+        .map_err(|e| Error::format(path, numbering_note(e, changed)))?;
     let mut warnings = soup.warnings;
     warnings.append(&mut report.warnings);
     report.warnings = warnings;
@@ -228,28 +534,13 @@ fn numbering_note(e: Error, welded: usize) -> String {
     }
 }
 
-/// The first vertex that appears twice in a face, if any.
-fn repeated_vertex(face: &[u32]) -> Option<u32> {
-    if face.len() <= 16 {
-        return face.iter().enumerate().find(|&(k, v)| face[..k].contains(v)).map(|(_, &v)| v);
-    }
-    let mut seen = std::collections::HashSet::with_capacity(face.len());
-    face.iter().copied().find(|&v| !seen.insert(v))
-}
-
-/// A vertex cycle rotated to start at its smallest index, so equal cycles compare equal.
-fn canonical_cycle(cycle: impl Iterator<Item = u32> + Clone) -> Vec<u32> {
-    let ring: Vec<u32> = cycle.collect();
-    let start = ring.iter().enumerate().min_by_key(|&(_, v)| v).map_or(0, |(k, _)| k);
-    ring[start..].iter().chain(&ring[..start]).copied().collect()
-}
-
 /// The first few repairs of each kind, listed by face.
 #[derive(Default)]
 struct Listed {
     repaired: Vec<String>,
     dropped: Vec<String>,
     duplicate: Vec<String>,
+    apart: Vec<String>,
 }
 
 /// Lists one more case unless enough of its kind are listed already.
@@ -273,6 +564,7 @@ impl Listed {
                 out.push(format!("... and {} more like the above", total - shown));
             }
         }
+        out.extend(self.apart);
         out
     }
 }
@@ -315,7 +607,7 @@ mod tests {
             let b: Vec<DVec3> = original.iter().map(|&v| positions[v as usize]).collect();
             assert_eq!(a, b);
         }
-        let mesh = PolyMesh::from_polygons(w.positions, &w.faces).unwrap();
+        let mesh = PolyMesh::from_polygons(w.positions, &w.faces.to_vecs()).unwrap();
         assert!(mesh.is_closed());
         assert_eq!(mesh.euler_characteristic(), 2);
         assert_eq!(w.report.to_string(), "welded 16 vertices");
@@ -327,7 +619,7 @@ mod tests {
         let faces = [[2, 1, 0], [3, 2, 0]];
         let w = weld(&positions, &faces).unwrap();
         assert_eq!(w.positions, positions);
-        assert_eq!(w.faces, vec![vec![2, 1, 0], vec![3, 2, 0]]);
+        assert_eq!(w.faces.to_vecs(), vec![vec![2, 1, 0], vec![3, 2, 0]]);
         assert!(w.report.is_clean());
         assert_eq!(w.report.to_string(), "nothing welded or repaired");
     }
@@ -340,7 +632,7 @@ mod tests {
         assert_eq!(w.positions.len(), 3);
         // The second face became [0, 2, 1]: the first facing the other way.
         assert_eq!((w.report.dropped_faces, w.report.duplicate_faces), (1, 1));
-        assert_eq!(w.faces, vec![vec![0, 1, 2]]);
+        assert_eq!(w.faces.to_vecs(), vec![vec![0, 1, 2]]);
     }
 
     #[test]
@@ -348,7 +640,7 @@ mod tests {
         // Vertex 4 sits on vertex 0: the pentagon's closing edge has length zero.
         let positions = vec![DVec3::ZERO, DVec3::X, DVec3::ONE, DVec3::Y, DVec3::ZERO];
         let w = weld(&positions, &[[0, 1, 2, 3, 4]]).unwrap();
-        assert_eq!(w.faces, vec![vec![0, 1, 2, 3]]);
+        assert_eq!(w.faces.to_vecs(), vec![vec![0, 1, 2, 3]]);
         assert_eq!((w.report.welded, w.report.repaired_faces, w.report.dropped_faces), (1, 1, 0));
         assert!(w.report.warnings[0].contains("repaired face 0"), "{:?}", w.report.warnings);
     }
@@ -359,9 +651,12 @@ mod tests {
         // Face 1 collapses (vertex 3 is vertex 1); face 2 survives, renumbered to [1, 3, 2].
         let faces = vec![vec![0, 1, 2], vec![1, 3, 2], vec![1, 4, 2]];
         let w = weld(&positions, &faces).unwrap();
-        assert_eq!(w.faces, vec![vec![0, 1, 2], vec![1, 3, 2]]);
+        assert_eq!(w.faces.to_vecs(), vec![vec![0, 1, 2], vec![1, 3, 2]]);
         assert_eq!(w.report.dropped_faces, 1);
-        assert_eq!(w.report.to_string(), "welded 1 vertex, dropped 1 degenerate face (1 warning)");
+        assert_eq!(
+            w.report.to_string(),
+            "welded 1 vertex, dropped 1 degenerate face; dropped face 1: fewer than 3 distinct vertices are left once repeats are removed"
+        );
     }
 
     #[test]
@@ -382,7 +677,10 @@ mod tests {
         let w = weld(&positions, &faces).unwrap();
         assert_eq!(w.faces.len(), 6);
         assert_eq!((w.report.dropped_faces, w.report.duplicate_faces), (2, 2));
-        assert_eq!(w.report.to_string(), "welded 16 vertices, dropped 2 duplicate faces (2 warnings)");
+        assert_eq!(
+            w.report.to_string(),
+            "welded 16 vertices, dropped 2 duplicate faces; dropped face 6: it repeats face 2; dropped face 7: it repeats face 3"
+        );
         assert_eq!(w.report.warnings, vec!["dropped face 6: it repeats face 2", "dropped face 7: it repeats face 3"]);
     }
 
@@ -390,5 +688,92 @@ mod tests {
     fn out_of_range_indices_are_an_error_not_a_panic() {
         let err = weld(&[DVec3::ZERO], &[[0, 1, 2]]).unwrap_err().to_string();
         assert!(err.contains("only 1 vertices"), "{err}");
+    }
+
+    /// A tetrahedron on four vertices of its own, with apex `apex` and the rest below it.
+    fn tetrahedron(base: u32, apex: DVec3, scale: f64) -> (Vec<DVec3>, Vec<[u32; 3]>) {
+        let p = vec![
+            apex,
+            apex + scale * DVec3::new(1.0, 0.0, -1.0),
+            apex + scale * DVec3::new(-0.5, 0.8, -1.0),
+            apex + scale * DVec3::new(-0.5, -0.8, -1.0),
+        ];
+        let f = [[0, 1, 2], [0, 2, 3], [0, 3, 1], [1, 3, 2]].map(|t| t.map(|i| base + i));
+        (p, f.to_vec())
+    }
+
+    #[test]
+    fn parts_that_touch_at_a_point_stay_two_parts() {
+        // Two closed tetrahedra, each on its own vertices, apex to apex at the origin (as the
+        // monkey's eyes touch its head): welding the apexes would pinch the surface there.
+        let (mut positions, mut faces) = tetrahedron(0, DVec3::ZERO, 1.0);
+        let (p2, f2) = tetrahedron(4, DVec3::ZERO, -1.0);
+        positions.extend(p2);
+        faces.extend(f2);
+        let w = weld(&positions, &faces).unwrap();
+        assert_eq!(w.positions.len(), 8);
+        assert_eq!((w.report.welded, w.report.kept_apart), (0, 1));
+        assert!(
+            w.report.warnings.iter().any(|m| m.contains("parts only touch at [0.0, 0.0, 0.0]: each keeps")),
+            "{:?}",
+            w.report.warnings
+        );
+        let mesh = PolyMesh::from_polygons(w.positions, &w.faces.to_vecs()).unwrap();
+        mesh.validate().unwrap();
+        assert_eq!(mesh.euler_characteristic(), 4, "two spheres");
+    }
+
+    #[test]
+    fn split_vertices_of_one_part_are_still_welded_next_to_a_touching_part() {
+        // The split cube welds to 8 corners while a tetrahedron touching one corner stays apart.
+        let (mut positions, faces) = split_cube();
+        let mut faces: Vec<Vec<u32>> = faces.iter().map(|f| f.to_vec()).collect();
+        let (p2, f2) = tetrahedron(positions.len() as u32, DVec3::ZERO, -0.5);
+        positions.extend(p2);
+        faces.extend(f2.iter().map(|f| f.to_vec()));
+        let w = weld(&positions, &faces).unwrap();
+        assert_eq!(w.positions.len(), 8 + 4);
+        assert_eq!((w.report.welded, w.report.kept_apart), (16, 1));
+        let mesh = PolyMesh::from_polygons(w.positions, &w.faces.to_vecs()).unwrap();
+        assert_eq!(mesh.euler_characteristic(), 4);
+        assert!(mesh.is_closed());
+    }
+
+    #[test]
+    fn parts_that_share_an_edge_position_stay_apart_along_it() {
+        // Two quads folded along x = 0 on their own vertices and a third on the same edge: three
+        // faces on one edge would be non-manifold, so that edge is not welded at all.
+        let p = |x: f64, y: f64, z: f64| DVec3::new(x, y, z);
+        let positions = vec![
+            p(0.0, 0.0, 0.0),
+            p(0.0, 1.0, 0.0),
+            p(1.0, 1.0, 0.0),
+            p(1.0, 0.0, 0.0),
+            p(0.0, 1.0, 0.0),
+            p(0.0, 0.0, 0.0),
+            p(-1.0, 0.0, 0.0),
+            p(-1.0, 1.0, 0.0),
+            p(0.0, 0.0, 0.0),
+            p(0.0, 1.0, 0.0),
+            p(0.0, 1.0, 1.0),
+            p(0.0, 0.0, 1.0),
+        ];
+        let faces = [[0, 1, 2, 3], [4, 5, 6, 7], [8, 9, 10, 11]];
+        let w = weld(&positions, &faces).unwrap();
+        // The edge from (0,0,0) to (0,1,0) is used a → b twice and b → a once: nothing is glued.
+        assert_eq!(w.positions.len(), 12);
+        assert_eq!(w.report.kept_apart, 4);
+        PolyMesh::from_polygons(w.positions, &w.faces.to_vecs()).unwrap().validate().unwrap();
+    }
+
+    #[test]
+    fn a_file_that_is_non_manifold_by_itself_is_not_repaired_by_splitting() {
+        // One file vertex shared by two separate fans stays one vertex: the mesh refuses it.
+        let positions = vec![DVec3::ZERO, DVec3::X, DVec3::Y, -DVec3::X, -DVec3::Y];
+        let w = weld(&positions, &[[0, 1, 2], [0, 3, 4]]).unwrap();
+        assert_eq!(w.positions.len(), 5);
+        assert_eq!(w.report.kept_apart, 0);
+        let err = PolyMesh::from_polygons(w.positions, &w.faces.to_vecs()).unwrap_err().to_string();
+        assert!(err.contains("non-manifold vertex 0"), "{err}");
     }
 }

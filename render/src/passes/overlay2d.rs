@@ -144,6 +144,14 @@ pub fn legend_layout(legend: &Legend, width: u32, height: u32) -> LegendLayout {
     LegendLayout { panel, bar, title, labels, ticks }
 }
 
+/// How many pixels at the right of a `width × height` viewport the legend covers, its margin
+/// included: the model is framed in the rest so the legend never covers it.
+pub fn legend_margin(legend: &Legend, width: u32, height: u32) -> u32 {
+    let layout = legend_layout(legend, width, height);
+    let s = if height >= 600 { 2.0 } else { 1.0 };
+    (width as f32 - layout.panel.min[0] + 6.0 * s).ceil().clamp(0.0, width as f32 * 0.5) as u32
+}
+
 impl LegendLayout {
     /// The rectangles that draw it, back to front.
     pub fn rects(&self) -> Vec<Rect2d> {

@@ -1,0 +1,68 @@
+//! What every command of the `taut` command line shares: the file flags (`--up`, `--force`), the
+//! refusal to write over an input, and errors and notes that keep stderr to one line.
+//!
+//! The README promises that every error is one line on stderr with a non-zero exit. So notes
+//! (what an import repaired, a λ reduced after divergence) go to stdout, argument errors are
+//! folded into one line, and the GPU loader is given a private runtime folder when the session
+//! has none (it complains otherwise, twice per render).
+
+use clap::Args;
+use std::path::Path;
+use taut_core::io::{ExportOptions, ImportOptions, UpAxis};
+
+/// Flags of every command that reads and writes mesh files.
+#[derive(Debug, Args, Clone, Copy)]
+pub struct FileFlags {
+    /// The up axis of OBJ files read and written: y (Blender's and most tools' default) or z
+    /// (Taut's own axes). glTF is always Y up.
+    #[arg(long, default_value = "y", value_name = "y|z")]
+    pub up: UpAxis,
+    /// Write the output even when it is one of the input files.
+    #[arg(long)]
+    pub force: bool,
+}
+
+impl FileFlags {
+    pub fn import_options(&self) -> ImportOptions {
+        ImportOptions { obj_up: self.up }
+    }
+
+    pub fn export_options<'a>(&self, normals: Option<&'a [taut_core::DVec3]>) -> ExportOptions<'a> {
+        ExportOptions { normals, obj_up: self.up }
+    }
+
+    /// Refuses to write `output` over one of `inputs` (the same file once links are followed,
+    /// hard links included) unless `--force` was given.
+    pub fn check_output(&self, inputs: &[&Path], output: &Path) -> Result<(), String> {
+        check_output(self.force, inputs, output)
+    }
+}
+
+/// Refuses to write `output` over one of `inputs` unless `force`.
+pub fn check_output(force: bool, inputs: &[&Path], output: &Path) -> Result<(), String> {
+    if force {
+        return Ok(());
+    }
+    match inputs.iter().find(|input| taut_core::io::file::same_file(input, output)) {
+        Some(input) => Err(format!(
+            "{} is the input file {}: writing it would replace the input; choose another output or add --force",
+            output.display(),
+            input.display()
+        )),
+        None => Ok(()),
+    }
+}
+
+/// A clap error as one line: its message and tip, and where to read more.
+pub fn one_line(error: &clap::Error) -> String {
+    let rendered = error.to_string();
+    let mut lines = rendered.lines().map(str::trim).filter(|l| !l.is_empty());
+    let first = lines.next().unwrap_or("invalid arguments").trim_start_matches("error:").trim();
+    let tip = lines.find_map(|l| l.strip_prefix("tip:")).map(|t| format!(" ({})", t.trim())).unwrap_or_default();
+    format!("{first}{tip}; see taut --help")
+}
+
+/// A note for the designer: on stdout, so stderr keeps only the one line of an error.
+pub fn note(text: impl std::fmt::Display) {
+    println!("note: {text}");
+}

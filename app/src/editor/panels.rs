@@ -1,0 +1,404 @@
+//! The editor's panels: the cage panel (coordinates, fixed flags, tension), the smoothing and
+//! display settings, the status bar and the message strip. Every control says what it does in a
+//! tooltip; a control over a multi-selection shows mixed values as mixed and sets all of them.
+
+use super::document::Edit;
+use super::state::{DisplayMode, EditorState};
+use super::ui::UiState;
+use taut_core::curvature::CurvatureQuantity;
+use taut_core::nusd::Spacing;
+use taut_core::nusd::surface::Phase;
+use taut_render::overlay::TENSION_SATURATION;
+
+/// Width of the coordinate and number fields of the cage panel, in points.
+const FIELD_WIDTH: f32 = 150.0;
+
+/// The values of one property over the selection.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) enum Mixed<T> {
+    None,
+    All(T),
+    Range(T, T),
+}
+
+/// Collects `values` into one value or a mixed range.
+pub(super) fn mixed<T: PartialOrd + Copy>(values: impl IntoIterator<Item = T>) -> Mixed<T> {
+    let mut out = Mixed::None;
+    for v in values {
+        out = match out {
+            Mixed::None => Mixed::All(v),
+            Mixed::All(a) if a == v => Mixed::All(a),
+            Mixed::All(a) => Mixed::Range(if v < a { v } else { a }, if v < a { a } else { v }),
+            Mixed::Range(lo, hi) => Mixed::Range(if v < lo { v } else { lo }, if v > hi { v } else { hi }),
+        };
+    }
+    out
+}
+
+impl EditorState {
+    pub(super) fn status_bar(&mut self, ui: &mut egui::Ui, ui_state: &mut UiState) {
+        ui.horizontal(|ui| {
+            ui.label(self.document.title());
+            ui.separator();
+            match (&self.status, &self.solver_error) {
+                (_, Some(_)) => {
+                    ui.colored_label(egui::Color32::LIGHT_RED, "cannot smooth: see the message");
+                }
+                (Some(s), None) => {
+                    let state = match s.phase {
+                        Phase::Iterating => "settling",
+                        Phase::Done
+                            if self.solver.as_ref().is_some_and(|x| x.reports().iter().all(|r| r.converged)) =>
+                        {
+                            "converged"
+                        }
+                        Phase::Done => "stopped at the iteration cap",
+                        Phase::Diverged => "diverged (rolled back)",
+                    };
+                    ui.label(format!(
+                        "level {}/{}  iterations {}  step {:.2e}  {}",
+                        s.level, s.levels, s.total_iterations, s.last_step, state
+                    ))
+                    .on_hover_text(
+                        "The level being solved, the iterations since the last edit, the last step of the \
+                         solver, and whether the surface has reached its fixed point",
+                    );
+                    if s.lambda != self.document.doc().settings.lambda {
+                        ui.label(format!("λ reduced to {}", s.lambda));
+                    }
+                }
+                (None, None) => {
+                    ui.label("starting");
+                }
+            }
+            ui.separator();
+            let ms = self.frame_time.as_secs_f64() * 1e3;
+            ui.label(format!("frame {ms:.1} ms ({:.0} fps)", if ms > 0.0 { 1e3 / ms } else { 0.0 }));
+            ui.separator();
+            ui.label(format!(
+                "{} vertices, {} edges selected",
+                self.selection.vertices.len(),
+                self.selection.edges.len()
+            ));
+            ui.separator();
+            if ui
+                .small_button(format!("messages ({})", self.messages.len()))
+                .on_hover_text("Every message of this session")
+                .clicked()
+            {
+                ui_state.show_messages = true;
+            }
+        });
+    }
+
+    /// The newest message, wrapped to the window's width, with its dismiss and history buttons.
+    pub(super) fn notice_strip(&mut self, ui: &mut egui::Ui, ui_state: &mut UiState) {
+        let Some(notice) = self.notice.clone() else { return };
+        ui.horizontal(|ui| {
+            if ui.small_button("×").on_hover_text("Dismiss the message").clicked() {
+                self.notice = None;
+            }
+            if ui.small_button("history").on_hover_text("Every message of this session").clicked() {
+                ui_state.show_messages = true;
+            }
+            let color = if notice.is_error { egui::Color32::LIGHT_RED } else { ui.visuals().text_color() };
+            ui.add(egui::Label::new(egui::RichText::new(&notice.text).color(color)).wrap());
+        });
+    }
+
+    pub(super) fn cage_panel(&mut self, ui: &mut egui::Ui, ui_state: &mut UiState) {
+        ui.heading("Cage");
+        let vertices = self.selected_vertices_with_edge_ends();
+        if self.selection.is_empty() {
+            ui.add(
+                egui::Label::new(
+                    "Click a cage vertex or edge to select it; Shift adds, a drag on empty space box-selects.",
+                )
+                .wrap(),
+            );
+            return;
+        }
+        let doc = self.document.doc();
+        let diagonal = doc.cage.bounding_diagonal();
+        if let [v] = self.selection.vertices.as_slice()
+            && self.selection.edges.is_empty()
+        {
+            let v = *v;
+            ui.label(format!("vertex {}", v.0));
+            let mut p = doc.cage.position(v);
+            let mut changed = false;
+            let mut responses = Vec::new();
+            egui::Grid::new("coordinates").num_columns(2).show(ui, |ui| {
+                for (label, value) in [("X", &mut p.x), ("Y", &mut p.y), ("Z", &mut p.z)] {
+                    let name = ui.label(label);
+                    let response = ui
+                        .add_sized(
+                            [FIELD_WIDTH, 20.0],
+                            egui::DragValue::new(value).speed(0.002 * diagonal).max_decimals(6),
+                        )
+                        .labelled_by(name.id)
+                        .on_hover_text(format!("The vertex's {label} coordinate: drag or type a value"));
+                    changed |= response.changed();
+                    responses.push(response);
+                    ui.end_row();
+                }
+            });
+            for r in &responses {
+                self.gesture_start(r, ui_state);
+            }
+            if changed {
+                self.edit(Edit::MoveVertices(vec![(v, p)]));
+            }
+            for r in &responses {
+                self.gesture_end(r, ui_state);
+            }
+        } else {
+            ui.label(format!("{} vertices, {} edges", self.selection.vertices.len(), self.selection.edges.len()));
+        }
+        ui.separator();
+        let fixed_state = mixed(vertices.iter().map(|v| self.document.doc().fixed[v.index()]));
+        let mut fixed = fixed_state == Mixed::All(true);
+        let indeterminate = matches!(fixed_state, Mixed::Range(..));
+        let response = ui
+            .add(egui::Checkbox::new(&mut fixed, "fixed (the surface passes through)").indeterminate(indeterminate))
+            .on_hover_text(
+                "Fixed vertices are interpolated: the surface passes through them. Moving ones are \
+                 approximated. A mixed box means some selected vertices are fixed and some are not; \
+                 a click sets them all.",
+            );
+        if response.changed() {
+            self.edit(Edit::SetFixed(vertices.clone(), fixed));
+        }
+        ui.separator();
+        if !self.selection.vertices.is_empty() {
+            let doc = self.document.doc();
+            let values = mixed(self.selection.vertices.iter().map(|v| doc.vertex_tension[v.index()]));
+            let vertices = self.selection.vertices.clone();
+            self.tension_control(ui, ui_state, "vertex tension τ", values, TENSION_HELP_VERTEX, |tau| {
+                Edit::SetVertexTension(vertices, tau)
+            });
+        }
+        let doc = self.document.doc();
+        if !self.selection.edges.is_empty() {
+            let values = mixed(self.selection.edges.iter().map(|e| doc.edge_tension[e.index()]));
+            let edges = self.selection.edges.clone();
+            self.tension_control(ui, ui_state, "edge tension τ", values, TENSION_HELP_EDGE, |tau| {
+                Edit::SetEdgeTension(edges, tau)
+            });
+        }
+        if ui.button("Reset tension").on_hover_text("Set the tension of the selection back to 0").clicked() {
+            self.edit(Edit::ResetTension {
+                vertices: self.selection.vertices.clone(),
+                edges: self.selection.edges.clone(),
+            });
+        }
+    }
+
+    /// A tension slider over the useful range 0–4 (larger values can be typed and are marked);
+    /// a change applies the edit `make` builds, inside the slider's gesture.
+    fn tension_control(
+        &mut self,
+        ui: &mut egui::Ui,
+        ui_state: &mut UiState,
+        label: &str,
+        values: Mixed<f64>,
+        help: &str,
+        make: impl FnOnce(f64) -> Edit,
+    ) {
+        let name = ui.label(label);
+        let (mut tau, largest) = match values {
+            Mixed::None => (0.0, 0.0),
+            Mixed::All(t) => (t, t),
+            Mixed::Range(lo, hi) => {
+                ui.label(format!("mixed: {lo:.2} to {hi:.2}; a change sets them all"));
+                (hi, hi)
+            }
+        };
+        let response = ui
+            .add(
+                egui::Slider::new(&mut tau, 0.0..=TENSION_SATURATION)
+                    .clamping(egui::SliderClamping::Never)
+                    .max_decimals(3),
+            )
+            .labelled_by(name.id)
+            .on_hover_text(help);
+        if largest > TENSION_SATURATION {
+            ui.colored_label(
+                egui::Color32::from_rgb(255, 170, 60),
+                format!("above {TENSION_SATURATION}: over-flattens (a sharp crease)"),
+            );
+        }
+        self.gesture_start(&response, ui_state);
+        if response.changed() {
+            self.edit(make(tau.max(0.0)));
+        }
+        self.gesture_end(&response, ui_state);
+    }
+
+    /// A slider or field drag is one undo step: the gesture opens when the drag starts and
+    /// closes after the edit of the frame the drag stops in.
+    pub(super) fn gesture_start(&mut self, response: &egui::Response, ui_state: &mut UiState) {
+        if response.drag_started() && !ui_state.slider_active && !self.document.in_gesture() {
+            ui_state.slider_active = true;
+            self.document.begin_gesture();
+        }
+    }
+
+    pub(super) fn gesture_end(&mut self, response: &egui::Response, ui_state: &mut UiState) {
+        if response.drag_stopped() && ui_state.slider_active {
+            ui_state.slider_active = false;
+            self.document.end_gesture();
+        }
+    }
+
+    pub(super) fn solver_panel(&mut self, ui: &mut egui::Ui, ui_state: &mut UiState) {
+        ui.heading("Smoothing");
+        let mut settings = self.document.doc().settings;
+        let before = settings;
+        let mut responses = Vec::new();
+        ui.horizontal(|ui| {
+            let name = ui.label("levels");
+            responses.push(
+                ui.add(egui::Slider::new(&mut settings.levels, 0..=5))
+                    .labelled_by(name.id)
+                    .on_hover_text("How many times the cage is refined: each level has about four times the faces"),
+            );
+        });
+        ui.horizontal(|ui| {
+            let name = ui.label("λ");
+            responses.push(
+                ui.add(egui::Slider::new(&mut settings.lambda, 0.05..=0.95)).labelled_by(name.id).on_hover_text(
+                    "The diffusion step of each iteration (0.6 by default): larger converges faster until it \
+                     oscillates; the solver halves it by itself if a solve diverges",
+                ),
+            );
+        });
+        ui.horizontal(|ui| {
+            let name = ui.label("tolerance");
+            responses.push(
+                ui.add(egui::Slider::new(&mut settings.tol, 1e-6..=1e-2).logarithmic(true))
+                    .labelled_by(name.id)
+                    .on_hover_text(
+                        "The solve stops when its estimated distance to the fixed point is below this fraction \
+                         of the model's size",
+                    ),
+            );
+        });
+        for r in &responses {
+            self.gesture_start(r, ui_state);
+        }
+        egui::ComboBox::from_label("spacing")
+            .selected_text(format!("{:?}", settings.spacing).to_lowercase())
+            .show_ui(ui, |ui| {
+                for (s, help) in [
+                    (Spacing::Chord, "Parameter intervals from edge lengths: no bulges where edges differ in length"),
+                    (Spacing::Uniform, "Every edge counts the same: bulges next to short edges"),
+                    (Spacing::Centripetal, "The square root of the edge lengths: between the two"),
+                ] {
+                    ui.selectable_value(&mut settings.spacing, s, format!("{s:?}").to_lowercase()).on_hover_text(help);
+                }
+            })
+            .response
+            .on_hover_text("How the parameter interval of each edge is measured");
+        if settings != before {
+            self.edit(Edit::SetSettings(settings));
+        }
+        for r in &responses {
+            self.gesture_end(r, ui_state);
+        }
+    }
+
+    pub(super) fn display_panel(&mut self, ui: &mut egui::Ui) {
+        ui.heading("Display");
+        let before = self.display.clone();
+        let range = self.value_range();
+        let d = &mut self.display;
+        ui.horizontal(|ui| {
+            ui.radio_value(&mut d.mode, DisplayMode::Shaded, "shaded").on_hover_text("Plain shading");
+            ui.radio_value(&mut d.mode, DisplayMode::Zebra, "zebra").on_hover_text(
+                "Reflection lines: a break in the stripes is a break in tangent, a kink a break in curvature",
+            );
+            ui.radio_value(&mut d.mode, DisplayMode::Curvature, "curvature")
+                .on_hover_text("Colour by a curvature quantity, with a legend");
+        });
+        match d.mode {
+            DisplayMode::Shaded => {}
+            DisplayMode::Zebra => {
+                ui.add(egui::Slider::new(&mut d.stripes, 2.0..=40.0).text("stripes"))
+                    .on_hover_text("Black and white stripe pairs across half a turn of reflected directions");
+                ui.add(egui::Slider::new(&mut d.stripe_angle, -90.0..=90.0).text("angle °"))
+                    .on_hover_text("The direction of the stripes on screen (0: horizontal)");
+                ui.add(egui::Slider::new(&mut d.stripe_width, 0.1..=0.9).text("black share"))
+                    .on_hover_text("The fraction of each stripe pair that is black");
+            }
+            DisplayMode::Curvature => {
+                egui::ComboBox::from_label("quantity")
+                    .selected_text(d.quantity.display_name())
+                    .show_ui(ui, |ui| {
+                        for q in CurvatureQuantity::ALL {
+                            ui.selectable_value(&mut d.quantity, q, q.display_name());
+                        }
+                    })
+                    .response
+                    .on_hover_text("Mean, Gaussian, principal curvatures, or NUSD's second derivative |R|");
+                let mut automatic = d.fixed_range.is_none();
+                if ui
+                    .checkbox(&mut automatic, "automatic range (2–98 %)")
+                    .on_hover_text(
+                        "Colour from the 2nd to the 98th percentile, symmetric about 0 for signed quantities",
+                    )
+                    .changed()
+                {
+                    d.fixed_range = if automatic { None } else { Some(range) };
+                }
+                if let Some((min, max)) = &mut d.fixed_range {
+                    ui.horizontal(|ui| {
+                        let name = ui.label("min");
+                        ui.add(egui::DragValue::new(min).speed(0.001))
+                            .labelled_by(name.id)
+                            .on_hover_text("The value at the bottom of the colour bar");
+                        let name = ui.label("max");
+                        ui.add(egui::DragValue::new(max).speed(0.001))
+                            .labelled_by(name.id)
+                            .on_hover_text("The value at the top of the colour bar");
+                    });
+                    if *max <= *min {
+                        *max = *min + 1e-9_f64.max(min.abs() * 1e-6);
+                    }
+                }
+            }
+        }
+        ui.separator();
+        ui.checkbox(&mut d.show_cage, "cage").on_hover_text("The cage's edges and vertices, with tension shown");
+        ui.checkbox(&mut d.show_wire, "refined wireframe").on_hover_text("The edges of the smoothed surface");
+        ui.checkbox(&mut d.show_curves, "curves with curvature combs")
+            .on_hover_text("The surface's curves along the cage edges, with their curvature combs");
+        if d.show_curves {
+            ui.add(egui::Slider::new(&mut d.comb_length, 0.01..=0.5).logarithmic(true).text("comb length"))
+                .on_hover_text("The longest tooth of the combs, as a fraction of the model's size");
+            ui.add(egui::Slider::new(&mut d.comb_density, 1..=8).text("every n-th point"))
+                .on_hover_text("A tooth at every n-th point of each curve");
+        }
+        if self.display != before {
+            self.invalidate_values();
+        }
+    }
+}
+
+const TENSION_HELP_VERTEX: &str = "Tension at the selected vertices: more tautens the surface around them. \
+    Useful values are 0 to 4; larger ones can be typed, but over-flatten.";
+const TENSION_HELP_EDGE: &str = "Tension across the selected edges: more tautens the surface across them \
+    without changing the curve along them. Useful values are 0 to 4; larger ones can be typed, but over-flatten.";
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn mixed_values_are_told_apart() {
+        assert_eq!(mixed(Vec::<f64>::new()), Mixed::None);
+        assert_eq!(mixed([2.0, 2.0]), Mixed::All(2.0));
+        assert_eq!(mixed([2.0, 8.0, 0.5]), Mixed::Range(0.5, 8.0));
+        assert_eq!(mixed([true, false]), Mixed::Range(false, true));
+    }
+}

@@ -1,0 +1,198 @@
+//! The editor's keyboard shortcuts: one table that the key handling, the menus and
+//! Help ▸ Keyboard shortcuts all read, so what a menu says is what a key does.
+//!
+//! Modifiers match exactly: Ctrl+Shift+Z is redo and never undo, Ctrl+Shift+S is Save As and
+//! never Save, and a plain key (F, Home, 1) does nothing while Ctrl, Shift or Alt is held. egui's
+//! own `consume_key` ignores extra Shift and Alt, which is how Ctrl+Shift+S once saved over the
+//! current file; here every key event is compared with the whole modifier set it came with.
+//! (Ctrl is the platform's command key: ⌘ on a Mac.)
+
+use egui::{Event, Key, Modifiers};
+
+/// What a shortcut does.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Action {
+    Undo,
+    Redo,
+    Save,
+    SaveAs,
+    Open,
+    Quit,
+    SelectAll,
+    SelectNone,
+    FrameAll,
+    FrameSelection,
+    ViewFront,
+    ViewRight,
+    ViewTop,
+    ViewPerspective,
+    ShowShortcuts,
+}
+
+/// A key with the exact modifiers it needs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Shortcut {
+    pub key: Key,
+    pub command: bool,
+    pub shift: bool,
+    pub alt: bool,
+    pub action: Action,
+}
+
+const fn plain(key: Key, action: Action) -> Shortcut {
+    Shortcut { key, command: false, shift: false, alt: false, action }
+}
+
+const fn ctrl(key: Key, action: Action) -> Shortcut {
+    Shortcut { key, command: true, shift: false, alt: false, action }
+}
+
+const fn ctrl_shift(key: Key, action: Action) -> Shortcut {
+    Shortcut { key, command: true, shift: true, alt: false, action }
+}
+
+/// Every shortcut, in the order Help lists them. An action may have several keys; the first is
+/// the one menus show.
+pub const SHORTCUTS: &[Shortcut] = &[
+    ctrl(Key::Z, Action::Undo),
+    ctrl_shift(Key::Z, Action::Redo),
+    ctrl(Key::Y, Action::Redo),
+    ctrl(Key::O, Action::Open),
+    ctrl(Key::S, Action::Save),
+    ctrl_shift(Key::S, Action::SaveAs),
+    ctrl(Key::Q, Action::Quit),
+    ctrl(Key::A, Action::SelectAll),
+    plain(Key::Escape, Action::SelectNone),
+    plain(Key::Home, Action::FrameAll),
+    plain(Key::A, Action::FrameAll),
+    plain(Key::F, Action::FrameSelection),
+    plain(Key::Num1, Action::ViewFront),
+    plain(Key::Num3, Action::ViewRight),
+    plain(Key::Num7, Action::ViewTop),
+    plain(Key::Num5, Action::ViewPerspective),
+    plain(Key::F1, Action::ShowShortcuts),
+];
+
+impl Shortcut {
+    /// True when `modifiers` are exactly the ones this shortcut needs.
+    pub fn matches(&self, modifiers: Modifiers) -> bool {
+        modifiers.command == self.command && modifiers.shift == self.shift && modifiers.alt == self.alt
+    }
+
+    /// How the menus and Help write it, e.g. `Ctrl+Shift+Z`.
+    pub fn label(&self) -> String {
+        let mut parts = Vec::new();
+        if self.command {
+            parts.push("Ctrl".to_string());
+        }
+        if self.alt {
+            parts.push("Alt".to_string());
+        }
+        if self.shift {
+            parts.push("Shift".to_string());
+        }
+        parts.push(key_name(self.key).to_string());
+        parts.join("+")
+    }
+}
+
+fn key_name(key: Key) -> &'static str {
+    match key {
+        Key::Num1 => "1",
+        Key::Num3 => "3",
+        Key::Num5 => "5",
+        Key::Num7 => "7",
+        Key::Escape => "Esc",
+        other => other.name(),
+    }
+}
+
+/// The label of an action's first shortcut (for menus), or an empty string.
+pub fn label(action: Action) -> String {
+    SHORTCUTS.iter().find(|s| s.action == action).map_or_else(String::new, Shortcut::label)
+}
+
+/// All keys of an action, joined with " or " (for Help).
+pub fn all_labels(action: Action) -> String {
+    SHORTCUTS.iter().filter(|s| s.action == action).map(Shortcut::label).collect::<Vec<_>>().join(" or ")
+}
+
+/// What the designer sees in Help ▸ Keyboard shortcuts and in the menus.
+pub fn describe(action: Action) -> &'static str {
+    match action {
+        Action::Undo => "Undo",
+        Action::Redo => "Redo",
+        Action::Save => "Save",
+        Action::SaveAs => "Save as…",
+        Action::Open => "Open…",
+        Action::Quit => "Quit",
+        Action::SelectAll => "Select all",
+        Action::SelectNone => "Select none (while dragging: cancel the drag)",
+        Action::FrameAll => "Frame all",
+        Action::FrameSelection => "Frame the selection",
+        Action::ViewFront => "Front view",
+        Action::ViewRight => "Right view",
+        Action::ViewTop => "Top view",
+        Action::ViewPerspective => "Perspective view",
+        Action::ShowShortcuts => "Keyboard shortcuts",
+    }
+}
+
+/// The actions whose keys were pressed this frame with exactly their modifiers; their key events
+/// are consumed so no widget sees them too.
+pub fn pressed(input: &mut egui::InputState) -> Vec<Action> {
+    let mut actions = Vec::new();
+    input.events.retain(|event| {
+        let Event::Key { key, pressed: true, modifiers, .. } = event else { return true };
+        match SHORTCUTS.iter().find(|s| s.key == *key && s.matches(*modifiers)) {
+            Some(s) => {
+                actions.push(s.action);
+                false
+            }
+            None => true,
+        }
+    });
+    actions
+}
+
+/// Plain presses of `key` (no Ctrl, Shift or Alt) this frame, consumed: the axis locks and Esc
+/// while a drag is under way.
+pub fn take_plain(input: &mut egui::InputState, key: Key) -> bool {
+    let mut found = false;
+    input.events.retain(|event| match event {
+        Event::Key { key: k, pressed: true, modifiers, .. }
+            if *k == key && !modifiers.command && !modifiers.shift && !modifiers.alt =>
+        {
+            found = true;
+            false
+        }
+        _ => true,
+    });
+    found
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn no_two_shortcuts_share_a_key_and_modifiers() {
+        for (i, a) in SHORTCUTS.iter().enumerate() {
+            for b in &SHORTCUTS[i + 1..] {
+                assert!(
+                    !(a.key == b.key && a.command == b.command && a.shift == b.shift && a.alt == b.alt),
+                    "{} is bound twice",
+                    a.label()
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn labels_name_the_modifiers() {
+        assert_eq!(label(Action::Redo), "Ctrl+Shift+Z");
+        assert_eq!(all_labels(Action::Redo), "Ctrl+Shift+Z or Ctrl+Y");
+        assert_eq!(label(Action::SaveAs), "Ctrl+Shift+S");
+        assert_eq!(label(Action::ViewTop), "7");
+    }
+}

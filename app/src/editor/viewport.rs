@@ -1,0 +1,169 @@
+//! The 3D viewport's mouse: hover, select, box select, drag cage points, orbit, pan and zoom, as
+//! Blender and Rhino users expect. Left click selects (Shift adds), left drag on a cage vertex
+//! moves the selection in the view plane (X, Y or Z while dragging locks an axis, Esc cancels),
+//! left drag elsewhere box-selects (Shift, held when the box begins, adds); right or middle drag
+//! orbits, with Shift pans; the wheel zooms.
+//!
+//! The camera lives in display coordinates ([`taut_render::DisplayFrame`]): the cage is taken
+//! into them for picking, and a drag's result is taken back to model coordinates, so any finite
+//! cage can be picked and dragged.
+
+use super::document::Edit;
+use super::interaction::{self, ViewportRect};
+use super::state::{DisplayMode, EditorState};
+use super::ui::{BoxSelect, UiState, VertexDrag};
+use egui::{PointerButton, Sense};
+use taut_core::{DVec3, PolyMesh, VertexId};
+use taut_render::passes::overlay2d::legend_margin;
+
+impl EditorState {
+    pub(super) fn viewport(&mut self, ui: &mut egui::Ui, ui_state: &mut UiState) {
+        let (rect, response) = ui.allocate_exact_size(ui.available_size(), Sense::click_and_drag());
+        let ppp = ui.ctx().pixels_per_point();
+        let [px, py, pw, ph] = [
+            (rect.min.x * ppp).round().max(0.0) as u32,
+            (rect.min.y * ppp).round().max(0.0) as u32,
+            (rect.width() * ppp).round().max(1.0) as u32,
+            (rect.height() * ppp).round().max(1.0) as u32,
+        ];
+        ui_state.viewport_px = Some([px, py, pw, ph]);
+        let margin = match (self.display.mode, self.legend()) {
+            (DisplayMode::Curvature, Some(legend)) => legend_margin(&legend, pw, ph) as f32 / pw as f32,
+            _ => 0.0,
+        };
+        self.viewport_shape = (rect.width() / rect.height().max(1.0), margin);
+        // Interaction works in points; the viewport rectangle in the same units.
+        let view = ViewportRect {
+            min: glam::Vec2::new(rect.min.x, rect.min.y),
+            size: glam::Vec2::new(rect.width(), rect.height()),
+        };
+        let (shift, scroll, pointer) =
+            ui.ctx().input(|i| (i.modifiers.shift, i.smooth_scroll_delta.y, i.pointer.hover_pos()));
+        let mouse = pointer.map(|p| glam::Vec2::new(p.x, p.y));
+        let cage = self.display_cage();
+
+        // Hover.
+        if ui_state.drag.is_none() {
+            let hovered = response.hovered().then_some(mouse).flatten();
+            self.selection.hovered_vertex =
+                hovered.and_then(|m| interaction::pick_vertex(&self.camera, &view, cage.positions(), m, 8.0));
+            self.selection.hovered_edge = match (hovered, self.selection.hovered_vertex) {
+                (Some(m), None) => interaction::pick_edge(&self.camera, &view, &cage, m, 5.0),
+                _ => None,
+            };
+        }
+
+        // Navigation.
+        if response.hovered() && scroll != 0.0 {
+            self.camera.zoom(interaction::zoom_factor(scroll / 50.0));
+        }
+        for button in [PointerButton::Secondary, PointerButton::Middle] {
+            if response.dragged_by(button) {
+                let delta = response.drag_delta();
+                if shift {
+                    self.camera.pan(delta.x, delta.y, rect.height());
+                } else {
+                    let (da, de) = interaction::orbit_from_drag(glam::Vec2::new(delta.x, delta.y));
+                    self.camera.orbit(da, de);
+                }
+            }
+        }
+
+        // Selection and dragging with the primary button.
+        if response.drag_started_by(PointerButton::Primary) {
+            let origin = ui.ctx().input(|i| i.pointer.press_origin()).map(|p| glam::Vec2::new(p.x, p.y)).or(mouse);
+            if let Some(origin) = origin {
+                match interaction::pick_vertex(&self.camera, &view, cage.positions(), origin, 8.0) {
+                    Some(v) => {
+                        if !self.selection.vertices.contains(&v) {
+                            self.selection.click_vertex(v, shift);
+                        }
+                        let model = &self.document.doc().cage;
+                        let start: Vec<(VertexId, DVec3)> = self
+                            .selected_vertices_with_edge_ends()
+                            .into_iter()
+                            .map(|v| (v, model.position(v)))
+                            .collect();
+                        self.document.begin_gesture();
+                        ui_state.drag = Some(VertexDrag { start, mouse_start: origin, axis: None });
+                    }
+                    None => ui_state.box_select = Some(BoxSelect { from: origin, to: origin, add: shift }),
+                }
+            }
+        }
+        if response.dragged_by(PointerButton::Primary)
+            && let Some(m) = mouse
+        {
+            if let Some(drag) = &ui_state.drag {
+                let frame = self.display_frame;
+                let start: Vec<(VertexId, DVec3)> =
+                    drag.start.iter().map(|&(v, p)| (v, frame.to_display_f64(p))).collect();
+                let moved = interaction::drag_positions(&self.camera, &view, &start, drag.mouse_start, m, drag.axis);
+                self.edit(Edit::MoveVertices(moved.into_iter().map(|(v, p)| (v, frame.to_model(p))).collect()));
+            } else if let Some(band) = &mut ui_state.box_select {
+                band.to = m;
+            }
+        }
+        if response.drag_stopped_by(PointerButton::Primary) {
+            if ui_state.drag.take().is_some() {
+                self.document.end_gesture();
+            }
+            if let Some(band) = ui_state.box_select.take() {
+                if !band.add {
+                    self.selection.clear();
+                }
+                for v in interaction::box_select(&self.camera, &view, cage.positions(), band.from, band.to) {
+                    if !self.selection.vertices.contains(&v) {
+                        self.selection.vertices.push(v);
+                    }
+                }
+            }
+        }
+        if response.clicked_by(PointerButton::Primary) {
+            match (self.selection.hovered_vertex, self.selection.hovered_edge) {
+                (Some(v), _) => self.selection.click_vertex(v, shift),
+                (None, Some(e)) => self.selection.click_edge(e, shift),
+                (None, None) if !shift => self.selection.clear(),
+                _ => {}
+            }
+        }
+
+        // What is drawn in the viewport by egui itself: the box and the drag axis.
+        let painter = ui.painter_at(rect);
+        if let Some(band) = ui_state.box_select {
+            let r = egui::Rect::from_two_pos(egui::pos2(band.from.x, band.from.y), egui::pos2(band.to.x, band.to.y));
+            painter.rect_stroke(
+                r,
+                0.0,
+                egui::Stroke::new(1.0, egui::Color32::from_rgb(255, 170, 60)),
+                egui::StrokeKind::Inside,
+            );
+        }
+        if let Some(drag) = &ui_state.drag {
+            let text = match drag.axis {
+                Some(axis) => format!("moving along {axis:?} (X, Y, Z to change, Esc to cancel)"),
+                None => "moving in the view plane (X, Y or Z locks an axis, Esc cancels)".to_string(),
+            };
+            painter.text(
+                rect.left_top() + egui::vec2(8.0, 8.0),
+                egui::Align2::LEFT_TOP,
+                text,
+                egui::FontId::proportional(14.0),
+                egui::Color32::WHITE,
+            );
+        }
+        if self.busy() {
+            ui.ctx().request_repaint();
+        }
+    }
+
+    /// The cage in display coordinates, for picking.
+    fn display_cage(&self) -> PolyMesh {
+        let mut cage = self.document.doc().cage.clone();
+        let frame = self.display_frame;
+        for p in cage.positions_mut() {
+            *p = frame.to_display_f64(*p);
+        }
+        cage
+    }
+}
