@@ -53,13 +53,31 @@ pub fn check_output(force: bool, inputs: &[&Path], output: &Path) -> Result<(), 
     }
 }
 
-/// A clap error as one line: its message and tip, and where to read more.
+/// A clap error as one line: its message with the items it lists, its tip, and where to read
+/// more; the usage block is left out.
 pub fn one_line(error: &clap::Error) -> String {
     let rendered = error.to_string();
-    let mut lines = rendered.lines().map(str::trim).filter(|l| !l.is_empty());
-    let first = lines.next().unwrap_or("invalid arguments").trim_start_matches("error:").trim();
-    let tip = lines.find_map(|l| l.strip_prefix("tip:")).map(|t| format!(" ({})", t.trim())).unwrap_or_default();
-    format!("{first}{tip}; see taut --help")
+    let mut message = String::new();
+    let mut tips = Vec::new();
+    for line in rendered.lines().map(str::trim).filter(|l| !l.is_empty()) {
+        if line.starts_with("Usage:") || line.starts_with("For more information") {
+            break;
+        }
+        if let Some(tip) = line.strip_prefix("tip:") {
+            tips.push(tip.trim().to_string());
+        } else if message.is_empty() {
+            message = line.trim_start_matches("error:").trim().to_string();
+        } else {
+            // The items of a list ("the following required arguments were not provided:").
+            let sep = if message.ends_with(':') { " " } else { ", " };
+            message = format!("{message}{sep}{line}");
+        }
+    }
+    if message.is_empty() {
+        message = "invalid arguments".into();
+    }
+    let tip = if tips.is_empty() { String::new() } else { format!(" ({})", tips.join("; ")) };
+    format!("{message}{tip}; see taut --help")
 }
 
 /// A note for the designer: on stdout, so stderr keeps only the one line of an error.

@@ -39,13 +39,13 @@ pub struct RenderArgs {
     #[arg(long, value_name = "AZIMUTH,ELEVATION[,DISTANCE]", allow_hyphen_values = true)]
     pub camera: Option<String>,
     /// Zebra: black and white stripe pairs across a half turn of reflected directions.
-    #[arg(long, default_value_t = 12.0)]
+    #[arg(long, default_value_t = 12.0, allow_hyphen_values = true)]
     pub stripes: f32,
     /// Zebra: direction of the stripes on screen, degrees (0: horizontal).
     #[arg(long = "stripe-angle", default_value_t = 0.0, allow_hyphen_values = true)]
     pub stripe_angle: f32,
     /// Zebra: fraction of each stripe pair that is black.
-    #[arg(long = "stripe-width", default_value_t = 0.5)]
+    #[arg(long = "stripe-width", default_value_t = 0.5, allow_hyphen_values = true)]
     pub stripe_width: f32,
     /// Curvature: the values at the two ends of the colour map [default: automatic, the 2nd to
     /// 98th percentile, symmetric about 0 for signed quantities].

@@ -65,7 +65,6 @@ pub(crate) fn parse_obj(bytes: &[u8], origin: &Path) -> Result<Soup> {
     let (mut short_faces, mut lines_and_points) = (0usize, 0usize);
     // Absolute indices may refer to `v` lines further down: checked once the count is known.
     let mut largest_absolute: Option<(i64, usize)> = None;
-    let mut corners: Vec<u32> = Vec::new();
     for (k, line) in bytes.split(|&b| b == b'\n').enumerate() {
         let line_no = k + 1;
         let mut words = line.split(|b| b.is_ascii_whitespace()).filter(|w| !w.is_empty());
@@ -85,7 +84,8 @@ pub(crate) fn parse_obj(bytes: &[u8], origin: &Path) -> Result<Soup> {
                 soup.positions.push(p);
             }
             Some(b"f") => {
-                corners.clear();
+                // Corners go straight into the face list: no copy of a long face line.
+                let mut count = 0usize;
                 let before = soup.positions.len() as i64;
                 for corner in words {
                     let index = corner_vertex(corner).map_err(|m| fail(line_no, m))?;
@@ -121,12 +121,14 @@ pub(crate) fn parse_obj(bytes: &[u8], origin: &Path) -> Result<Soup> {
                     if resolved >= u32::MAX as i64 / 2 {
                         return Err(fail(line_no, format!("face refers to vertex {index}, more than Taut can index")));
                     }
-                    corners.push(resolved as u32);
+                    soup.faces.push_corner(resolved as u32);
+                    count += 1;
                 }
-                if corners.len() < 3 {
+                if count < 3 {
+                    soup.faces.discard_open_face();
                     short_faces += 1;
                 } else {
-                    soup.faces.push(&corners);
+                    soup.faces.end_face();
                 }
             }
             Some(b"l" | b"p") => lines_and_points += 1,

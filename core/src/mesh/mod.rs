@@ -249,11 +249,21 @@ impl PolyMesh {
         0.5 * sum
     }
 
-    /// Area-weighted unit vertex normals (zero for isolated or degenerate vertices).
+    /// Area-weighted unit vertex normals (zero for isolated or degenerate vertices). Computed on
+    /// the mesh moved to the origin and scaled to unit size, so a cage of size 1e-200 (whose area
+    /// vectors would underflow to zero) or 1e300 (overflow) gets the same normals as at size 1.
     pub fn vertex_normals(&self) -> Vec<DVec3> {
         let mut normals = vec![DVec3::ZERO; self.vertex_count()];
+        let Some((lo, hi)) = self.bounding_box() else { return normals };
+        let centre = lo * 0.5 + hi * 0.5;
+        let half = (hi * 0.5 - lo * 0.5).max_element();
+        let scale = if half > 0.0 && half.is_finite() { 1.0 / half } else { 1.0 };
+        let unit = |v: VertexId| (self.position(v) - centre) * scale;
         for f in self.faces() {
-            let n = self.face_area_vector(f);
+            let mut n = DVec3::ZERO;
+            for h in self.face_halfedges(f) {
+                n += unit(self.from_vertex(h)).cross(unit(self.to_vertex(h)));
+            }
             for v in self.face_vertices(f) {
                 normals[v.index()] += n;
             }
