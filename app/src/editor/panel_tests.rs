@@ -19,9 +19,9 @@ use taut_core::nusd::surface::Phase;
 use taut_core::{DVec3, VertexId};
 
 /// The state the harness owns: the editor and its UI state, as the window holds them.
-struct App {
-    editor: EditorState,
-    ui: UiState,
+pub(super) struct App {
+    pub(super) editor: EditorState,
+    pub(super) ui: UiState,
 }
 
 const VERTEX: VertexId = VertexId(7);
@@ -30,12 +30,12 @@ const FIXED_LABEL: &str = "fixed (the surface passes through)";
 const UNDO_ITEM: &str = "Undo  Ctrl+Z";
 
 /// An editor on the cube primitive, with vertex 7 selected, as a window of 1280 × 800 points.
-fn cube_editor() -> Harness<'static, App> {
+pub(super) fn cube_editor() -> Harness<'static, App> {
     editor_on(primitives::cube())
 }
 
 /// An editor on `doc` (opened, not edited: the history is empty), with vertex 7 selected.
-fn editor_on(doc: taut_core::Document) -> Harness<'static, App> {
+pub(super) fn editor_on(doc: taut_core::Document) -> Harness<'static, App> {
     let editor = EditorState::new(EditorDocument::new(doc, None), RecentFiles::in_folder(&temp_dir("panels")), None);
     let mut ui = UiState::default();
     ui.no_native_dialogs = true;
@@ -52,7 +52,7 @@ fn editor_on(doc: taut_core::Document) -> Harness<'static, App> {
 
 /// Runs frames, solving between them with a generous budget, until the surface has converged
 /// for the current document and the UI has caught up.
-fn settle(harness: &mut Harness<'_, App>) {
+pub(super) fn settle(harness: &mut Harness<'_, App>) {
     for _ in 0..200 {
         harness.state_mut().editor.step_solver(Duration::from_secs(5));
         harness.state_mut().editor.refresh_values();
@@ -73,13 +73,13 @@ fn settle(harness: &mut Harness<'_, App>) {
 
 /// Runs the queued events, one frame each, then the solver's share of a frame, as the window
 /// does (input → edits → solve).
-fn frames(harness: &mut Harness<'_, App>) {
+pub(super) fn frames(harness: &mut Harness<'_, App>) {
     harness.step();
     harness.state_mut().editor.step_solver(SOLVER_BUDGET);
     harness.state_mut().editor.refresh_values();
 }
 
-fn surface_positions(harness: &Harness<'_, App>) -> Vec<DVec3> {
+pub(super) fn surface_positions(harness: &Harness<'_, App>) -> Vec<DVec3> {
     harness.state().editor.surface.as_ref().expect("a smoothed surface").mesh.positions().to_vec()
 }
 
@@ -91,7 +91,7 @@ fn cage_position(harness: &Harness<'_, App>, v: VertexId) -> DVec3 {
 /// the label or on its row to its right, in the same panel column. The panels put the label
 /// and the widget side by side without tying them together, so this is how a designer (and
 /// this test) finds the widget.
-fn widget_beside_label(harness: &Harness<'_, App>, label: &str, role: Role) -> Rect {
+pub(super) fn widget_beside_label(harness: &Harness<'_, App>, label: &str, role: Role) -> Rect {
     // A widget labelled by its label is found directly.
     if let Some(node) = harness.query_all(By::new().label(label).role(role)).next() {
         return node.rect();
@@ -113,7 +113,7 @@ fn widget_beside_label(harness: &Harness<'_, App>, label: &str, role: Role) -> R
 
 /// The point of a horizontal slider's rail for `fraction` of its range (0 at the left end).
 /// egui keeps the handle inside the rail: the ends of the range sit a handle radius inside.
-fn slider_point(rail: Rect, fraction: f32) -> Pos2 {
+pub(super) fn slider_point(rail: Rect, fraction: f32) -> Pos2 {
     let radius = rail.height() / 2.5;
     let x = rail.left() + radius + fraction * (rail.width() - 2.0 * radius);
     pos2(x, rail.center().y)

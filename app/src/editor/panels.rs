@@ -206,22 +206,27 @@ impl EditorState {
         make: impl FnOnce(f64) -> Edit,
     ) {
         let name = ui.label(label);
-        let (mut tau, largest) = match values {
-            Mixed::None => (0.0, 0.0),
-            Mixed::All(t) => (t, t),
-            Mixed::Range(lo, hi) => {
-                ui.label(format!("mixed: {lo:.2} to {hi:.2}; a change sets them all"));
-                (hi, hi)
-            }
+        let (mut tau, largest, range) = match values {
+            Mixed::None => (0.0, 0.0, None),
+            Mixed::All(t) => (t, t, None),
+            Mixed::Range(lo, hi) => (hi, hi, Some((lo, hi))),
         };
+        // A stable id, and the notes below the slider: a note that appears or goes while the
+        // slider is dragged must not move it or change its identity, or the drag is lost.
         let response = ui
-            .add(
-                egui::Slider::new(&mut tau, 0.0..=TENSION_SATURATION)
-                    .clamping(egui::SliderClamping::Never)
-                    .max_decimals(3),
-            )
+            .push_id(label, |ui| {
+                ui.add(
+                    egui::Slider::new(&mut tau, 0.0..=TENSION_SATURATION)
+                        .clamping(egui::SliderClamping::Never)
+                        .max_decimals(3),
+                )
+            })
+            .inner
             .labelled_by(name.id)
             .on_hover_text(help);
+        if let Some((lo, hi)) = range {
+            ui.label(format!("mixed: {lo:.2} to {hi:.2}; a change sets them all"));
+        }
         if largest > TENSION_SATURATION {
             ui.colored_label(
                 egui::Color32::from_rgb(255, 170, 60),

@@ -104,6 +104,8 @@ pub struct UiState {
     pub show_messages: bool,
     /// The path field was just opened: it takes the keyboard focus once.
     pub(super) focus_path_field: bool,
+    /// The actions run by shortcuts and menus, newest last (the last 64; for tests and support).
+    pub action_log: Vec<Action>,
 }
 
 impl EditorState {
@@ -133,8 +135,13 @@ impl EditorState {
     }
 
     fn shortcuts(&mut self, ctx: &egui::Context, ui_state: &mut UiState) {
-        // Typing into a text field owns the keyboard; a focused slider or button does not.
-        if ctx.text_edit_focused() {
+        // Typing into a text field owns the keyboard, and so does an open dialog (Esc cancels it);
+        // a focused slider or button does not.
+        if ctx.text_edit_focused()
+            || ui_state.path_dialog.is_some()
+            || ui_state.pending.is_some()
+            || ui_state.recovery.is_some()
+        {
             return;
         }
         if let Some(drag) = &mut ui_state.drag {
@@ -167,6 +174,10 @@ impl EditorState {
 
     /// Runs what a shortcut or a menu entry asks for.
     pub(super) fn run_action(&mut self, action: Action, ui_state: &mut UiState) {
+        if ui_state.action_log.len() == 64 {
+            ui_state.action_log.remove(0);
+        }
+        ui_state.action_log.push(action);
         match action {
             Action::Undo => self.undo(),
             Action::Redo => self.redo(),
