@@ -15,11 +15,13 @@
 //! [`DIVERGENCE_GROWTH`] iterations in a row past every earlier step) restores the state the level started from, halves
 //! λ and tries again, down to [`MIN_LAMBDA`]; each retry is reported as an event.
 
+pub mod anchoring;
 pub mod hierarchy;
 pub mod kernel;
 pub mod operator;
 mod solver;
 
+pub use anchoring::check_anchoring;
 pub use solver::{Budget, LevelReport, Phase, Status, SurfaceSolver};
 
 /// Consecutive growing steps taken as divergence.
