@@ -16,6 +16,7 @@
 //! λ and tries again, down to [`MIN_LAMBDA`]; each retry is reported as an event.
 
 pub mod anchoring;
+pub mod frame;
 pub mod hierarchy;
 pub mod kernel;
 pub mod operator;
