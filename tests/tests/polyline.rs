@@ -382,10 +382,16 @@ fn bad_input_is_refused_with_a_clear_message() {
     c.fixed = vec![false, true, false];
     assert!(input_error(c, &ok).contains("at least 2 fixed points"));
     assert!(input_error(Polyline::new(vec![DVec3::ONE; 3], false), &ok).contains("coincide"));
-    for size in [1e-150, 1e150] {
+    // Tiny and huge curves are told the truth: their size, not that their points coincide
+    // (the squares of 1e-200 underflow, so a plain length called them a point).
+    for size in [1e-150, 1e150, 1e-200, 1e-300, 1e300] {
         let c = Polyline::new(vec![DVec3::ZERO, DVec3::X * size, DVec3::Y * size], false);
-        assert!(input_error(c, &ok).contains("rescale"));
+        let message = input_error(c, &ok);
+        assert!(message.contains("rescale") && !message.contains("coincide"), "{size:e}: {message}");
+        assert!(message.contains(&format!("{:e}", size * 2f64.sqrt()).as_str()[..4]), "{size:e}: {message}");
     }
+    let huge = Polyline::new(vec![DVec3::X * -1.5e308, DVec3::X * 1.5e308, DVec3::Y * 1e308], false);
+    assert!(input_error(huge, &ok).contains("beyond 1e308"));
     let c = Polyline::new(p3.clone(), false);
     for lambda in [0.0, 1.0, f64::NAN] {
         assert!(input_error(c.clone(), &CurveSettings { lambda, ..ok }).contains("lambda"));

@@ -279,9 +279,11 @@ impl PolyMesh {
         bounding_box(&self.positions)
     }
 
-    /// Length of the bounding-box diagonal (0 for an empty mesh).
+    /// Length of the bounding-box diagonal (0 for an empty mesh), without underflow or overflow
+    /// of the squares: a cage 1e-200 across has a diagonal near 1e-200, not 0. Infinite only when
+    /// the diagonal itself exceeds the largest `f64`.
     pub fn bounding_diagonal(&self) -> f64 {
-        self.bounding_box().map_or(0.0, |(lo, hi)| (hi - lo).length())
+        self.bounding_box().map_or(0.0, |(lo, hi)| diagonal_length(lo, hi))
     }
 
     /// Length of an edge.
@@ -299,6 +301,21 @@ impl PolyMesh {
     pub fn validate(&self) -> Result<(), String> {
         build::validate(self)
     }
+}
+
+/// Length of the diagonal from `lo` to `hi`, computed from halves scaled by their largest
+/// component so that neither the difference nor the squares overflow or underflow.
+pub fn diagonal_length(lo: DVec3, hi: DVec3) -> f64 {
+    let plain = (hi - lo).length();
+    if plain.is_finite() && plain > 1e-150 && plain < 1e150 {
+        return plain; // no square under- or overflowed
+    }
+    let half = 0.5 * hi - 0.5 * lo;
+    let m = half.abs().max_element();
+    if m == 0.0 || !m.is_finite() {
+        return 2.0 * m;
+    }
+    2.0 * m * (half / m).length()
 }
 
 /// Bounding box of a point set.

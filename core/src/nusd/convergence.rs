@@ -19,7 +19,7 @@
 pub const WINDOW: usize = 8;
 
 /// Tracks the recent step sizes of one solve and estimates the remaining distance.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug)]
 pub struct ConvergenceMonitor {
     history: std::collections::VecDeque<f64>,
     growing: usize,
@@ -27,6 +27,14 @@ pub struct ConvergenceMonitor {
     peak_before: f64,
     /// Largest step so far.
     peak: f64,
+    /// Consecutive iterations whose largest step was mostly a reversing one.
+    reversing: usize,
+}
+
+impl Default for ConvergenceMonitor {
+    fn default() -> Self {
+        ConvergenceMonitor { history: Default::default(), growing: 0, peak_before: 0.0, peak: 0.0, reversing: 0 }
+    }
 }
 
 impl ConvergenceMonitor {
@@ -36,6 +44,18 @@ impl ConvergenceMonitor {
         self.growing = 0;
         self.peak_before = 0.0;
         self.peak = 0.0;
+        self.reversing = 0;
+    }
+
+    /// Record the largest step of one iteration and the largest step of a vertex that reversed
+    /// its direction (see [`oscillating`](Self::oscillating)).
+    pub fn push_sweep(&mut self, step: f64, reversing: f64) {
+        if reversing >= 0.5 * step && step > 0.0 {
+            self.reversing += 1;
+        } else {
+            self.reversing = 0;
+        }
+        self.push(step);
     }
 
     /// Record the largest step of one iteration.
@@ -49,6 +69,7 @@ impl ConvergenceMonitor {
         }
         self.peak_before = self.peak;
         self.peak = self.peak.max(step);
+
         self.history.push_back(step);
         if self.history.len() > 2 * WINDOW + 1 {
             self.history.pop_front();
@@ -72,6 +93,16 @@ impl ConvergenceMonitor {
     pub fn runaway(&self, streak: usize, threshold: f64) -> bool {
         let Some(last) = self.last_step() else { return false };
         self.growing >= streak && last > self.peak_before && last > threshold
+    }
+
+    /// Oscillation: for `streak` iterations in a row, vertices reversing their direction made at
+    /// least half the largest step. Modes with a negative eigenvalue reverse every iteration and,
+    /// in a stable iteration, die within a few; carrying the largest step for long they show the
+    /// iteration unstable (or nearly) at this λ. Strong tension does this, and the nonlinear
+    /// tension term then bounds the growth to a limit cycle whose steps neither grow past every
+    /// earlier one nor shrink, which [`runaway`](Self::runaway) misses.
+    pub fn oscillating(&self, streak: usize) -> bool {
+        self.reversing >= streak
     }
 
     /// The observed contraction rate per iteration, once two full windows have been seen: the
@@ -159,6 +190,22 @@ mod tests {
         assert!(monitor.runaway(4, 1.0));
         assert!(!monitor.runaway(5, 1.0));
         assert!(!monitor.runaway(4, 10.0));
+    }
+
+    #[test]
+    fn a_reversing_largest_step_is_an_oscillation() {
+        let mut cycle = ConvergenceMonitor::default();
+        let mut mixed = ConvergenceMonitor::default();
+        for k in 0..200 {
+            // A bounded period-2 cycle after a decaying transient: every step reverses.
+            let step = if k < 100 { 10.0 * 0.95f64.powi(k) } else { 0.7 };
+            cycle.push_sweep(step, if k < 100 { 0.0 } else { step });
+            // A converging iteration whose reversing modes die fast (0.2 a sweep).
+            mixed.push_sweep(0.99f64.powi(k), 0.2f64.powi(k));
+        }
+        assert!(cycle.oscillating(64));
+        assert!(!cycle.runaway(64, 1e-3), "a bounded cycle is not growth");
+        assert!(!mixed.oscillating(3));
     }
 
     #[test]

@@ -123,12 +123,17 @@ impl Polyline {
             ));
         }
         let (lo, hi) = bounding_box(&self.points);
-        let size = (hi - lo).length();
+        // Measured without squaring underflow: a curve 1e-200 across is tiny, not a point.
+        let size = crate::mesh::diagonal_length(lo, hi);
         if size == 0.0 {
             return bad("all points of the curve coincide: there is no curve to smooth".into());
         }
         if !(1.0 / MAX_SIZE..=MAX_SIZE).contains(&size) {
-            return bad(format!("the curve's size {size:e} is outside the range handled, 1e-100 to 1e100; rescale it"));
+            let size = if size.is_finite() { format!("{size:e}") } else { "beyond 1e308".to_string() };
+            return bad(format!(
+                "the curve's size {size} is outside the range its arithmetic handles, 1e-100 to 1e100 \
+                 (K grows as the square of the spacing); rescale it"
+            ));
         }
         Ok(())
     }

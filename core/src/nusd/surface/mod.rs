@@ -11,18 +11,30 @@
 //! its previous solution plus the prolonged correction of the level above. Work is done in
 //! [`SurfaceSolver::advance`] calls bounded by an iteration count and a time budget.
 //!
-//! Divergence (a non-finite value, a step larger than the model, or a step growing for
-//! [`DIVERGENCE_GROWTH`] iterations in a row past every earlier step) restores the state the level started from, halves
-//! λ and tries again, down to [`MIN_LAMBDA`]; each retry is reported as an event.
+//! Divergence (a non-finite value, a step larger than the model, a step growing for
+//! [`DIVERGENCE_GROWTH`] iterations in a row past every earlier step, or an oscillation: the
+//! largest step reversing direction for [`OSCILLATION_ITERATIONS`] in a row) restores the state the level started from, halves λ
+//! and tries again, down to [`MIN_LAMBDA`]; each retry is reported as an event.
+//!
+//! Before solving, [`check_anchoring`] refuses cages whose fixed vertices cannot hold the
+//! surface (it would collapse or flatten), and cages of extreme size are solved in a frame
+//! scaled by a power of two ([`frame`]), so any finite cage is handled.
 
+pub mod anchoring;
+pub mod frame;
 pub mod hierarchy;
 pub mod kernel;
 pub mod operator;
 mod solver;
 
+pub use anchoring::check_anchoring;
 pub use solver::{Budget, LevelReport, Phase, Status, SurfaceSolver};
 
 /// Consecutive growing steps taken as divergence.
 pub const DIVERGENCE_GROWTH: usize = 64;
+/// Consecutive iterations whose largest step reverses direction taken as an oscillation (the
+/// explicit iteration unstable at this λ, seen with strong tension at λ = 0.6; its growth is
+/// bounded by the nonlinear tension term, so it never diverges): treated like divergence.
+pub const OSCILLATION_ITERATIONS: usize = 64;
 /// Smallest λ tried before a solve is declared diverged.
 pub const MIN_LAMBDA: f64 = 0.01;

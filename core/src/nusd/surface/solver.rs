@@ -1,9 +1,11 @@
 //! [`SurfaceSolver`]: levels, warm starts, budgets and divergence handling.
 
+use super::anchoring::check_anchoring;
+use super::frame::Frame;
 use super::hierarchy::LevelTopology;
 use super::kernel::{self, State};
 use super::operator::{Controls, Operator, Role};
-use super::{DIVERGENCE_GROWTH, MIN_LAMBDA};
+use super::{DIVERGENCE_GROWTH, MIN_LAMBDA, OSCILLATION_ITERATIONS};
 use crate::document::Document;
 use crate::mesh::PolyMesh;
 use crate::nusd::SolverSettings;
@@ -107,7 +109,11 @@ impl Level {
 /// The hierarchical solver; see the [module docs](super).
 #[derive(Clone, Debug)]
 pub struct SurfaceSolver {
+    /// The cage in the internal frame (the designer's unless its size is extreme).
     cage: PolyMesh,
+    frame: Frame,
+    /// The finest level's P and R in the designer's frame, kept only when the frame scales.
+    external: Option<(Vec<DVec3>, Vec<DVec3>)>,
     fixed: Vec<bool>,
     vertex_tension: Vec<f64>,
     edge_tension: Vec<f64>,
@@ -130,15 +136,19 @@ impl SurfaceSolver {
     /// A solver for a document; nothing is iterated until [`advance`](Self::advance).
     pub fn new(doc: &Document) -> Result<Self> {
         doc.validate()?;
-        let cage = doc.cage.clone();
-        if cage.face_count() == 0 {
+        if doc.cage.face_count() == 0 {
             return Err(Error::Input("the cage has no faces to smooth".into()));
         }
-        let diagonal = cage.bounding_diagonal();
-        if diagonal.is_nan() || diagonal <= 0.0 {
-            return Err(Error::Input("the cage has no extent: all its vertices are at one point".into()));
+        let frame = frame_of(&doc.cage);
+        let mut cage = doc.cage.clone();
+        if !frame.is_identity() {
+            cage.positions_mut().iter_mut().for_each(|p| *p = frame.to_internal(*p));
         }
+        let diagonal = extent(cage.positions())?;
+        check_anchoring(&doc.cage, &doc.fixed)?;
         let mut solver = SurfaceSolver {
+            frame,
+            external: None,
             fixed: doc.fixed.clone(),
             vertex_tension: doc.vertex_tension.clone(),
             edge_tension: doc.edge_tension.clone(),
@@ -169,16 +179,25 @@ impl SurfaceSolver {
             synced_p: Vec::new(),
             synced_r: Vec::new(),
         });
+        solver.refresh_external();
         Ok(solver)
     }
 
     /// Solves from the current state to the end; an error if the solve diverged at every λ.
     pub fn solve(&mut self) -> Result<Vec<LevelReport>> {
         match self.advance(Budget::UNLIMITED).phase {
-            Phase::Diverged => Err(Error::Solver(format!(
-                "the solve diverged even with λ = {MIN_LAMBDA}: {}; lower the tensions",
-                self.events.join("; ")
-            ))),
+            Phase::Diverged => {
+                let tensioned = self.vertex_tension.iter().chain(&self.edge_tension).any(|&t| t > 0.0);
+                let advice = if tensioned {
+                    "lower the tensions"
+                } else {
+                    "the cage has no tension, so its shape defeats the iteration: look for nearly coincident vertices or folded faces"
+                };
+                Err(Error::Solver(format!(
+                    "the solve diverged even with λ = {MIN_LAMBDA}: {}; {advice}",
+                    self.events.join("; ")
+                )))
+            }
             _ => Ok(self.reports.clone()),
         }
     }
@@ -207,16 +226,19 @@ impl SurfaceSolver {
                 self.monitor.reset();
                 self.level_iterations = 0;
             }
-            let step = kernel::iterate(&level.operator, &level.topology.mesh, &mut level.state, self.lambda);
+            let sweep = kernel::iterate(&level.operator, &level.topology.mesh, &mut level.state, self.lambda);
+            let step = sweep.step;
             done += 1;
             self.level_iterations += 1;
             self.total_iterations += 1;
-            self.monitor.push(step);
+            self.monitor.push_sweep(step, sweep.reversing);
+            let oscillating = self.monitor.oscillating(OSCILLATION_ITERATIONS) && step > self.threshold;
             if !step.is_finite()
                 || step > 10.0 * self.diagonal
                 || self.monitor.runaway(DIVERGENCE_GROWTH, self.threshold)
+                || oscillating
             {
-                self.roll_back(step);
+                self.roll_back(step, oscillating);
                 continue;
             }
             if self.monitor.converged(self.threshold) {
@@ -225,6 +247,7 @@ impl SurfaceSolver {
                 self.finish_level(false);
             }
         }
+        self.refresh_external();
         self.status()
     }
 
@@ -252,19 +275,20 @@ impl SurfaceSolver {
                 total_iterations: self.total_iterations,
                 last_step: last.last_step,
                 remaining: last.remaining,
-                threshold: self.threshold,
+                threshold: self.frame.length_out(self.threshold),
                 lambda: self.lambda,
             };
         }
+        let out = |x: f64| self.frame.length_out(x);
         Status {
             phase: self.phase,
             level: self.active as u32,
             levels: self.settings.levels,
             iterations: self.level_iterations,
             total_iterations: self.total_iterations,
-            last_step: self.monitor.last_step().unwrap_or(0.0),
-            remaining: self.monitor.remaining(),
-            threshold: self.threshold,
+            last_step: out(self.monitor.last_step().unwrap_or(0.0)),
+            remaining: out(self.monitor.remaining()),
+            threshold: out(self.threshold),
             lambda: self.lambda,
         }
     }
@@ -274,26 +298,47 @@ impl SurfaceSolver {
         &self.settings
     }
 
-    /// The finest level built so far: its connectivity (positions are the domain's).
+    /// The finest level built so far: its connectivity. Its positions are the domain's (the
+    /// refined cage without smoothing) in the solver's frame, which is the designer's except for
+    /// cages of extreme size (see [`frame`](super::frame)).
     pub fn surface_topology(&self) -> &PolyMesh {
         &self.finest().topology.mesh
     }
 
     /// Current positions of the finest level built so far (cage vertices first).
     pub fn surface_positions(&self) -> &[DVec3] {
-        &self.finest().state.p
+        match &self.external {
+            Some((p, _)) => p,
+            None => &self.finest().state.p,
+        }
     }
 
     /// The finest surface as a mesh of its own.
     pub fn surface(&self) -> PolyMesh {
         let mut mesh = self.finest().topology.mesh.clone();
-        mesh.positions_mut().copy_from_slice(&self.finest().state.p);
+        mesh.positions_mut().copy_from_slice(self.surface_positions());
         mesh
     }
 
     /// Second derivatives `R` of the finest level built so far.
     pub fn surface_second_derivatives(&self) -> &[DVec3] {
-        &self.finest().state.r
+        match &self.external {
+            Some((_, r)) => r,
+            None => &self.finest().state.r,
+        }
+    }
+
+    /// Copies the finest level into the designer's frame when the internal one differs.
+    fn refresh_external(&mut self) {
+        if self.frame.is_identity() {
+            self.external = None;
+            return;
+        }
+        let (frame, spacing) = (self.frame, self.settings.spacing);
+        let state = &self.finest().state;
+        let p = state.p.iter().map(|&x| frame.position_out(x)).collect();
+        let r = state.r.iter().map(|&x| frame.second_derivative_out(x, spacing)).collect();
+        self.external = Some((p, r));
     }
 
     /// The finest level's vertices along each cage edge, in order from the edge's first end
@@ -335,11 +380,18 @@ impl SurfaceSolver {
             && doc.cage.face_count() == self.cage.face_count()
             && (doc.cage.topology_generation() == self.cage.topology_generation()
                 || doc.cage.polygons() == self.cage.polygons());
-        if !same_topology {
+        if !same_topology || frame_of(&doc.cage) != self.frame {
             *self = SurfaceSolver::new(doc)?;
             return Ok(());
         }
-        let moved = doc.cage.positions() != self.cage.positions();
+        let internal: Vec<DVec3>;
+        let positions = if self.frame.is_identity() {
+            doc.cage.positions()
+        } else {
+            internal = doc.cage.positions().iter().map(|&p| self.frame.to_internal(p)).collect();
+            &internal
+        };
+        let moved = positions != self.cage.positions();
         let controls_changed = doc.fixed != self.fixed
             || doc.vertex_tension != self.vertex_tension
             || doc.edge_tension != self.edge_tension
@@ -348,25 +400,26 @@ impl SurfaceSolver {
         if !moved && !controls_changed && !settings_changed {
             return Ok(());
         }
+        // Check everything before changing anything: a refused edit leaves the solver as it was.
+        let diagonal = if moved { extent(positions)? } else { self.diagonal };
+        if moved || doc.fixed != self.fixed {
+            check_anchoring(&doc.cage, &doc.fixed)?;
+        }
         if moved {
-            let diagonal = doc.cage.bounding_diagonal();
-            if diagonal.is_nan() || diagonal <= 0.0 {
-                return Err(Error::Input("the cage has no extent: all its vertices are at one point".into()));
-            }
             self.diagonal = diagonal;
             let level0 = &mut self.levels[0];
-            for (v, (&new, &old)) in doc.cage.positions().iter().zip(self.cage.positions()).enumerate() {
+            for (v, (&new, &old)) in positions.iter().zip(self.cage.positions()).enumerate() {
                 if new != old {
                     level0.state.p[v] = new;
                 }
             }
-            self.cage.positions_mut().copy_from_slice(doc.cage.positions());
+            self.cage.positions_mut().copy_from_slice(positions);
         }
         // A vertex fixed again is interpolated again: back to its cage position at level 0
         // (the change reaches the finer levels through the propagation below).
         for (v, (&now, &was)) in doc.fixed.iter().zip(&self.fixed).enumerate() {
             if now && !was {
-                self.levels[0].state.p[v] = doc.cage.positions()[v];
+                self.levels[0].state.p[v] = self.cage.positions()[v];
             }
         }
         if doc.settings.lambda != self.settings.lambda
@@ -400,6 +453,7 @@ impl SurfaceSolver {
             }
         }
         self.restart();
+        self.refresh_external();
         Ok(())
     }
 
@@ -473,12 +527,13 @@ impl SurfaceSolver {
 
     fn finish_level(&mut self, converged: bool) {
         let level = &self.levels[self.active];
+        let out = |x: f64| self.frame.length_out(x);
         let report = LevelReport {
             level: self.active as u32,
             vertices: level.topology.vertex_count(),
             iterations: if level.has_moving() { self.level_iterations } else { 0 },
-            last_step: if level.has_moving() { self.monitor.last_step().unwrap_or(0.0) } else { 0.0 },
-            remaining: if level.has_moving() { self.monitor.remaining() } else { 0.0 },
+            last_step: if level.has_moving() { out(self.monitor.last_step().unwrap_or(0.0)) } else { 0.0 },
+            remaining: if level.has_moving() { out(self.monitor.remaining()) } else { 0.0 },
             converged,
             lambda: self.lambda,
         };
@@ -495,11 +550,17 @@ impl SurfaceSolver {
         }
     }
 
-    fn roll_back(&mut self, step: f64) {
+    fn roll_back(&mut self, step: f64, oscillating: bool) {
         let (p, r) = self.snapshot.clone().expect("a level being iterated has a snapshot");
         let level = &mut self.levels[self.active];
         level.state = State::new(p, r);
-        let why = if step.is_finite() { "the step kept growing" } else { "a value became infinite" };
+        let why = if oscillating {
+            "the step stopped shrinking: an oscillation"
+        } else if step.is_finite() {
+            "the step kept growing"
+        } else {
+            "a value became infinite"
+        };
         let reduced = self.lambda * 0.5;
         self.monitor.reset();
         self.level_iterations = 0;
@@ -516,5 +577,20 @@ impl SurfaceSolver {
             ));
             self.lambda = reduced;
         }
+    }
+}
+
+/// The internal frame of a cage (see [`frame`](super::frame)).
+fn frame_of(cage: &PolyMesh) -> Frame {
+    cage.bounding_box().map_or(Frame::default(), |(lo, hi)| Frame::for_box(lo, hi))
+}
+
+/// The bounding-box diagonal of cage positions in the internal frame, or why they have none.
+fn extent(positions: &[DVec3]) -> Result<f64> {
+    let diagonal = crate::mesh::bounding_box(positions).map_or(0.0, |(lo, hi)| crate::mesh::diagonal_length(lo, hi));
+    if diagonal > 0.0 && diagonal.is_finite() {
+        Ok(diagonal)
+    } else {
+        Err(Error::Input("the cage has no extent: all its vertices are at one point".into()))
     }
 }
