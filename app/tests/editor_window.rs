@@ -145,11 +145,12 @@ fn drag_a_fixed_point_in_a_real_window_then_save_and_quit() {
     let before = settled(&display, &dir.join("before.png"));
     let (w, h) = before.dimensions();
 
-    // The viewport's background is the colour at its centre column near the top; the apex of
-    // the default scene is the top-most drawn pixel in the middle third of the screen.
-    let background = *before.get_pixel(w / 2, 60);
+    // The viewport's background is the colour in its top left corner (the framed model fills
+    // most of the view, but not its corners); the apex of the default scene is the top-most
+    // drawn pixel in the middle third of the screen.
+    let background = *before.get_pixel(275, 35);
     let differs = |p: &image::Rgba<u8>| (0..3).any(|c| p[c].abs_diff(background[c]) > 30);
-    let (apex_x, apex_y) = (60..h * 3 / 4)
+    let (apex_x, apex_y) = (30..h * 3 / 4)
         .flat_map(|y| (w / 3..2 * w / 3).map(move |x| (x, y)))
         .find(|&(x, y)| differs(before.get_pixel(x, y)))
         .expect("the surface is drawn");
@@ -165,21 +166,22 @@ fn drag_a_fixed_point_in_a_real_window_then_save_and_quit() {
     xdotool(&display, &["mousedown", "1"]);
     for step in 1..=12 {
         std::thread::sleep(Duration::from_millis(80));
-        xdotool(&display, &["mousemove", &x, &(grab_y - step * 5).to_string()]);
+        // Pressed down into the model: framed to fill the view, the apex is near the top edge.
+        xdotool(&display, &["mousemove", &x, &(grab_y + step * 5).to_string()]);
     }
     std::thread::sleep(Duration::from_millis(300));
     xdotool(&display, &["mouseup", "1"]);
     let after = settled(&display, &dir.join("after.png"));
 
-    // Where the apex was and above it: changed. The lower part of the surface: unchanged.
-    let around_apex = changed(&before, &after, apex_x - 80, apex_y.saturating_sub(70), apex_x + 80, apex_y + 60);
+    // Where the apex was and below it: changed. The lower part of the surface: unchanged.
+    let around_apex = changed(&before, &after, apex_x - 80, apex_y.saturating_sub(10), apex_x + 80, apex_y + 70);
     let (top, bottom) =
         (apex_y, (0..h * 85 / 100).rev().find(|&y| differs(before.get_pixel(apex_x, y))).unwrap_or(h / 2));
     let low = changed(&before, &after, w / 3, top + (bottom - top) * 3 / 4, 2 * w / 3, bottom);
     assert!(around_apex > 0.05, "the surface did not follow the drag ({around_apex:.4})");
     assert!(low < 0.02, "the drag changed the far side of the surface ({low:.4})");
-    // The dragged vertex is selected: orange pixels where it now is, above where it was.
-    let orange = (grab_y.saturating_sub(80)..grab_y)
+    // The dragged vertex is selected: orange pixels where it now is, below where it was.
+    let orange = (grab_y..grab_y + 80)
         .flat_map(|yy| (grab_x - 10..grab_x + 10).map(move |xx| (xx, yy)))
         .filter(|&(xx, yy)| {
             let p = after.get_pixel(xx, yy);
@@ -214,8 +216,8 @@ fn drag_a_fixed_point_in_a_real_window_then_save_and_quit() {
     let after_doc: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&cage).unwrap()).unwrap();
     let apex = |d: &serde_json::Value| d["positions"].as_array().unwrap().last().unwrap()[2].as_f64().unwrap();
     assert!(
-        apex(&after_doc) > apex(&before_doc) + 1.0,
-        "the saved apex did not move up: {} → {}",
+        apex(&after_doc) < apex(&before_doc) - 1.0,
+        "the saved apex did not move down: {} → {}",
         apex(&before_doc),
         apex(&after_doc)
     );

@@ -382,3 +382,29 @@ fn the_legend_never_covers_the_framed_model() {
     let fill = ((hi.x - lo.x) / (2.0 - 2.0 * margin)).max((hi.y - lo.y) / 2.0);
     assert!(fill > 0.8, "the framed model fills only {:.0} % of the view", 100.0 * fill);
 }
+
+/// Unfixing every vertex (Ctrl+A, untick "fixed") once made the surface vanish; now the edit is
+/// refused with a message that says which vertices to fix, and nothing changes.
+#[test]
+fn unfixing_what_holds_the_surface_is_refused_with_what_to_fix() {
+    let mut harness = cube_editor();
+    settle(&mut harness);
+    let before = harness.state().editor.document.doc().clone();
+    harness.key_press_modifiers(Modifiers::COMMAND, Key::A);
+    frames(&mut harness);
+    let fixed = harness.get(By::new().role(Role::CheckBox).label_contains("fixed"));
+    fixed.click();
+    frames(&mut harness);
+    let editor = &harness.state().editor;
+    assert_eq!(editor.document.doc(), &before, "the refused edit changed the document");
+    assert!(!editor.document.can_undo());
+    let notice = editor.notice.as_ref().expect("a message says why");
+    assert!(notice.is_error && notice.text.contains("fix at least 4 of vertices"), "{}", notice.text);
+    assert!(editor.surface.is_some() && editor.solver_error.is_none(), "the surface stays");
+    // Freeing the top four of a cube would flatten it onto the bottom: refused too, by name.
+    let top: Vec<VertexId> = (0..8).map(VertexId).filter(|&v| before.cage.position(v).z > 0.0).collect();
+    harness.state_mut().editor.edit(Edit::SetFixed(top.clone(), false));
+    let text = harness.state().editor.notice.as_ref().unwrap().text.clone();
+    assert!(text.contains("all in one plane") && text.contains(&format!("vertices {}", top[0].0)), "{text}");
+    assert_eq!(harness.state().editor.document.doc(), &before);
+}

@@ -18,6 +18,7 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
 use taut_core::io::{self, ImportReport, UpAxis};
 use taut_core::nusd::SolverSettings;
+use taut_core::nusd::surface::check_anchoring;
 use taut_core::{DVec3, Document, EdgeId, PolyMesh, VertexId};
 
 /// Most undo steps kept; older ones are forgotten first.
@@ -194,6 +195,7 @@ impl EditorDocument {
         if !changes(&self.doc, &edit) {
             return Ok(());
         }
+        check_anchoring_after(&self.doc, &edit)?;
         match &mut self.gesture {
             Some(gesture) => {
                 if !gesture.changed {
@@ -416,6 +418,25 @@ fn check_tension(tau: f64) -> Result<(), String> {
     } else {
         Err(format!("tension must be a finite number ≥ 0, not {tau}"))
     }
+}
+
+/// Refuses an edit that would leave the surface without enough fixed vertices to hold it (it
+/// would collapse or flatten): the message says which vertices to fix.
+fn check_anchoring_after(doc: &Document, edit: &Edit) -> Result<(), String> {
+    let (cage, fixed) = match edit {
+        Edit::SetFixed(..) | Edit::MoveVertices(_) => {
+            let mut after = doc.clone();
+            perform(&mut after, edit.clone());
+            (after.cage, after.fixed)
+        }
+        Edit::Replace(new) => (new.cage.clone(), new.fixed.clone()),
+        _ => return Ok(()),
+    };
+    // Moves only matter when some vertex is moving: fixed ones alone keep their hull.
+    if matches!(edit, Edit::MoveVertices(_)) && doc.fixed.iter().all(|&f| f) {
+        return Ok(());
+    }
+    check_anchoring(&cage, &fixed).map_err(|e| format!("refused: {e}"))
 }
 
 /// True when a checked edit would change the document.
