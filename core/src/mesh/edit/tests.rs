@@ -1,0 +1,1 @@
+//! Cross-operation tests of the edits.
