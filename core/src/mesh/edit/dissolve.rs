@@ -107,10 +107,7 @@ fn merge_groups(
     let mut loops: Vec<Option<Vec<HalfedgeId>>> = vec![None; nf];
     let mut visited = vec![false; mesh.halfedge_count()];
     for f in mesh.faces() {
-        let Some(g) = group(f) else {
-            loops[f.index()] = Some(mesh.face_halfedges(f).collect());
-            continue;
-        };
+        let Some(g) = group(f) else { continue };
         for start in mesh.face_halfedges(f) {
             if inner(start) || visited[start.index()] {
                 continue;
@@ -149,9 +146,22 @@ fn merge_groups(
 
     let mut draft = Draft::new(mesh, op);
     let mut ring: Vec<u32> = Vec::new();
+    let mut scratch: Vec<u32> = Vec::new();
+    let mut own: Vec<HalfedgeId> = Vec::new();
     for f in mesh.faces() {
-        let Some(border) = &loops[f.index()] else { continue };
-        let origin = if group(f).is_some() { FaceOrigin::Merged(f) } else { FaceOrigin::Same(f) };
+        let (border, origin) = match group(f) {
+            Some(g) if g == f.0 => (loops[f.index()].as_deref().unwrap_or_default(), FaceOrigin::Merged(f)),
+            Some(_) => continue,
+            None if mesh.face_vertices(f).any(|v| drop[v.index()]) => {
+                own.clear();
+                own.extend(mesh.face_halfedges(f));
+                (own.as_slice(), FaceOrigin::Same(f))
+            }
+            None => {
+                draft.keep_face(f);
+                continue;
+            }
+        };
         ring.clear();
         // Start at a kept vertex so each kept vertex is followed by the edges up to the next one.
         let Some(first) = border.iter().position(|&h| !drop[mesh.from_vertex(h).index()]) else {
@@ -180,12 +190,10 @@ fn merge_groups(
         if ring.len() < 3 {
             return Err(too_small(op, f));
         }
-        let mut sorted = ring.clone();
-        sorted.sort_unstable();
-        if let Some(w) = sorted.windows(2).find(|w| w[0] == w[1]) {
+        if let Some(v) = super::merge::repeated(&ring, &mut scratch) {
             return Err(Error::Topology(format!(
-                "{op}: the merged face at face {} would touch itself at vertex {}; dissolve fewer elements",
-                f.0, w[0]
+                "{op}: the merged face at face {} would touch itself at vertex {v}; dissolve fewer elements",
+                f.0
             )));
         }
         draft.push_face(ring.iter().copied(), origin);

@@ -183,6 +183,18 @@ fn infer_edge(old: &PolyMesh, a: VertexOrigin, b: VertexOrigin, faces: [Option<F
     }
 }
 
+/// The result of an edit that changes nothing: a copy of the cage (same topology generation)
+/// with every element [`Same`](VertexOrigin::Same) as itself.
+pub(super) fn unchanged(mesh: &PolyMesh) -> Edited {
+    let provenance = Provenance {
+        vertices: mesh.vertices().map(VertexOrigin::Same).collect(),
+        edges: mesh.edges().map(EdgeOrigin::Same).collect(),
+        faces: mesh.faces().map(FaceOrigin::Same).collect(),
+        old_counts: (mesh.vertex_count(), mesh.edge_count(), mesh.face_count()),
+    };
+    Edited { mesh: mesh.clone(), provenance }
+}
+
 /// A selection as a mask over `count` elements; refuses an empty selection and unknown numbers.
 pub(super) fn mask(
     op: &str,

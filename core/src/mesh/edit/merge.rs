@@ -12,12 +12,13 @@
 //! [`MergeAt::Last`] (the one that stays where it is); a merge by distance keeps those of the
 //! lowest-numbered vertex of each cluster and places it at the cluster's centre, so the result
 //! does not depend on the order the vertices were given in. Clusters are found single-linkage
-//! (a chain of close vertices is one cluster) with a uniform grid of cells one threshold wide, so
+//! (a chain of close vertices is one cluster) with a uniform grid of cells ([`super::spatial`]), so
 //! the search is linear for evenly spread vertices.
 
 use super::Edited;
 use super::draft::{Draft, vertex_mask};
 use super::provenance::{EdgeOrigin, VertexOrigin};
+use super::spatial::PointGrid;
 use crate::mesh::{EdgeId, PolyMesh, VertexId};
 use crate::{DVec3, Error, Result};
 use std::collections::HashMap;
@@ -69,8 +70,8 @@ pub fn merge_by_distance(mesh: &PolyMesh, vertices: &[VertexId], threshold: f64)
         )));
     }
     let mask = vertex_mask(OP, mesh, vertices)?;
-    let cell = |p: DVec3| (p / threshold).floor().to_array().map(|c| c as i64);
-    let mut grid: HashMap<[i64; 3], Vec<u32>> = HashMap::new();
+    let listed = || mesh.vertices().filter(|v| mask[v.index()]).map(|v| v.0);
+    let grid = PointGrid::new(mesh.positions(), listed(), 2.0 * threshold);
     let mut parent: Vec<u32> = (0..mesh.vertex_count() as u32).collect();
     fn root(parent: &mut [u32], mut v: u32) -> u32 {
         while parent[v as usize] != v {
@@ -79,23 +80,14 @@ pub fn merge_by_distance(mesh: &PolyMesh, vertices: &[VertexId], threshold: f64)
         }
         v
     }
-    for v in mesh.vertices().filter(|v| mask[v.index()]) {
-        let p = mesh.position(v);
-        let c = cell(p);
-        for dx in -1..=1i64 {
-            for dy in -1..=1i64 {
-                for dz in -1..=1i64 {
-                    let key = [c[0].saturating_add(dx), c[1].saturating_add(dy), c[2].saturating_add(dz)];
-                    for &w in grid.get(&key).into_iter().flatten() {
-                        if mesh.position(VertexId(w)).distance(p) <= threshold {
-                            let (rv, rw) = (root(&mut parent, v.0), root(&mut parent, w));
-                            parent[rv.max(rw) as usize] = rv.min(rw);
-                        }
-                    }
-                }
+    for v in listed() {
+        let p = mesh.positions()[v as usize];
+        grid.near(p, |w| {
+            if w < v && mesh.positions()[w as usize].distance(p) <= threshold {
+                let (rv, rw) = (root(&mut parent, v), root(&mut parent, w));
+                parent[rv.max(rw) as usize] = rv.min(rw);
             }
-        }
-        grid.entry(c).or_default().push(v.0);
+        });
     }
     let target: Vec<u32> = (0..mesh.vertex_count() as u32).map(|v| root(&mut parent, v)).collect();
     let mut sum = vec![(DVec3::ZERO, 0usize); mesh.vertex_count()];
@@ -108,6 +100,9 @@ pub fn merge_by_distance(mesh: &PolyMesh, vertices: &[VertexId], threshold: f64)
         .filter(|v| target[v.index()] == v.0 && sum[v.index()].1 > 1)
         .map(|v| (v, sum[v.index()].0 / sum[v.index()].1 as f64))
         .collect();
+    if kept.is_empty() {
+        return Ok(super::draft::unchanged(mesh));
+    }
     merge(mesh, &target, &kept, OP)
 }
 
@@ -123,7 +118,12 @@ fn merge(mesh: &PolyMesh, target: &[u32], kept: &[(VertexId, DVec3)], op: &'stat
         merged[v.index()] = true;
     }
     let mut ring: Vec<u32> = Vec::new();
+    let mut scratch: Vec<u32> = Vec::new();
     for f in mesh.faces() {
+        if !mesh.face_vertices(f).any(|v| merged[v.index()]) {
+            draft.keep_face(f);
+            continue;
+        }
         ring.clear();
         for v in mesh.face_vertices(f) {
             let t = target[v.index()];
@@ -137,18 +137,16 @@ fn merge(mesh: &PolyMesh, target: &[u32], kept: &[(VertexId, DVec3)], op: &'stat
         if ring.len() < 3 {
             continue; // collapsed
         }
-        let mut sorted = ring.clone();
-        sorted.sort_unstable();
-        if let Some(w) = sorted.windows(2).find(|w| w[0] == w[1]) {
+        if let Some(v) = repeated(&ring, &mut scratch) {
             return Err(Error::Topology(format!(
-                "{op}: merging would fold face {} onto itself at vertex {} (two of its corners that are not \
+                "{op}: merging would fold face {} onto itself at vertex {v} (two of its corners that are not \
                  neighbours would become one)",
-                f.0, w[0]
+                f.0
             )));
         }
-        let points: Vec<DVec3> = ring.iter().map(|&v| draft.positions[v as usize]).collect();
-        let area: DVec3 = (0..points.len()).map(|k| points[k].cross(points[(k + 1) % points.len()])).sum();
-        let scale = (0..points.len()).map(|k| points[k].distance(points[(k + 1) % points.len()])).fold(0.0, f64::max);
+        let point = |k: usize| draft.positions[ring[k % ring.len()] as usize];
+        let area: DVec3 = (0..ring.len()).map(|k| point(k).cross(point(k + 1))).sum();
+        let scale = (0..ring.len()).map(|k| point(k).distance(point(k + 1))).fold(0.0, f64::max);
         if area.length() <= 1e-12 * scale * scale {
             return Err(Error::Topology(format!(
                 "{op}: merging would leave face {} with no area (its corners would lie on a line)",
@@ -184,6 +182,14 @@ fn merge(mesh: &PolyMesh, target: &[u32], kept: &[(VertexId, DVec3)], op: &'stat
     draft.finish()
 }
 
+/// A vertex that occurs twice in `ring`, if any (`scratch` is reused between calls).
+pub(super) fn repeated(ring: &[u32], scratch: &mut Vec<u32>) -> Option<u32> {
+    scratch.clear();
+    scratch.extend_from_slice(ring);
+    scratch.sort_unstable();
+    scratch.windows(2).find(|w| w[0] == w[1]).map(|w| w[0])
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -206,6 +212,17 @@ mod tests {
             let v =
                 m.vertices().find(|&v| edited.provenance.vertices[v.index()] == VertexOrigin::Merged(VertexId(kept)));
             assert_eq!(m.position(v.unwrap()), expected);
+            // The merged vertex keeps the tension of the first (the last for MergeAt::Last).
+            let tension: Vec<f64> = cube.vertices().map(|v| 1.0 + v.0 as f64).collect();
+            let carried = crate::mesh::edit::carry_vertex_property(
+                &tension,
+                &edited.provenance,
+                &crate::mesh::edit::CarryRule::new_elements(0.0),
+            )
+            .unwrap();
+            let at = m.vertices().find(|&v| m.position(v) == expected).unwrap();
+            assert_eq!(carried[at.index()], 1.0 + kept as f64);
+            assert!(!carried.contains(&(2.0 - kept as f64)), "the other vertex's value is gone");
         }
     }
 

@@ -22,9 +22,10 @@
 use super::Edited;
 use super::draft::Draft;
 use super::provenance::{FaceOrigin, VertexOrigin};
+use super::spatial::PointGrid;
 use crate::mesh::{PolyMesh, VertexId};
 use crate::{DVec3, Error, Result};
-use std::collections::{BTreeMap, HashMap};
+use std::collections::BTreeMap;
 
 /// Default tolerance of the mirror helpers, relative to the bounding-box diagonal.
 pub const DEFAULT_MIRROR_TOLERANCE: f64 = 1e-6;
@@ -108,33 +109,20 @@ fn absolute_tolerance(op: &str, mesh: &PolyMesh, plane: &MirrorPlane, tolerance:
 pub fn mirror_partners(mesh: &PolyMesh, plane: MirrorPlane, tolerance: f64) -> Result<Vec<MirrorPartner>> {
     let tol = absolute_tolerance("mirror", mesh, &plane, tolerance)?;
     let diagonal = mesh.bounding_diagonal();
-    let cell = tol.max(diagonal / 1024.0).max(f64::MIN_POSITIVE);
-    let key = |p: DVec3| (p / cell).floor().to_array().map(|c| c as i64);
+    let cell = (2.0 * tol).max(diagonal / 1024.0).max(f64::MIN_POSITIVE);
     let off_plane: Vec<bool> = mesh.positions().iter().map(|&p| plane.distance(p).abs() > tol).collect();
-    let mut grid: HashMap<[i64; 3], Vec<u32>> = HashMap::new();
-    for v in mesh.vertices().filter(|v| off_plane[v.index()]) {
-        grid.entry(key(mesh.position(v))).or_default().push(v.0);
-    }
+    let grid = PointGrid::new(mesh.positions(), mesh.vertices().filter(|v| off_plane[v.index()]).map(|v| v.0), cell);
     let nearest = |v: VertexId| -> Option<VertexId> {
         let target = plane.reflect(mesh.position(v));
         let side = plane.distance(mesh.position(v)).signum();
-        let k = key(target);
         let mut best: Option<(f64, u32)> = None;
-        for dx in -1..=1i64 {
-            for dy in -1..=1i64 {
-                for dz in -1..=1i64 {
-                    let at = [k[0].saturating_add(dx), k[1].saturating_add(dy), k[2].saturating_add(dz)];
-                    for &w in grid.get(&at).into_iter().flatten() {
-                        let p = mesh.position(VertexId(w));
-                        let d = p.distance(target);
-                        if w != v.0 && d <= tol && plane.distance(p).signum() != side && best.is_none_or(|b| (d, w) < b)
-                        {
-                            best = Some((d, w));
-                        }
-                    }
-                }
+        grid.near(target, |w| {
+            let p = mesh.position(VertexId(w));
+            let d = p.distance(target);
+            if w != v.0 && d <= tol && plane.distance(p).signum() != side && best.is_none_or(|b| (d, w) < b) {
+                best = Some((d, w));
             }
-        }
+        });
         best.map(|(_, w)| VertexId(w))
     };
     let candidate: Vec<Option<VertexId>> =
@@ -343,6 +331,23 @@ mod tests {
         for v in m.vertices() {
             if let VertexOrigin::MirrorOf(s) = edited.provenance.vertices[v.index()] {
                 assert_eq!(m.position(v), plane.reflect(half.position(s)));
+            }
+        }
+        // Mirrored edges carry the tension of their source, found by reflected positions.
+        let tension: Vec<f64> = half.edges().map(|e| 1.0 + e.0 as f64).collect();
+        let carried = crate::mesh::edit::carry_edge_property(
+            &tension,
+            &edited.provenance,
+            &crate::mesh::edit::CarryRule::new_elements(0.0),
+        )
+        .unwrap();
+        let at = |p: DVec3| m.vertices().find(|&v| m.position(v) == p).unwrap();
+        for e in half.edges() {
+            let (a, b) = half.edge_vertices(e);
+            for image in [|p: DVec3| p, |p: DVec3| MirrorPlane::new(Axis::X, 0.0).reflect(p)] {
+                let (x, y) = (at(image(half.position(a))), at(image(half.position(b))));
+                let there = m.find_halfedge(x, y).unwrap().edge();
+                assert_eq!(carried[there.index()], tension[e.index()]);
             }
         }
         // The edges on the plane are the old ones, now with a face on each side.

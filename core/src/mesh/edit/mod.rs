@@ -28,6 +28,7 @@ mod merge;
 mod mirror;
 mod orient;
 pub mod provenance;
+mod spatial;
 mod split;
 mod triangulate;
 
@@ -60,7 +61,8 @@ use crate::mesh::PolyMesh;
 /// The result of an edit: the new cage and where each of its elements came from.
 #[derive(Clone, Debug)]
 pub struct Edited {
-    /// The edited cage (a new topology generation).
+    /// The edited cage: a new topology generation, unless the edit found nothing to change
+    /// (merge by distance with nothing close, join with no pair to join), which returns a copy.
     pub mesh: PolyMesh,
     /// Origins of its vertices, edges and faces in the cage before the edit.
     pub provenance: Provenance,

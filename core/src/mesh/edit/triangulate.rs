@@ -4,7 +4,8 @@
 //! and gives overlapping triangles on a non-convex one. [`Triangulation::ShortestDiagonal`]
 //! clips ears (a corner whose two neighbours can be joined inside the face): of the convex
 //! corners whose ear holds no other corner, the one with the shortest diagonal goes first, so a
-//! quad is cut along its shorter diagonal and thin slivers are avoided where the shape allows.
+//! quad is cut along its shorter diagonal and thin slivers are avoided where the shape allows
+//! (diagonals within a relative 1e-9 of each other tie, and the first corner wins).
 //! Corners are tested in the face's mean plane (Newell normal), so a strongly warped face is
 //! cut as its projection. A diagonal that already exists as another edge of the cage is never
 //! used (it would double the edge); a fan that would need one is refused naming the face.
@@ -56,6 +57,7 @@ pub fn triangulate(mesh: &PolyMesh, faces: Option<&[FaceId]>, method: Triangulat
                 }
                 triangles.extend((1..ring.len() - 1).map(|k| [ring[0], ring[k], ring[k + 1]]));
             }
+            Triangulation::ShortestDiagonal if ring.len() == 4 && split_quad(mesh, f, &ring, &mut triangles) => {}
             Triangulation::ShortestDiagonal => clip_ears(mesh, f, &ring, &mut triangles).ok_or_else(|| {
                 Error::Topology(format!(
                     "{OP}: face {} cannot be cut into triangles without doubling an existing edge",
@@ -72,6 +74,28 @@ pub fn triangulate(mesh: &PolyMesh, faces: Option<&[FaceId]>, method: Triangulat
 
 fn joined(mesh: &PolyMesh, a: u32, b: u32) -> bool {
     mesh.find_halfedge(VertexId(a), VertexId(b)).is_some()
+}
+
+/// A quad cut along its shorter diagonal (ties to the one from the first corner) when that
+/// diagonal lies inside it and is not an edge already, else along the other one under the same
+/// conditions; false when neither qualifies (ear clipping then decides). Quads are most faces
+/// of a cage, so this spares [`clip_ears`]'s allocations.
+fn split_quad(mesh: &PolyMesh, f: FaceId, ring: &[u32], out: &mut Vec<[u32; 3]>) -> bool {
+    let p: [DVec3; 4] = std::array::from_fn(|k| mesh.position(VertexId(ring[k])));
+    let normal = mesh.face_area_vector(f);
+    let inside = |k: usize| {
+        let (a, b, c, d) = (p[k], p[(k + 1) % 4], p[(k + 2) % 4], p[(k + 3) % 4]);
+        (b - a).cross(c - a).dot(normal) > 0.0 && (c - a).cross(d - a).dot(normal) > 0.0
+    };
+    let (d02, d13) = (p[0].distance(p[2]), p[1].distance(p[3]));
+    let order = if d02 <= d13 * (1.0 + 1e-9) { [0, 1] } else { [1, 0] };
+    for k in order {
+        if inside(k) && !joined(mesh, ring[k], ring[k + 2]) {
+            out.extend([[ring[k], ring[k + 1], ring[k + 2]], [ring[k + 2], ring[(k + 3) % 4], ring[k]]]);
+            return true;
+        }
+    }
+    false
 }
 
 /// Ear clipping of one face; `None` when every remaining diagonal already exists.
@@ -108,10 +132,14 @@ fn clip_ears(mesh: &PolyMesh, f: FaceId, ring: &[u32], out: &mut Vec<[u32; 3]>) 
     };
     let mut ranks: Vec<(u8, f64)> = (0..n).map(|i| rank(i, &prev, &next, &alive)).collect();
     let mut left = n;
+    // The lowest tier, then the shortest diagonal; lengths within a relative 1e-9 of the
+    // shortest count as equal and the first corner wins, so a symmetric face (a rectangle, a
+    // regular polygon) is cut the same way after rounding moves its lengths apart.
     let pick = |ranks: &[(u8, f64)], alive: &[bool]| {
-        (0..n)
-            .filter(|&i| alive[i])
-            .min_by(|&i, &j| ranks[i].0.cmp(&ranks[j].0).then(ranks[i].1.total_cmp(&ranks[j].1)).then(i.cmp(&j)))
+        let live = || (0..n).filter(|&i| alive[i]);
+        let tier = live().map(|i| ranks[i].0).min()?;
+        let shortest = live().filter(|&i| ranks[i].0 == tier).map(|i| ranks[i].1).fold(f64::INFINITY, f64::min);
+        live().find(|&i| ranks[i].0 == tier && ranks[i].1 <= shortest * (1.0 + 1e-9))
     };
     while left > 3 {
         let mut best = pick(&ranks, &alive)?;
