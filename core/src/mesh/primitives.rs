@@ -30,7 +30,7 @@ fn check_length(what: &str, x: f64) -> Result<()> {
     if x.is_finite() && x > 0.0 {
         Ok(())
     } else {
-        Err(Error::Input(format!("{what} must be a finite length greater than 0, not {x}")))
+        Err(Error::Input(format!("{what} must be a finite length greater than 0, not {x:?}")))
     }
 }
 
@@ -135,7 +135,7 @@ pub fn torus(major_segments: u32, minor_segments: u32, major_radius: f64, minor_
     check_length("the torus's tube radius", minor_radius)?;
     if minor_radius >= major_radius {
         return Err(Error::Input(format!(
-            "the torus's tube radius ({minor_radius}) must be smaller than its radius ({major_radius}), or the \
+            "the torus's tube radius ({minor_radius:?}) must be smaller than its radius ({major_radius:?}), or the \
              tube would pass through itself"
         )));
     }

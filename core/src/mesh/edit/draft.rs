@@ -234,7 +234,9 @@ pub(super) fn check_fraction(op: &str, t: f64) -> Result<()> {
     if t.is_finite() && t > 0.0 && t < 1.0 {
         Ok(())
     } else {
-        Err(Error::Input(format!("{op}: the position along the edge must be between 0 and 1 (not at an end), not {t}")))
+        Err(Error::Input(format!(
+            "{op}: the position along the edge must be between 0 and 1 (not at an end), not {t:?}"
+        )))
     }
 }
 

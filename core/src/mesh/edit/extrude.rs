@@ -134,7 +134,7 @@ fn check_distance(op: &str, distance: f64) -> Result<()> {
         Ok(())
     } else {
         Err(Error::Input(format!(
-            "{op}: the distance must be a finite non-zero number (negative extrudes inward), not {distance}"
+            "{op}: the distance must be a finite non-zero number (negative extrudes inward), not {distance:?}"
         )))
     }
 }

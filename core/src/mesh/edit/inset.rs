@@ -26,7 +26,7 @@ pub fn inset_faces(mesh: &PolyMesh, faces: &[FaceId], grouping: FaceGrouping, th
     const OP: &str = "inset faces";
     if !(thickness.is_finite() && thickness > 0.0) {
         return Err(Error::Input(format!(
-            "{OP}: the thickness must be a finite number greater than 0, not {thickness}"
+            "{OP}: the thickness must be a finite number greater than 0, not {thickness:?}"
         )));
     }
     let mut lift = lift(mesh, faces, grouping, OP)?;
@@ -35,6 +35,9 @@ pub fn inset_faces(mesh: &PolyMesh, faces: &[FaceId], grouping: FaceGrouping, th
     }
     for c in &lift.copies {
         let v = c.source;
+        if !c.incoming.is_valid() || !c.outgoing.is_valid() {
+            return Err(Error::Topology(format!("{OP}: no border edges found at vertex {} of the selection", v.0)));
+        }
         let n = c.area.normalize_or_zero();
         let p = mesh.position(v);
         let d_in = (p - mesh.position(mesh.from_vertex(c.incoming))).normalize_or_zero();
@@ -62,7 +65,7 @@ fn check_not_folded(old: &PolyMesh, edited: &Edited, mask: &[bool], thickness: f
     let new = &edited.mesh;
     let too_thick = |f: FaceId| {
         Error::Topology(format!(
-            "{OP}: a thickness of {thickness} turns face {} inside out (its inset copy would fold over); use a \
+            "{OP}: a thickness of {thickness:?} turns face {} inside out (its inset copy would fold over); use a \
              smaller thickness",
             f.0
         ))

@@ -56,7 +56,7 @@ pub fn join_triangles(mesh: &PolyMesh, edges: Option<&[EdgeId]>, params: &JoinPa
     const OP: &str = "join triangles";
     if !(params.max_fold.is_finite() && params.max_fold >= 0.0) {
         return Err(Error::Input(format!(
-            "{OP}: the largest fold angle must be a finite angle ≥ 0, not {}",
+            "{OP}: the largest fold angle must be a finite angle ≥ 0, not {:?}",
             params.max_fold
         )));
     }

@@ -66,12 +66,14 @@ pub fn merge_by_distance(mesh: &PolyMesh, vertices: &[VertexId], threshold: f64)
     const OP: &str = "merge by distance";
     if !(threshold.is_finite() && threshold > 0.0) {
         return Err(Error::Input(format!(
-            "{OP}: the distance must be a finite number greater than 0, not {threshold}"
+            "{OP}: the distance must be a finite number greater than 0, not {threshold:?}"
         )));
     }
     let mask = vertex_mask(OP, mesh, vertices)?;
     let listed = || mesh.vertices().filter(|v| mask[v.index()]).map(|v| v.0);
-    let grid = PointGrid::new(mesh.positions(), listed(), 2.0 * threshold);
+    // Cells no finer than a billionth of the cage, so a tiny threshold cannot overflow the keys.
+    let cell = (2.0 * threshold).max(1e-9 * mesh.bounding_diagonal()).max(f64::MIN_POSITIVE);
+    let grid = PointGrid::new(mesh.positions(), listed(), cell);
     let mut parent: Vec<u32> = (0..mesh.vertex_count() as u32).collect();
     fn root(parent: &mut [u32], mut v: u32) -> u32 {
         while parent[v as usize] != v {

@@ -80,7 +80,7 @@ impl MirrorPlane {
         q
     }
     fn describe(&self) -> String {
-        format!("{} = {}", self.axis.name(), self.offset)
+        format!("{} = {:?}", self.axis.name(), self.offset)
     }
 }
 
@@ -97,10 +97,10 @@ pub enum MirrorPartner {
 
 fn absolute_tolerance(op: &str, mesh: &PolyMesh, plane: &MirrorPlane, tolerance: f64) -> Result<f64> {
     if !(tolerance.is_finite() && tolerance >= 0.0) {
-        return Err(Error::Input(format!("{op}: the tolerance must be a finite number ≥ 0, not {tolerance}")));
+        return Err(Error::Input(format!("{op}: the tolerance must be a finite number ≥ 0, not {tolerance:?}")));
     }
     if !plane.offset.is_finite() {
-        return Err(Error::Input(format!("{op}: the mirror plane's offset must be finite, not {}", plane.offset)));
+        return Err(Error::Input(format!("{op}: the mirror plane's offset must be finite, not {:?}", plane.offset)));
     }
     Ok(tolerance * mesh.bounding_diagonal())
 }
@@ -245,7 +245,7 @@ pub fn mirror_moves(
             )));
         }
         if !p.is_finite() {
-            return Err(Error::Input(format!("mirror: the new position of vertex {} is not finite ({p})", v.0)));
+            return Err(Error::Input(format!("mirror: the new position of vertex {} is not finite ({p:?})", v.0)));
         }
         wanted.insert(v.0, p);
     }

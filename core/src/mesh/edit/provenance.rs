@@ -56,7 +56,8 @@ pub enum VertexOrigin {
 pub enum EdgeOrigin {
     /// The old edge, perhaps with moved ends.
     Same(EdgeId),
-    /// A copy of the old edge between copies of its ends (extrusion cap, inset ring).
+    /// A copy of the old edge between copies of its ends (extrusion cap, inset ring), or an
+    /// edge inside an extruded region whose ends moved with it (one a copy, one the old vertex).
     CopyOf(EdgeId),
     /// The mirror image of the old edge.
     MirrorOf(EdgeId),

@@ -384,3 +384,33 @@ fn every_edit_on_every_fixture_has_the_expected_counts() {
         assert!(!edited.mesh.is_closed(), "{name} / delete opens the cage");
     }
 }
+
+#[test]
+fn hostile_parameters_give_a_valid_cage_or_one_line() {
+    let (cube, g) = (cube(), grid(3));
+    let huge = 1e308;
+    let results: Vec<(&str, &PolyMesh, crate::Result<Edited>)> = vec![
+        ("extrude huge", &cube, extrude_faces(&cube, &[FaceId(0)], FaceGrouping::Region, huge)),
+        ("extrude tiny", &cube, extrude_faces(&cube, &[FaceId(0)], FaceGrouping::Region, 1e-300)),
+        ("edge extrude huge", &g, extrude_boundary_edges(&g, &[EdgeId(0)], -huge)),
+        ("inset huge", &cube, inset_faces(&cube, &[FaceId(0)], FaceGrouping::Region, huge)),
+        ("inset tiny", &cube, inset_faces(&cube, &[FaceId(0)], FaceGrouping::Region, 1e-300)),
+        ("loop cut far edge", &cube, loop_cut(&cube, EdgeId(u32::MAX - 1), 0.5)),
+        ("split nearly at an end", &cube, split_edges(&cube, &[EdgeId(0)], 1e-300)),
+        ("merge by a huge distance", &cube, merge_by_distance(&cube, &cube.vertices().collect::<Vec<_>>(), huge)),
+        ("merge by a tiny distance", &g, merge_by_distance(&g, &g.vertices().collect::<Vec<_>>(), 1e-300)),
+        ("mirror far away", &g, apply_mirror(&g, MirrorPlane::new(Axis::Z, -huge), 0.0)),
+        ("mirror huge tolerance", &g, apply_mirror(&g, MirrorPlane::new(Axis::X, 0.0), huge)),
+        ("join with no fold", &g, join_triangles(&g, None, &JoinParams { max_fold: 0.0 })),
+        ("join with any fold", &cube, join_triangles(&cube, None, &JoinParams { max_fold: 1e9 })),
+    ];
+    for (what, old, result) in results {
+        match result {
+            Ok(edited) => check(old, &edited),
+            Err(e) => {
+                let text = e.to_string();
+                assert!(!text.is_empty() && !text.contains('\n') && text.len() < 300, "{what}: {text}");
+            }
+        }
+    }
+}
