@@ -209,7 +209,8 @@ pub(super) fn mask(
     for i in selected {
         if i >= count {
             return Err(Error::Input(format!(
-                "{op}: {what} {i} does not exist (the cage has {count} {what}s, numbered from 0)"
+                "{op}: {what} {i} does not exist (the cage has {count} {}, numbered from 0)",
+                if what == "vertex" { "vertices".to_string() } else { format!("{what}s") }
             )));
         }
         mask[i] = true;

@@ -181,7 +181,14 @@ fn merge(mesh: &PolyMesh, target: &[u32], kept: &[(VertexId, DVec3)], op: &'stat
     for v in mesh.vertices().filter(|v| target[v.index()] != v.0) {
         draft.remove_vertex(v);
     }
-    draft.finish()
+    // The builder's advice (split the vertex, flip a face) does not fit a merge: replace it.
+    draft.finish().map_err(|e| match e {
+        Error::Topology(m) => Error::Topology(format!(
+            "{}; the merge is refused, as the cage must stay a manifold surface",
+            m.split(';').next().unwrap_or(&m)
+        )),
+        other => other,
+    })
 }
 
 /// A vertex that occurs twice in `ring`, if any (`scratch` is reused between calls).

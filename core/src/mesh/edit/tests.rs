@@ -140,6 +140,7 @@ fn bad_requests_leave_the_cage_untouched_with_one_line() {
         ("delete everything", delete_faces(&cube, &all_faces)),
         ("delete nothing", delete_edges(&cube, &[])),
         ("dissolve out of range", dissolve_vertices(&cube, &[VertexId(8)])),
+        ("delete out of range", delete_vertices(&cube, &[VertexId(8)])),
         ("merge non-manifold", merge_vertices(&cube, &[VertexId(0), VertexId(7)], MergeAt::Centre)),
         ("merge fold", merge_vertices(&cube, &[VertexId(1), VertexId(2)], MergeAt::First)),
         ("merge NaN", merge_by_distance(&cube, &[VertexId(0)], f64::NAN)),
@@ -153,6 +154,8 @@ fn bad_requests_leave_the_cage_untouched_with_one_line() {
         let err = result.expect_err(what).to_string();
         assert!(!err.is_empty() && !err.contains('\n') && err.len() < 300, "{what}: {err}");
     }
+    let err = dissolve_vertices(&cube, &[VertexId(8)]).unwrap_err().to_string();
+    assert!(err.ends_with("vertex 8 does not exist (the cage has 8 vertices, numbered from 0)"), "{err}");
     assert_eq!((cube.polygons(), cube.positions().to_vec(), cube.generation()), (polygons, positions, generation));
 }
 
