@@ -58,7 +58,9 @@ struct Table<'r> {
 
 impl Table<'_> {
     /// Times an edit and the reference alternately (so both see the same machine load) and
-    /// prints the edit's median and fastest time and its ratio to the reference's median.
+    /// prints the edit's fastest and median times and the ratio of the fastest edit to the
+    /// fastest reference (the fastest run is the one least disturbed by other work on the
+    /// machine, so it is the steadier measure on a shared one). The verdict is on the median.
     fn row(&mut self, name: &'static str, mut edit: impl FnMut() -> taut_core::Result<Edited>) {
         let mut faces = 0;
         let (mut edits, mut references) = (Vec::new(), Vec::new());
@@ -74,13 +76,13 @@ impl Table<'_> {
         }
         edits.sort();
         references.sort();
-        let (ms, fastest) = (edits[edits.len() / 2].as_secs_f64() * 1e3, edits[0].as_secs_f64() * 1e3);
-        let ratio = edits[edits.len() / 2].as_secs_f64() / references[references.len() / 2].as_secs_f64();
+        let (fastest, ms) = (edits[0].as_secs_f64() * 1e3, edits[edits.len() / 2].as_secs_f64() * 1e3);
+        let ratio = edits[0].as_secs_f64() / references[0].as_secs_f64();
         if ms > self.worst.0 {
             self.worst = (ms, name);
         }
         println!(
-            "  {name:<44} {ms:>7.2} ms (fastest {fastest:>6.2})  {ratio:>5.2}x rebuild  {faces:>6} faces  {}",
+            "  {name:<44} {fastest:>6.2} ms (median {ms:>6.2})  {ratio:>5.2}x rebuild  {faces:>6} faces  {}",
             if ms <= 16.0 { "within a frame" } else { "OVER 16 ms" }
         );
     }
@@ -93,11 +95,21 @@ fn main() {
     let ring = torus(200, 100, 2.0, 0.6).unwrap();
     let reference = Reference::new(&ring);
     let rebuild = median(repeats, || reference.run());
+    let fastest_rebuild = (0..repeats)
+        .map(|_| {
+            let t = Instant::now();
+            reference.run();
+            t.elapsed()
+        })
+        .min()
+        .unwrap();
     println!(
-        "threads: {}; torus cage: {} faces, {} vertices; rebuild from its face list (the reference) {:.2} ms",
+        "threads: {}; torus cage: {} faces, {} vertices; rebuild from its face list (the reference) {:.2} ms \
+         (median {:.2})",
         rayon::current_num_threads(),
         ring.face_count(),
         ring.vertex_count(),
+        fastest_rebuild.as_secs_f64() * 1e3,
         rebuild.as_secs_f64() * 1e3
     );
     let mut table = Table { reference: &reference, repeats, worst: (0.0, "") };
@@ -119,6 +131,7 @@ fn main() {
     table.row("delete 50 x 50 patch", || delete_faces(&ring, &patch));
     table.row("delete one vertex", || delete_vertices(&ring, &[VertexId(5)]));
     table.row("dissolve one edge", || dissolve_edges(&ring, &[EdgeId(7)]));
+    table.row("dissolve a 50 x 50 patch into one face", || dissolve_faces(&ring, &patch));
     table.row("dissolve one vertex", || dissolve_vertices(&ring, &[VertexId(5)]));
     table.row("merge two vertices (collapse an edge)", || {
         merge_vertices(&ring, &[VertexId(0), VertexId(1)], MergeAt::Centre)
@@ -159,5 +172,5 @@ fn main() {
         partners_time.as_secs_f64() * 1e3,
         moves_time.as_secs_f64() * 1e3
     );
-    println!("slowest edit: {} at {:.2} ms (budget 16 ms)", table.worst.1, table.worst.0);
+    println!("slowest median: {} at {:.2} ms (budget 16 ms)", table.worst.1, table.worst.0);
 }

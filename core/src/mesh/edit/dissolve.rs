@@ -1,10 +1,12 @@
-//! Dissolving edges and vertices: the surface stays closed, with fewer, larger faces.
+//! Dissolving edges, faces and vertices: the surface stays closed, with fewer, larger faces.
 //!
 //! Dissolving edges merges the faces on their sides: faces joined through dissolved edges form a
 //! group, and the group's one border loop — traced through halfedges whose other side is outside
 //! the group — becomes one face (the first face of the group, by number, gives its values).
 //! Edges with the group on both sides go with it, so dissolving three of the four edges round a
 //! grid vertex still gives one octagon, and vertices left inside are removed.
+//!
+//! Dissolving faces merges each connected group of them the same way.
 //!
 //! Dissolving a vertex merges the faces around it into one and removes it: where it had two
 //! edges (the middle of a split edge) its two edges become one instead
@@ -37,6 +39,25 @@ pub fn dissolve_edges(mesh: &PolyMesh, edges: &[EdgeId]) -> Result<Edited> {
             )));
         }
         groups.union(f, g);
+    }
+    merge_groups(mesh, groups, &vec![false; mesh.vertex_count()], &[], OP)
+}
+
+/// Merges each group of selected faces joined through shared edges into one face.
+pub fn dissolve_faces(mesh: &PolyMesh, faces: &[FaceId]) -> Result<Edited> {
+    const OP: &str = "dissolve faces";
+    let mask = super::draft::face_mask(OP, mesh, faces)?;
+    let mut groups = FaceUnion::new(mesh.face_count());
+    let mut joined = false;
+    for e in mesh.edges() {
+        let (f, g) = (mesh.face(e.halfedge(0)), mesh.face(e.halfedge(1)));
+        if f.is_valid() && g.is_valid() && mask[f.index()] && mask[g.index()] {
+            groups.union(f, g);
+            joined = true;
+        }
+    }
+    if !joined {
+        return Err(Error::Input(format!("{OP}: no two of the selected faces share an edge; select neighbours")));
     }
     merge_groups(mesh, groups, &vec![false; mesh.vertex_count()], &[], OP)
 }
@@ -227,6 +248,21 @@ mod tests {
         assert!(edited.mesh.is_closed());
         assert_eq!(edited.mesh.faces().filter(|&f| edited.mesh.face_valence(f) == 6).count(), 1);
         assert!(edited.provenance.faces.contains(&FaceOrigin::Merged(FaceId(0))));
+    }
+
+    #[test]
+    fn dissolving_faces_merges_each_connected_group() {
+        let g = grid(3);
+        // Faces 0, 1 (a row pair) and 8 (alone, nothing to merge with).
+        let edited = dissolve_faces(&g, &[FaceId(0), FaceId(1), FaceId(8)]).unwrap();
+        check(&g, &edited);
+        assert_eq!(counts(&edited.mesh), (16, 23, 8));
+        assert_eq!(edited.mesh.face_valence(FaceId(0)), 6);
+        let err = dissolve_faces(&g, &[FaceId(0), FaceId(8)]).unwrap_err().to_string();
+        assert!(err.contains("share an edge"), "{err}");
+        // A 2 × 2 block: the middle vertex goes.
+        let block = dissolve_faces(&g, &[FaceId(0), FaceId(1), FaceId(3), FaceId(4)]).unwrap();
+        assert_eq!(counts(&block.mesh), (15, 20, 6));
     }
 
     #[test]

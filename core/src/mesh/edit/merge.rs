@@ -72,7 +72,7 @@ pub fn merge_by_distance(mesh: &PolyMesh, vertices: &[VertexId], threshold: f64)
     let mask = vertex_mask(OP, mesh, vertices)?;
     let listed = || mesh.vertices().filter(|v| mask[v.index()]).map(|v| v.0);
     // Cells no finer than a billionth of the cage, so a tiny threshold cannot overflow the keys.
-    let cell = (2.0 * threshold).max(1e-9 * mesh.bounding_diagonal()).max(f64::MIN_POSITIVE);
+    let cell = (8.0 * threshold).max(1e-9 * mesh.bounding_diagonal()).max(f64::MIN_POSITIVE);
     let grid = PointGrid::new(mesh.positions(), listed(), cell);
     let mut parent: Vec<u32> = (0..mesh.vertex_count() as u32).collect();
     fn root(parent: &mut [u32], mut v: u32) -> u32 {
@@ -84,7 +84,7 @@ pub fn merge_by_distance(mesh: &PolyMesh, vertices: &[VertexId], threshold: f64)
     }
     for v in listed() {
         let p = mesh.positions()[v as usize];
-        grid.near(p, |w| {
+        grid.near(p, threshold, |w| {
             if w < v && mesh.positions()[w as usize].distance(p) <= threshold {
                 let (rv, rw) = (root(&mut parent, v), root(&mut parent, w));
                 parent[rv.max(rw) as usize] = rv.min(rw);

@@ -109,14 +109,14 @@ fn absolute_tolerance(op: &str, mesh: &PolyMesh, plane: &MirrorPlane, tolerance:
 pub fn mirror_partners(mesh: &PolyMesh, plane: MirrorPlane, tolerance: f64) -> Result<Vec<MirrorPartner>> {
     let tol = absolute_tolerance("mirror", mesh, &plane, tolerance)?;
     let diagonal = mesh.bounding_diagonal();
-    let cell = (2.0 * tol).max(diagonal / 1024.0).max(f64::MIN_POSITIVE);
+    let cell = (8.0 * tol).max(diagonal / 1024.0).max(f64::MIN_POSITIVE);
     let off_plane: Vec<bool> = mesh.positions().iter().map(|&p| plane.distance(p).abs() > tol).collect();
     let grid = PointGrid::new(mesh.positions(), mesh.vertices().filter(|v| off_plane[v.index()]).map(|v| v.0), cell);
     let nearest = |v: VertexId| -> Option<VertexId> {
         let target = plane.reflect(mesh.position(v));
         let side = plane.distance(mesh.position(v)).signum();
         let mut best: Option<(f64, u32)> = None;
-        grid.near(target, |w| {
+        grid.near(target, tol, |w| {
             let p = mesh.position(VertexId(w));
             let d = p.distance(target);
             if w != v.0 && d <= tol && plane.distance(p).signum() != side && best.is_none_or(|b| (d, w) < b) {

@@ -7,13 +7,28 @@
 //! fixed flags, tensions and crease sharpness across an edit with [`carry_vertex_property`],
 //! [`carry_edge_property`] and [`carry_face_property`], by the one rule in [`provenance`].
 //!
+//! | file | edits |
+//! | --- | --- |
+//! | `extrude.rs` | [`extrude_faces`] (region or individual), [`extrude_boundary_edges`] |
+//! | `inset.rs` | [`inset_faces`] (region or individual) |
+//! | `loop_cut.rs` | [`loop_cut`] |
+//! | `split.rs` | [`split_edges`], [`connect_vertices`] |
+//! | `delete.rs` | [`delete_vertices`], [`delete_edges`], [`delete_faces`] |
+//! | `dissolve.rs` | [`dissolve_edges`], [`dissolve_faces`], [`dissolve_vertices`] |
+//! | `merge.rs` | [`merge_vertices`] (centre, first, last), [`merge_by_distance`] |
+//! | `fill.rs` | [`fill_edges`], [`fill_vertices`] |
+//! | `orient.rs` | [`flip_normals`] |
+//! | `triangulate.rs`, `join.rs` | [`triangulate`] (fan, shortest diagonal), [`join_triangles`] |
+//! | `mirror.rs` | [`mirror_partners`], [`mirror_moves`], [`apply_mirror`] |
+//!
 //! Each edit builds the new face list in one pass over the old mesh and rebuilds the halfedge
-//! structure with [`PolyMesh::from_face_list`], so it is linear in the size of the cage (the
-//! bench `mesh_edit` times them on a 20 000-face cage); the rebuilt mesh is checked with
+//! structure with [`PolyMesh::from_face_list`] (`draft.rs`), so it is linear in the size of the
+//! cage (the bench `mesh_edit` times them on a 20 000-face cage); the rebuilt mesh is checked with
 //! [`PolyMesh::validate`] in debug builds. The operations follow Blender's edit mode where a
 //! designer would expect them to; where they differ (a pinched vertex after a delete is split, a
 //! loop cut that meets a triangle is refused rather than stopped) the file of the operation says
-//! so. The methods are standard mesh editing rather than from Taut's papers.
+//! so. The methods are standard mesh editing rather than from Taut's papers. Nothing here runs
+//! in parallel, so results do not depend on the number of threads.
 
 mod delete;
 mod dissolve;
@@ -38,7 +53,7 @@ mod fixtures;
 mod tests;
 
 pub use delete::{delete_edges, delete_faces, delete_vertices};
-pub use dissolve::{dissolve_edges, dissolve_vertices};
+pub use dissolve::{dissolve_edges, dissolve_faces, dissolve_vertices};
 pub use extrude::{MAX_MITRE, extrude_boundary_edges, extrude_faces};
 pub use fill::{fill_edges, fill_vertices};
 pub use inset::inset_faces;

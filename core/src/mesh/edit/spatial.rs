@@ -1,9 +1,10 @@
 //! A uniform grid over points for "which points lie within `r` of here" queries, used by merge
 //! by distance and by the mirror partner search.
 //!
-//! Cells are at least `2r` wide, so the ball of radius `r` round a query point overlaps at most
-//! two cells along each axis — its own and the neighbour on the side it is nearer to — and a
-//! query looks at eight cells. Points are sorted by cell once and each occupied cell maps to its
+//! Cells are at least `2r` wide (the callers make them about `8r`), so the ball of radius `r`
+//! round a query point overlaps at most two cells along each axis — its own and, when it crosses
+//! a wall, the neighbour beyond — and a query looks at one to eight cells, about two on average
+//! for cells `8r` wide. Points are sorted by cell once and each occupied cell maps to its
 //! run of that order through a hash map with a cheap multiplicative hash (cell keys are not
 //! attacker-chosen in a way that matters: a crowded cell only costs time). Linear for evenly
 //! spread points; all points in one cell degrade to quadratic, as any grid does.
@@ -79,18 +80,25 @@ impl PointGrid {
         PointGrid { cell, order: keyed.into_iter().map(|(_, i)| i).collect(), cells }
     }
 
-    /// Calls `visit` with every point in the cells the ball of radius `cell / 2` round `p`
-    /// overlaps (a superset of the points within that distance; the caller measures).
-    pub fn near(&self, p: DVec3, mut visit: impl FnMut(u32)) {
-        let scaled = p / self.cell;
+    /// Calls `visit` with every point in the cells that the ball of radius `r` (at most half a
+    /// cell) round `p` overlaps: a superset of the points within `r`, which the caller measures.
+    /// Along each axis that is the point's own cell and, when the ball crosses a wall, the one
+    /// beyond it, so with cells several radii wide most queries read one or two cells.
+    pub fn near(&self, p: DVec3, r: f64, mut visit: impl FnMut(u32)) {
+        debug_assert!(r <= 0.5 * self.cell);
         let base = cell_of(p, self.cell);
-        let side = (scaled - scaled.floor()).to_array().map(|f| if f < 0.5 { -1i64 } else { 1 });
-        for k in 0..8 {
-            let at: [i64; 3] =
-                std::array::from_fn(|a| if k >> a & 1 == 1 { base[a].saturating_add(side[a]) } else { base[a] });
-            if let Some(&(s, e)) = self.cells.get(&Cell(at)) {
-                for &i in &self.order[s as usize..e as usize] {
-                    visit(i);
+        let (lo, hi) = (cell_of(p - DVec3::splat(r), self.cell), cell_of(p + DVec3::splat(r), self.cell));
+        // Per axis: the offsets (−1, 0, +1) of the cells the interval [p − r, p + r] touches.
+        let span = |a: usize| (lo[a].saturating_sub(base[a]).max(-1))..=(hi[a].saturating_sub(base[a]).min(1));
+        for dx in span(0) {
+            for dy in span(1) {
+                for dz in span(2) {
+                    let at = [base[0].saturating_add(dx), base[1].saturating_add(dy), base[2].saturating_add(dz)];
+                    if let Some(&(s, e)) = self.cells.get(&Cell(at)) {
+                        for &i in &self.order[s as usize..e as usize] {
+                            visit(i);
+                        }
+                    }
                 }
             }
         }
@@ -117,14 +125,15 @@ mod tests {
         for _ in 0..600 {
             points.push(DVec3::new(unit(), unit(), unit()) * 3.0 - DVec3::splat(1.0));
         }
-        let r = 0.2;
-        let grid = PointGrid::new(&points, 0..points.len() as u32, 2.0 * r);
-        for (i, &p) in points.iter().enumerate() {
-            let mut seen = Vec::new();
-            grid.near(p, |j| seen.push(j));
-            for (j, &q) in points.iter().enumerate() {
-                if p.distance(q) <= r {
-                    assert!(seen.contains(&(j as u32)), "{i} misses {j}");
+        for (r, cell) in [(0.2, 0.4), (0.05, 0.4)] {
+            let grid = PointGrid::new(&points, 0..points.len() as u32, cell);
+            for (i, &p) in points.iter().enumerate() {
+                let mut seen = Vec::new();
+                grid.near(p, r, |j| seen.push(j));
+                for (j, &q) in points.iter().enumerate() {
+                    if p.distance(q) <= r {
+                        assert!(seen.contains(&(j as u32)), "{i} misses {j}");
+                    }
                 }
             }
         }

@@ -244,7 +244,7 @@ fn random_edit(m: &PolyMesh, rng: &mut Rng) -> (usize, crate::Result<Edited>) {
     let grouping = if rng.below(2) == 0 { FaceGrouping::Region } else { FaceGrouping::Individual };
     let t = 0.05 + 0.9 * rng.unit();
     let boundary: Vec<EdgeId> = m.edges().filter(|&e| m.is_boundary_edge(e)).collect();
-    let op = rng.below(17);
+    let op = rng.below(18);
     let result = match op {
         0 => extrude_faces(m, &faces, grouping, 0.2 + rng.unit()),
         1 => inset_faces(m, &faces, grouping, 0.05 * t),
@@ -271,6 +271,7 @@ fn random_edit(m: &PolyMesh, rng: &mut Rng) -> (usize, crate::Result<Edited>) {
         13 => flip_normals(m, if rng.below(2) == 0 { None } else { Some(&faces) }),
         14 => triangulate(m, Some(&faces), [Triangulation::Fan, Triangulation::ShortestDiagonal][rng.below(2)]),
         15 => join_triangles(m, None, &JoinParams::default()),
+        16 => dissolve_faces(m, &faces),
         _ => {
             let axis = [Axis::X, Axis::Y, Axis::Z][rng.below(3)];
             let lo = m.bounding_box().map_or(0.0, |(lo, _)| lo[axis as usize]);
@@ -283,7 +284,7 @@ fn random_edit(m: &PolyMesh, rng: &mut Rng) -> (usize, crate::Result<Edited>) {
 #[test]
 fn random_edit_sequences_keep_the_cage_valid() {
     let mut rng = Rng(0x7a07);
-    let mut applied = [0usize; 17];
+    let mut applied = [0usize; 18];
     for _ in 0..200 {
         let mut mesh = cube();
         for _ in 0..14 {
@@ -307,7 +308,6 @@ fn random_edit_sequences_keep_the_cage_valid() {
             }
         }
     }
-    println!("applied per op: {applied:?}");
     // Every kind of edit succeeded somewhere in the sequences.
     assert!(applied.iter().all(|&n| n > 0), "applied per op: {applied:?}");
 }
@@ -415,5 +415,41 @@ fn hostile_parameters_give_a_valid_cage_or_one_line() {
                 assert!(!text.is_empty() && !text.contains('\n') && text.len() < 300, "{what}: {text}");
             }
         }
+    }
+}
+
+#[test]
+fn the_smoothed_surface_of_a_mirrored_cage_is_mirror_symmetric() {
+    // An uneven open half-box (open at x = 0) with a tension here and there.
+    let mut half = delete_faces(&cube(), &[FaceId(4)]).unwrap().mesh;
+    for (v, d) in [(1u32, DVec3::new(0.3, -0.1, 0.0)), (7, DVec3::new(0.2, 0.15, 0.4)), (6, DVec3::new(0.0, 0.2, 0.1))]
+    {
+        let p = half.position(VertexId(v));
+        half.set_position(VertexId(v), p + d);
+    }
+    let mut doc = Document::new(half);
+    doc.fixed[5] = false;
+    doc.vertex_tension[3] = 0.8;
+    doc.set_edge_tension(VertexId(1), VertexId(3), 1.5).unwrap();
+    doc.settings.levels = 2;
+    let plane = MirrorPlane::new(Axis::X, 0.0);
+    let edited = apply_mirror(&doc.cage, plane, DEFAULT_MIRROR_TOLERANCE).unwrap();
+    let p = &edited.provenance;
+    let mirrored = Document {
+        fixed: carry_vertex_property(&doc.fixed, p, &CarryRule::new_elements(true)).unwrap(),
+        vertex_tension: carry_vertex_property(&doc.vertex_tension, p, &CarryRule::new_elements(0.0)).unwrap(),
+        edge_tension: carry_edge_property(&doc.edge_tension, p, &CarryRule::new_elements(0.0)).unwrap(),
+        cage: edited.mesh,
+        settings: doc.settings,
+    };
+    let mut solver = crate::nusd::surface::SurfaceSolver::new(&mirrored).unwrap();
+    solver.solve().unwrap();
+    let surface = solver.surface_positions();
+    let diagonal = mirrored.cage.bounding_diagonal();
+    assert!(surface.len() > 100);
+    for &q in surface {
+        let image = plane.reflect(q);
+        let nearest = surface.iter().map(|&r| r.distance(image)).fold(f64::INFINITY, f64::min);
+        assert!(nearest <= 1e-9 * diagonal, "{q}: its mirror image is {nearest} from the surface's vertices");
     }
 }
