@@ -26,7 +26,7 @@ use crate::{DVec3, Error, Result};
 pub const MAX_MITRE: f64 = 4.0;
 
 /// Extrudes faces by `distance` (negative: inward) along their normals, as one region or
-/// individually; the lifted faces keep their numbers' origins ([`FaceOrigin::Same`]) and each
+/// individually; the lifted faces keep their identity ([`FaceOrigin::Same`]) and each
 /// wall is [`FaceOrigin::SweptFrom`] the border edge it stands on.
 pub fn extrude_faces(mesh: &PolyMesh, faces: &[FaceId], grouping: FaceGrouping, distance: f64) -> Result<Edited> {
     const OP: &str = "extrude faces";
