@@ -12,7 +12,9 @@
 //! [`PolyMesh::topology_generation`] only when the connectivity is rebuilt.
 
 mod build;
+pub mod edit;
 mod handles;
+pub mod primitives;
 
 pub use handles::{EdgeId, FaceId, HalfedgeId, VertexId};
 
