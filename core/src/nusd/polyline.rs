@@ -27,6 +27,7 @@
 //! estimate, not a guaranteed bound.
 
 use super::convergence::{ConvergenceMonitor, WINDOW};
+use super::surface::frame::Frame;
 use super::{DEFAULT_LAMBDA_CURVE, DEFAULT_TOL, Spacing};
 use crate::{DVec3, Error, Result};
 
@@ -247,6 +248,33 @@ pub struct CurveSolution {
 /// `T = tol · bbox_diagonal`, or the iteration cap. On divergence the solve restarts from the
 /// initial placement with half the λ; below [`MIN_LAMBDA`] it fails with [`Error::Solver`].
 pub fn smooth(control: &Polyline, settings: &CurveSettings) -> Result<CurveSolution> {
+    // A curve of extreme size is solved scaled by a power of two, exactly, as surfaces are
+    // (see `surface::frame`): `K` grows as the square of the spacing and would underflow or
+    // overflow, but every step of the method commutes with the scaling.
+    let finite = control.points.iter().all(|p| p.is_finite());
+    let (lo, hi) = bounding_box(&control.points);
+    let frame = if finite && !control.points.is_empty() { Frame::for_box(lo, hi) } else { Frame::default() };
+    if frame.is_identity() {
+        return smooth_in_range(control, settings);
+    }
+    let scaled = Polyline { points: control.points.iter().map(|&p| frame.to_internal(p)).collect(), ..control.clone() };
+    let mut solution = smooth_in_range(&scaled, settings)?;
+    for (i, p) in solution.curve.points.iter_mut().enumerate() {
+        *p = frame.position_out(*p);
+        if solution.curve.fixed[i] && i % (settings.insert + 1) == 0 {
+            *p = control.points[i / (settings.insert + 1)];
+        }
+    }
+    for r in &mut solution.second_derivatives {
+        *r = frame.second_derivative_out(*r, settings.spacing);
+    }
+    solution.last_step = frame.length_out(solution.last_step);
+    solution.remaining_estimate = frame.length_out(solution.remaining_estimate);
+    solution.threshold = frame.length_out(solution.threshold);
+    Ok(solution)
+}
+
+fn smooth_in_range(control: &Polyline, settings: &CurveSettings) -> Result<CurveSolution> {
     control.validate()?;
     settings.validate()?;
     let curve = control.with_inserted(settings.insert)?;
