@@ -2,7 +2,7 @@
 //! reference: hand-computed values, uniform B-splines and box-spline masks evaluated here, many
 //! further subdivision steps, transformed copies, a second thread count.
 
-use taut_core::subdiv::{RefinedPositions, Refinement, Scheme, catmull_clark_limit};
+use taut_core::subdiv::{RefinedPositions, Refinement, Scheme, Triangulation, catmull_clark_limit, loop_limit_matrix, triangulate};
 use taut_core::{DVec3, HalfedgeId, PolyMesh, VertexId};
 use taut_tests::{cube, grid, prism, transformed};
 
@@ -246,4 +246,121 @@ fn catmull_clark_limit_helper_agrees_with_the_refinement() {
     }
     let err = catmull_clark_limit(&cage, VertexId(0)).unwrap_err().to_string();
     assert!(err.contains("5 sides") && err.contains("subdivide once"), "{err}");
+}
+
+/// A regular tetrahedron centred at the origin, outward triangles.
+fn tetrahedron() -> PolyMesh {
+    let p = vec![DVec3::new(1.0, 1.0, 1.0), DVec3::new(1.0, -1.0, -1.0), DVec3::new(-1.0, 1.0, -1.0), DVec3::new(-1.0, -1.0, 1.0)];
+    PolyMesh::from_polygons(p, &[[0, 1, 2], [0, 3, 1], [0, 2, 3], [1, 3, 2]]).unwrap()
+}
+
+/// A triangulated bumpy grid whose interior vertices all have valence 6.
+fn triangle_grid(n: u32) -> PolyMesh {
+    triangulate(&bumpy_grid(n), Triangulation::Fan).unwrap()
+}
+
+#[test]
+fn loop_first_level_of_a_tetrahedron_by_hand() {
+    let cage = tetrahedron();
+    assert!(cage.vertex_normals()[0].dot(DVec3::ONE) > 0.0, "the fixture is outward");
+    let (r, out) = refine(&cage, Scheme::Loop, &[], 1);
+    // Valence 3: β = (5/8 − (3/8 − 1/8)²)/3 = 3/16, so v' = 7/16 v + 3/16 Σ e = v/4 (Σ e = −v).
+    for v in cage.vertices() {
+        assert!((out.levels[1][v.index()] - 0.25 * cage.position(v)).length() < 1e-15);
+    }
+    // Edge point 3/8 (a + b) + 1/8 (c + d) = (a + b)/4, since c + d = −(a + b).
+    for e in cage.edges() {
+        let (a, b) = cage.edge_vertices(e);
+        let expected = 0.25 * (cage.position(a) + cage.position(b));
+        assert!((out.levels[1][r.split(1).edge_point(e).index()] - expected).length() < 1e-15);
+    }
+    assert_eq!((r.mesh(1).vertex_count(), r.mesh(1).face_count()), (10, 16));
+    assert!(r.mesh(1).faces().all(|f| r.mesh(1).face_valence(f) == 3));
+}
+
+#[test]
+fn loop_regular_limit_mask_is_one_half_and_one_twelfth() {
+    let cage = triangle_grid(6);
+    let (r, _) = refine(&cage, Scheme::Loop, &[], 1);
+    let level = r.mesh(1);
+    let rows = &r.limit_stencils().positions;
+    let mut regular = 0;
+    for v in level.vertices().filter(|&v| !level.is_boundary_vertex(v) && level.valence(v) == 6) {
+        for (c, w) in rows.row(v.index()) {
+            let expected = if c == v.0 { 0.5 } else { 1.0 / 12.0 };
+            assert!((w - expected).abs() < 1e-15, "vertex {v:?}: weight {w} on {c}");
+        }
+        regular += 1;
+    }
+    assert!(regular > 50);
+}
+
+#[test]
+fn loop_limit_points_and_normals_match_deep_subdivision() {
+    let cages = [tetrahedron(), triangulate(&prism(5, 1.0, 1.5), Triangulation::ShortestDiagonal).unwrap(), triangle_grid(3)];
+    for cage in &cages {
+        let size = cage.bounding_diagonal();
+        let (r, out) = refine(cage, Scheme::Loop, &[], 1);
+        let (near, _) = deeper(cage, Scheme::Loop, &[], 1, 4);
+        let (deep, deep_normals) = deeper(cage, Scheme::Loop, &[], 1, 6);
+        let (mut distance, mut nearer, mut normal) = (0.0f64, 0.0f64, 0.0f64);
+        for v in 0..r.mesh(1).vertex_count() {
+            distance = distance.max((out.limit[v] - deep[v]).length() / size);
+            nearer = nearer.max((out.limit[v] - near[v]).length() / size);
+            if !r.mesh(1).is_boundary_vertex(VertexId(v as u32)) {
+                normal = normal.max(angle(out.normals[v], deep_normals[v]));
+            }
+        }
+        let faces = cage.face_count();
+        assert!(distance < 1e-4 && 3.0 * distance < nearer, "{faces} faces: {distance:.2e} after 6, {nearer:.2e} after 4");
+        assert!(normal < 1e-4, "{faces} faces: normals {normal:.2e} rad from the deep mesh's");
+    }
+}
+
+#[test]
+fn loop_limit_of_the_cage_equals_the_limit_matrix() {
+    for cage in [tetrahedron(), triangle_grid(3)] {
+        let (_, out) = refine(&cage, Scheme::Loop, &[], 0);
+        let m = loop_limit_matrix(&cage).unwrap().apply(cage.positions());
+        for (a, b) in out.limit.iter().zip(&m) {
+            assert!((*a - *b).length() < 1e-15);
+        }
+    }
+}
+
+#[test]
+fn loop_open_boundary_is_the_cubic_bspline_and_affine_maps_are_reproduced() {
+    let cage = triangle_grid(4);
+    let levels = 3;
+    let (r, out) = refine(&cage, Scheme::Loop, &[], levels);
+    let start = cage.edges().map(|e| e.halfedge(0)).chain(cage.edges().map(|e| e.halfedge(1)));
+    let start = start.into_iter().find(|&h| cage.is_boundary_halfedge(h)).unwrap();
+    let hs = boundary_loop(&cage, start);
+    let polygon: Vec<DVec3> = hs.iter().map(|&h| cage.position(cage.from_vertex(h))).collect();
+    for (i, &h) in hs.iter().enumerate() {
+        let mut chain = r.cage_edge_chain(h.edge(), levels).unwrap();
+        if chain[0] != cage.from_vertex(h) {
+            chain.reverse();
+        }
+        for (k, v) in chain.iter().enumerate() {
+            let expected = closed_bspline(&polygon, i, k as f64 / 8.0);
+            assert!((out.limit[v.index()] - expected).length() < 1e-12, "span {i}, point {k}");
+        }
+    }
+    let affine = |p: DVec3| DVec3::new(p.x - 2.0 * p.y, 0.5 * p.z + p.x, 3.0 * p.y + 1.0);
+    let (_, moved) = refine(&transformed(&cage, affine), Scheme::Loop, &[], levels);
+    for (a, b) in out.finest().iter().zip(moved.finest()).chain(out.limit.iter().zip(&moved.limit)) {
+        assert!((affine(*a) - *b).length() < 1e-12);
+    }
+    for l in 0..=levels {
+        assert_eq!(r.mesh(l).euler_characteristic(), cage.euler_characteristic());
+    }
+}
+
+#[test]
+fn loop_refuses_quads_with_a_hint_to_triangulate() {
+    for levels in [0, 2] {
+        let err = Refinement::new(&cube(), Scheme::Loop, &[], levels).unwrap_err().to_string();
+        assert!(err.contains("face 0 has 4 sides") && err.contains("triangulate"), "{err}");
+    }
 }
