@@ -16,13 +16,11 @@
 //! - Crease and boundary vertices (both schemes): `(e_a + 4v + e_b)/6` along the two sharp edges
 //!   (the limit of the cubic B-spline crease curve). Each *sector* of faces between the two sharp
 //!   edges, from `e_a` to `e_b` counter-clockwise with `k` faces, gives the tangent pair
-//!   `(e_a − e_b, t_across)`, `t_across` the cross-crease tangent mask pointing into the sector:
-//!   for Catmull–Clark the mask of Biermann, Levin and Zorin (2000) that OpenSubdiv uses
-//!   (`θ = π/k`; `k = 1`: `(e_a + e_b)/2 − v`), for Loop that of Hoppe et al. (1994). A boundary
-//!   vertex has one sector; an interior crease two, whose unit normals are averaged (the surface
-//!   has a tangent discontinuity there). These cross masks are exact for the regular cases
-//!   (Catmull–Clark `k = 2`, Loop `k = 3`) and approximate otherwise, because the plain rules are
-//!   used rather than Biermann et al.'s modified ones.
+//!   `(e_a − e_b, t_across)`, `t_across` the exact cross-crease tangent of the sector pointing
+//!   into it, from the eigenvectors of the sector's subdivision matrix ([`super::crease_tangent`];
+//!   OpenSubdiv's closed-form masks are exact only for regular sectors). A boundary vertex has one
+//!   sector; an interior crease two, whose unit normals are averaged (the surface has a tangent
+//!   discontinuity there).
 //! - Corners stay where they are; a corner has no tangent plane, so its normal is the average
 //!   unit normal of the fan of triangles `(v, e_j, e_{j+1})` over its faces.
 //! - Degenerate cases: an interior vertex of valence 2 (two faces glued along two edges) uses
@@ -31,6 +29,7 @@
 //!   their position and get a zero normal.
 
 use super::crease::Rule;
+use super::crease_tangent::cross_tangent_mask;
 use super::loop_limit::loop_limit_chi;
 use super::rules::Scheme;
 use super::sparse::{RowBuilder, SparseRows};
@@ -304,7 +303,7 @@ fn fan(mesh: &PolyMesh, v: VertexId, ring: &[HalfedgeId], pairs: &mut Vec<[RowBu
     count
 }
 
-/// The tangent across a crease into a sector of `k` faces whose edge neighbours are `e(0..=k)`
+/// Adds the cross-crease tangent of a sector of `k` faces whose edge neighbours are `e(0..=k)`
 /// (`e(0)`, `e(k)` on the crease) and whose face `t` (between `e(t)` and `e(t+1)`) has the vertex
 /// `f(t)` across from `v` (Catmull–Clark only).
 fn cross_crease_tangent(
@@ -315,39 +314,14 @@ fn cross_crease_tangent(
     f: impl Fn(usize) -> u32,
     t: &mut RowBuilder,
 ) {
-    if k == 1 {
-        let w = match scheme {
-            Scheme::CatmullClark => 0.5,
-            Scheme::Loop => 1.0,
-        };
-        t.add(e(0), w);
-        t.add(e(1), w);
-        t.add(v, -2.0 * w);
-        return;
+    let mask = cross_tangent_mask(scheme, k);
+    t.add(v, mask[0]);
+    for i in 0..=k {
+        t.add(e(i), mask[1 + i]);
     }
-    let theta = PI / k as f64;
-    let (sin, cos) = theta.sin_cos();
-    match scheme {
-        Scheme::CatmullClark => {
-            // Biermann, Levin and Zorin (2000), as in OpenSubdiv's Catmark crease tangents.
-            let r = (cos + 1.0) / sin;
-            t.add(v, 4.0 * r * (cos - 1.0));
-            t.add(e(0), -r * (1.0 + 2.0 * cos));
-            t.add(e(k), -r * (1.0 + 2.0 * cos));
-            for i in 1..k {
-                t.add(e(i), 4.0 * (i as f64 * theta).sin());
-            }
-            for i in 0..k {
-                t.add(f(i), (i as f64 * theta).sin() + ((i + 1) as f64 * theta).sin());
-            }
-        }
-        Scheme::Loop => {
-            // Hoppe et al. (1994), negated so that it points into the sector.
-            t.add(e(0), -sin);
-            t.add(e(k), -sin);
-            for i in 1..k {
-                t.add(e(i), (2.0 - 2.0 * cos) * (i as f64 * theta).sin());
-            }
+    if scheme == Scheme::CatmullClark {
+        for i in 0..k {
+            t.add(f(i), mask[k + 2 + i]);
         }
     }
 }
