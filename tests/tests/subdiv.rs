@@ -231,10 +231,42 @@ fn bit_identical_for_one_and_two_threads() {
         let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
         pool.install(|| {
             let (r, out) = refine(&cage, Scheme::CatmullClark, &sharpness, 3);
-            (r.stencils(3).clone(), r.limit_stencils().tangents.clone(), out.levels, out.limit, out.normals)
+            (r.stencils(3).clone(), r.limit_stencils().clone(), out.levels, out.limit, out.normals)
         })
     };
     assert!(run(1) == run(2));
+}
+
+#[test]
+fn a_drag_update_is_bit_identical_to_a_full_evaluation() {
+    for (scheme, cage) in [(Scheme::CatmullClark, bumpy_grid(12)), (Scheme::Loop, triangle_grid(12))] {
+        let mut sharpness = vec![0.0; cage.edge_count()];
+        sharpness[30] = 1.5;
+        sharpness[31] = f64::INFINITY;
+        let (r, mut dragged) = refine(&cage, scheme, &sharpness, 3);
+        let mut positions = cage.positions().to_vec();
+        let total = r.update(&positions, &mut dragged).unwrap();
+        assert_eq!(total, 0, "nothing moved");
+        for (step, v) in [40usize, 41, 0, 168].into_iter().enumerate() {
+            positions[v] += DVec3::new(0.01, -0.02, 0.03 * step as f64);
+            let recomputed = r.update(&positions, &mut dragged).unwrap();
+            let mut fresh = RefinedPositions::default();
+            r.evaluate(&positions, &mut fresh).unwrap();
+            assert!(dragged.levels == fresh.levels && dragged.limit == fresh.limit && dragged.normals == fresh.normals);
+            // A moved cage vertex reaches a small part of the surface only (about a 4 × 4 patch
+            // of the 12 × 12 cage's faces).
+            let rows: usize = (1..=3).map(|l| r.mesh(l).vertex_count()).sum::<usize>() + r.mesh(3).vertex_count();
+            assert!(recomputed > 0 && recomputed < rows / 8, "{recomputed} of {rows}");
+        }
+        // Moving everything falls back to a full evaluation, with the same result.
+        for p in &mut positions {
+            *p = 2.0 * *p;
+        }
+        r.update(&positions, &mut dragged).unwrap();
+        let mut fresh = RefinedPositions::default();
+        r.evaluate(&positions, &mut fresh).unwrap();
+        assert!(dragged.levels == fresh.levels && dragged.limit == fresh.limit && dragged.normals == fresh.normals);
+    }
 }
 
 #[test]
@@ -291,7 +323,7 @@ fn loop_regular_limit_mask_is_one_half_and_one_twelfth() {
     let cage = triangle_grid(6);
     let (r, _) = refine(&cage, Scheme::Loop, &[], 1);
     let level = r.mesh(1);
-    let rows = &r.limit_stencils().positions;
+    let rows = r.limit_stencils().position_rows();
     let mut regular = 0;
     for v in level.vertices().filter(|&v| !level.is_boundary_vertex(v) && level.valence(v) == 6) {
         for (c, w) in rows.row(v.index()) {

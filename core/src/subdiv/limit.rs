@@ -32,25 +32,139 @@ use super::crease::Rule;
 use super::crease_tangent::cross_tangent_mask;
 use super::loop_limit::loop_limit_chi;
 use super::rules::Scheme;
-use super::sparse::{RowBuilder, SparseRows};
+use super::sparse::{RowBuilder, SparseRows, Users};
 use crate::mesh::{EdgeId, HalfedgeId, PolyMesh, VertexId};
 use crate::{DVec3, Error, Result};
 use rayon::prelude::*;
 use std::f64::consts::{PI, TAU};
 
 /// Limit-position and tangent stencils of one level.
-#[derive(Clone, Debug, Default)]
+///
+/// Smooth and dart vertices of valence ≥ 3 (nearly all of a refined level) are stored as their
+/// ring of columns, `[v, e_0, f_0, e_1, f_1, …]` for Catmull–Clark and `[v, e_0, e_1, …]` for Loop,
+/// with one weight table per valence shared by all of them ([`RingMask`]): evaluating one gathers
+/// each ring point once for the position and both tangents. Every other vertex has a general
+/// position row and tangent pairs in [`SparseRows`].
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct LimitStencils {
-    /// Row `v`: the limit position of vertex `v`.
-    pub positions: SparseRows,
-    /// Rows `2p` and `2p + 1`: the two tangents of pair `p`.
-    pub tangents: SparseRows,
-    /// Vertex `v`'s pairs are `pair_offsets[v]..pair_offsets[v + 1]`.
-    pub pair_offsets: Vec<u32>,
+    /// Per vertex: its ring's columns are `ring_columns[ring_offsets[v]..ring_offsets[v + 1]]`
+    /// (empty for a general vertex).
+    ring_offsets: Vec<u32>,
+    ring_columns: Vec<u32>,
+    /// Per vertex: its valence (the index of its shared mask), or `GENERAL | index` for the
+    /// `index`-th general vertex.
+    slot: Vec<u32>,
+    /// Shared masks, indexed by valence (empty below 3).
+    masks: Vec<RingMask>,
+    /// The general vertices in vertex order: one limit position row each.
+    general_positions: SparseRows,
+    /// Rows `2p`, `2p + 1`: the tangents of pair `p` of the general vertices.
+    general_tangents: SparseRows,
+    /// General vertex `g`'s pairs are `general_pairs[g]..general_pairs[g + 1]`.
+    general_pairs: Vec<u32>,
 }
 
-/// Rows below this count are evaluated on one thread.
+/// Marks a general vertex in [`LimitStencils::slot`].
+const GENERAL: u32 = 1 << 31;
+
+/// The weights of the limit position and both tangents over a smooth vertex's ring.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct RingMask {
+    /// Per ring column: the weights of the limit position, the first tangent and the second
+    /// (`t1 × t2` is the outward normal for counter-clockwise faces).
+    pub weights: Vec<[f64; 3]>,
+}
+
+impl RingMask {
+    /// The mask of a smooth vertex of valence `n ≥ 2` (see the module documentation; at `n = 2`
+    /// the tangents vanish).
+    pub fn smooth(scheme: Scheme, n: usize) -> Self {
+        let nf = n as f64;
+        let angle = |j: usize| TAU * (j % n) as f64 / nf;
+        let mut weights = Vec::with_capacity(2 * n + 1);
+        match scheme {
+            Scheme::CatmullClark => {
+                let d = nf * (nf + 5.0);
+                let c = (TAU / nf).cos();
+                let a = 1.0 + c + (PI / nf).cos() * (2.0 * (9.0 + c)).sqrt();
+                weights.push([nf * nf / d, 0.0, 0.0]);
+                for j in 0..n {
+                    // c2 weighs e_j by A cos(2πj/n) and f_j by cos(2πj/n) + cos(2π(j+1)/n); c3 is
+                    // the same mask one step round.
+                    let (cj, cj1) = (angle(j).cos(), angle(j + 1).cos());
+                    let (cp, cp1) = (angle(j + n - 1).cos(), cj);
+                    weights.push([4.0 / d, a * cj, a * cp]);
+                    weights.push([1.0 / d, cj + cj1, cp + cp1]);
+                }
+            }
+            Scheme::Loop => {
+                let chi = loop_limit_chi(n);
+                weights.push([1.0 - nf * chi, 0.0, 0.0]);
+                for j in 0..n {
+                    let (sin, cos) = angle(j).sin_cos();
+                    weights.push([chi, cos, sin]);
+                }
+            }
+        }
+        RingMask { weights }
+    }
+}
+
+/// Vertices below this count are evaluated on one thread.
 const PARALLEL_VERTICES: usize = 8192;
+
+/// The ring columns of `v` into `ring` when it is a smooth or dart vertex of valence ≥ 3 (its
+/// limit comes from a shared [`RingMask`]); its valence, or `None` for a general vertex.
+fn smooth_ring(
+    scheme: Scheme,
+    mesh: &PolyMesh,
+    sharpness: &impl Fn(EdgeId) -> f64,
+    v: VertexId,
+    ring: &mut Vec<u32>,
+) -> Option<usize> {
+    if mesh.is_isolated(v) || mesh.is_boundary_vertex(v) {
+        return None;
+    }
+    let (mut n, mut sharp) = (0, 0);
+    for h in mesh.outgoing(v) {
+        n += 1;
+        sharp += usize::from(sharpness(h.edge()) > 0.0);
+    }
+    if n < 3 || sharp > 1 {
+        return None;
+    }
+    ring.push(v.0);
+    for h in mesh.outgoing(v) {
+        ring.push(mesh.to_vertex(h).0);
+        if scheme == Scheme::CatmullClark {
+            ring.push(mesh.to_vertex(mesh.next(h)).0);
+        }
+    }
+    Some(n)
+}
+
+#[inline]
+fn apply_ring(mask: &RingMask, columns: &[u32], points: &[DVec3]) -> (DVec3, DVec3) {
+    let (mut p, mut t1, mut t2) = (DVec3::ZERO, DVec3::ZERO, DVec3::ZERO);
+    for (&c, w) in columns.iter().zip(&mask.weights) {
+        let x = points[c as usize];
+        p += w[0] * x;
+        t1 += w[1] * x;
+        t2 += w[2] * x;
+    }
+    (p, t1.cross(t2).normalize_or_zero())
+}
+
+/// The unit normal from tangent pairs `pairs` of `tangents` (rows `2p`, `2p + 1`).
+#[inline]
+fn pairs_normal(tangents: &SparseRows, pairs: std::ops::Range<usize>, points: &[DVec3]) -> DVec3 {
+    let cross = |p: usize| tangents.apply_row(2 * p, points).cross(tangents.apply_row(2 * p + 1, points));
+    if pairs.len() == 1 {
+        cross(pairs.start).normalize_or_zero()
+    } else {
+        pairs.map(|p| cross(p).normalize_or_zero()).sum::<DVec3>().normalize_or_zero()
+    }
+}
 
 impl LimitStencils {
     /// The limit stencils of every vertex of `mesh` under `scheme`, with `sharpness` the
@@ -61,75 +175,157 @@ impl LimitStencils {
         assert_eq!(sharpness.len(), mesh.edge_count(), "one sharpness per edge");
         const CHUNK: usize = 4096;
         let n = mesh.vertex_count();
+        let sharp = |e: EdgeId| sharpness[e.index()];
         let chunks: Vec<LimitStencils> = (0..n.div_ceil(CHUNK))
             .into_par_iter()
             .map(|c| {
                 let mut out = LimitStencils {
-                    positions: SparseRows::with_columns(n),
-                    tangents: SparseRows::with_columns(n),
-                    pair_offsets: Vec::new(),
+                    general_positions: SparseRows::with_columns(n),
+                    general_tangents: SparseRows::with_columns(n),
+                    ..Default::default()
                 };
                 let mut scratch = Scratch::default();
                 for v in c * CHUNK..((c + 1) * CHUNK).min(n) {
-                    let pairs = vertex_masks(scheme, mesh, |e| sharpness[e.index()], VertexId(v as u32), &mut scratch);
-                    scratch.position.push_into(&mut out.positions);
-                    for pair in &mut scratch.pairs[..pairs] {
-                        pair[0].push_into(&mut out.tangents);
-                        pair[1].push_into(&mut out.tangents);
+                    let before = out.ring_columns.len();
+                    if let Some(valence) = smooth_ring(scheme, mesh, &sharp, VertexId(v as u32), &mut out.ring_columns)
+                    {
+                        out.slot.push(valence as u32);
+                    } else {
+                        out.slot.push(GENERAL | out.general_pairs.len() as u32);
+                        let pairs = vertex_masks(scheme, mesh, sharp, VertexId(v as u32), &mut scratch);
+                        scratch.position.push_into(&mut out.general_positions);
+                        for pair in &mut scratch.pairs[..pairs] {
+                            pair[0].push_into(&mut out.general_tangents);
+                            pair[1].push_into(&mut out.general_tangents);
+                        }
+                        out.general_pairs.push(pairs as u32);
                     }
-                    out.pair_offsets.push(pairs as u32);
+                    out.ring_offsets.push((out.ring_columns.len() - before) as u32);
                 }
                 out
             })
             .collect();
         let mut out = LimitStencils {
-            positions: SparseRows::with_columns(n),
-            tangents: SparseRows::with_columns(n),
-            pair_offsets: vec![0],
+            ring_offsets: vec![0],
+            general_positions: SparseRows::with_columns(n),
+            general_tangents: SparseRows::with_columns(n),
+            general_pairs: vec![0],
+            ..Default::default()
         };
         for chunk in &chunks {
-            out.positions.append(&chunk.positions);
-            out.tangents.append(&chunk.tangents);
-            for &count in &chunk.pair_offsets {
-                let last = *out.pair_offsets.last().unwrap();
-                out.pair_offsets.push(last + count);
+            let general_base = out.general_pairs.len() as u32 - 1;
+            for (&slot, &len) in chunk.slot.iter().zip(&chunk.ring_offsets) {
+                out.slot.push(if slot & GENERAL != 0 { slot + general_base } else { slot });
+                let last = *out.ring_offsets.last().unwrap();
+                out.ring_offsets.push(last + len);
+            }
+            out.ring_columns.extend_from_slice(&chunk.ring_columns);
+            out.general_positions.append(&chunk.general_positions);
+            out.general_tangents.append(&chunk.general_tangents);
+            for &count in &chunk.general_pairs {
+                let last = *out.general_pairs.last().unwrap();
+                out.general_pairs.push(last + count);
             }
         }
+        let max_valence = out.slot.iter().filter(|&&s| s & GENERAL == 0).max().copied().unwrap_or(0) as usize;
+        out.masks =
+            (0..=max_valence).map(|k| if k < 3 { RingMask::default() } else { RingMask::smooth(scheme, k) }).collect();
         Ok(out)
     }
 
     /// Number of vertices.
     pub fn vertex_count(&self) -> usize {
-        self.positions.row_count()
+        self.slot.len()
+    }
+
+    /// Bytes of the stored arrays.
+    pub fn memory_bytes(&self) -> usize {
+        4 * (self.ring_offsets.len() + self.ring_columns.len() + self.slot.len() + self.general_pairs.len())
+            + self.general_positions.memory_bytes()
+            + self.general_tangents.memory_bytes()
+    }
+
+    /// The limit-position matrix: row `v` maps the level's positions to vertex `v`'s limit.
+    pub fn position_rows(&self) -> SparseRows {
+        let columns = self.general_positions.column_count;
+        SparseRows::build_parallel(columns, self.vertex_count(), |v, b| {
+            let slot = self.slot[v];
+            if slot & GENERAL != 0 {
+                for (c, w) in self.general_positions.row((slot & !GENERAL) as usize) {
+                    b.add(c, w);
+                }
+            } else {
+                let cols = &self.ring_columns[self.ring_offsets[v] as usize..self.ring_offsets[v + 1] as usize];
+                for (&c, w) in cols.iter().zip(&self.masks[slot as usize].weights) {
+                    b.add(c, w[0]);
+                }
+            }
+        })
+    }
+
+    /// For every vertex of the level, the vertices whose limit position or normal reads it.
+    pub fn users(&self) -> Users {
+        let n = self.vertex_count();
+        let pairs = (0..n).flat_map(move |v| {
+            let slot = self.slot[v];
+            let ring =
+                self.ring_columns[self.ring_offsets[v] as usize..self.ring_offsets[v + 1] as usize].iter().copied();
+            let (rows, pairs) = if slot & GENERAL != 0 {
+                let g = (slot & !GENERAL) as usize;
+                (g..g + 1, 2 * self.general_pairs[g] as usize..2 * self.general_pairs[g + 1] as usize)
+            } else {
+                (0..0, 0..0)
+            };
+            let general = rows.flat_map(|g| self.general_positions.row(g).map(|(c, _)| c));
+            let tangents = pairs.flat_map(|t| self.general_tangents.row(t).map(|(c, _)| c));
+            ring.chain(general).chain(tangents).map(move |c| (c, v as u32))
+        });
+        Users::from_pairs(n, &pairs.collect::<Vec<_>>())
+    }
+
+    /// Recomputes the limit position and normal of the vertices `dirty` only.
+    pub fn evaluate_some(&self, points: &[DVec3], dirty: &[u32], limit: &mut [DVec3], normals: &mut [DVec3]) {
+        for &v in dirty {
+            (limit[v as usize], normals[v as usize]) = self.vertex(v as usize, points);
+        }
+    }
+
+    /// The limit position and unit limit normal of vertex `v`.
+    #[inline]
+    fn vertex(&self, v: usize, points: &[DVec3]) -> (DVec3, DVec3) {
+        let slot = self.slot[v];
+        if slot & GENERAL == 0 {
+            let cols = &self.ring_columns[self.ring_offsets[v] as usize..self.ring_offsets[v + 1] as usize];
+            apply_ring(&self.masks[slot as usize], cols, points)
+        } else {
+            let g = (slot & !GENERAL) as usize;
+            let pairs = self.general_pairs[g] as usize..self.general_pairs[g + 1] as usize;
+            let normal =
+                if pairs.is_empty() { DVec3::ZERO } else { pairs_normal(&self.general_tangents, pairs, points) };
+            (self.general_positions.apply_row(g, points), normal)
+        }
     }
 
     /// Limit positions and unit limit normals of the level whose positions are `points`.
     pub fn evaluate(&self, points: &[DVec3], limit: &mut Vec<DVec3>, normals: &mut Vec<DVec3>) {
-        self.positions.apply_into(points, limit);
+        assert_eq!(points.len(), self.general_positions.column_count, "limit stencils applied to another level");
+        limit.resize(self.vertex_count(), DVec3::ZERO);
         normals.resize(self.vertex_count(), DVec3::ZERO);
-        let normal = |v: usize| {
-            let (a, b) = (self.pair_offsets[v] as usize, self.pair_offsets[v + 1] as usize);
-            let cross =
-                |p: usize| self.tangents.apply_row(2 * p, points).cross(self.tangents.apply_row(2 * p + 1, points));
-            if b == a + 1 {
-                cross(a).normalize_or_zero()
-            } else {
-                (a..b).map(|p| cross(p).normalize_or_zero()).sum::<DVec3>().normalize_or_zero()
-            }
-        };
-        if normals.len() < PARALLEL_VERTICES {
-            for (v, n) in normals.iter_mut().enumerate() {
-                *n = normal(v);
+        if limit.len() < PARALLEL_VERTICES {
+            for (v, (p, n)) in limit.iter_mut().zip(normals.iter_mut()).enumerate() {
+                (*p, *n) = self.vertex(v, points);
             }
         } else {
-            normals.par_iter_mut().with_min_len(4096).enumerate().for_each(|(v, n)| *n = normal(v));
+            limit.par_iter_mut().zip(normals.par_iter_mut()).with_min_len(4096).enumerate().for_each(|(v, (p, n))| {
+                (*p, *n) = self.vertex(v, points);
+            });
         }
     }
 }
 
 /// The Catmull–Clark limit position and unit limit normal of vertex `v` of an all-quad mesh
 /// without creases (boundaries by the boundary rules). For the curve-mesh work, which needs a few
-/// vertices at a time.
+/// vertices at a time; the same masks as [`LimitStencils`].
 pub fn catmull_clark_limit(mesh: &PolyMesh, v: VertexId) -> Result<(DVec3, DVec3)> {
     if v.index() >= mesh.vertex_count() {
         return Err(Error::Input(format!("vertex {} is not in a mesh of {} vertices", v.0, mesh.vertex_count())));
@@ -142,19 +338,23 @@ pub fn catmull_clark_limit(mesh: &PolyMesh, v: VertexId) -> Result<(DVec3, DVec3
             mesh.face_valence(mesh.face(h))
         )));
     }
-    let mut scratch = Scratch::default();
     let sharpness = |e: EdgeId| if mesh.is_boundary_edge(e) { f64::INFINITY } else { 0.0 };
-    let pairs = vertex_masks(Scheme::CatmullClark, mesh, sharpness, v, &mut scratch);
-    let mut rows = SparseRows::with_columns(mesh.vertex_count());
-    scratch.position.push_into(&mut rows);
-    for pair in &mut scratch.pairs[..pairs] {
-        pair[0].push_into(&mut rows);
-        pair[1].push_into(&mut rows);
-    }
     let p = mesh.positions();
-    let unit = |k: usize| rows.apply_row(1 + 2 * k, p).cross(rows.apply_row(2 + 2 * k, p)).normalize_or_zero();
-    let normal = if pairs == 1 { unit(0) } else { (0..pairs).map(unit).sum::<DVec3>().normalize_or_zero() };
-    Ok((rows.apply_row(0, p), normal))
+    let mut ring = Vec::new();
+    if let Some(n) = smooth_ring(Scheme::CatmullClark, mesh, &sharpness, v, &mut ring) {
+        return Ok(apply_ring(&RingMask::smooth(Scheme::CatmullClark, n), &ring, p));
+    }
+    let mut scratch = Scratch::default();
+    let pairs = vertex_masks(Scheme::CatmullClark, mesh, sharpness, v, &mut scratch);
+    let mut position = SparseRows::with_columns(mesh.vertex_count());
+    scratch.position.push_into(&mut position);
+    let mut tangents = SparseRows::with_columns(mesh.vertex_count());
+    for pair in &mut scratch.pairs[..pairs] {
+        pair[0].push_into(&mut tangents);
+        pair[1].push_into(&mut tangents);
+    }
+    let normal = if pairs == 0 { DVec3::ZERO } else { pairs_normal(&tangents, 0..pairs, p) };
+    Ok((position.apply_row(0, p), normal))
 }
 
 fn check_faces(scheme: Scheme, mesh: &PolyMesh) -> Result<()> {
@@ -209,52 +409,27 @@ fn vertex_masks(
     let f = |j: usize| mesh.to_vertex(mesh.next(ring[j % n])).0;
     match Rule::from_sharp_edges(sharp.iter().filter(|&&x| x).count()) {
         Rule::Smooth | Rule::Dart => {
-            let nf = n as f64;
-            match scheme {
-                Scheme::CatmullClark => {
-                    let d = nf * (nf + 5.0);
-                    position.add(v.0, nf * nf / d);
-                    for j in 0..n {
-                        position.add(e(j), 4.0 / d);
-                        position.add(f(j), 1.0 / d);
-                    }
-                    let [c2, c3] = pair(pairs, 0);
-                    if n == 2 {
-                        c2.add(e(0), 1.0);
-                        c2.add(e(1), -1.0);
-                        c3.add(f(0), 1.0);
-                        c3.add(f(1), -1.0);
-                        return 1;
-                    }
-                    let c = (TAU / nf).cos();
-                    let a = 1.0 + c + (PI / nf).cos() * (2.0 * (9.0 + c)).sqrt();
-                    for j in 0..n {
-                        let (cj, cj1) = ((TAU * j as f64 / nf).cos(), (TAU * (j + 1) as f64 / nf).cos());
-                        c2.add(e(j), a * cj);
-                        c2.add(f(j), cj + cj1);
-                        c3.add(e(j + 1), a * cj);
-                        c3.add(f(j + 1), cj + cj1);
-                    }
-                    1
-                }
-                Scheme::Loop => {
-                    let chi = loop_limit_chi(n);
-                    position.add(v.0, 1.0 - nf * chi);
-                    for j in 0..n {
-                        position.add(e(j), chi);
-                    }
-                    if n == 2 {
-                        return fan(mesh, v, ring, pairs);
-                    }
-                    let [t1, t2] = pair(pairs, 0);
-                    for j in 0..n {
-                        let (sin, cos) = (TAU * j as f64 / nf).sin_cos();
-                        t1.add(e(j), cos);
-                        t2.add(e(j), sin);
-                    }
-                    1
+            // Valence ≥ 3 takes the shared ring masks ([`smooth_ring`]); what reaches here is an
+            // interior vertex of valence 2 (two faces glued along two edges), whose smooth
+            // tangent masks vanish: the position mask is kept, the tangents are stand-ins.
+            let mask = RingMask::smooth(scheme, n);
+            position.add(v.0, mask.weights[0][0]);
+            let stride = if scheme == Scheme::CatmullClark { 2 } else { 1 };
+            for j in 0..n {
+                position.add(e(j), mask.weights[1 + stride * j][0]);
+                if scheme == Scheme::CatmullClark {
+                    position.add(f(j), mask.weights[2 + stride * j][0]);
                 }
             }
+            if scheme == Scheme::Loop || n != 2 {
+                return fan(mesh, v, ring, pairs);
+            }
+            let [t1, t2] = pair(pairs, 0);
+            t1.add(e(0), 1.0);
+            t1.add(e(1), -1.0);
+            t2.add(f(0), 1.0);
+            t2.add(f(1), -1.0);
+            1
         }
         Rule::Crease => {
             position.add(v.0, 4.0 / 6.0);

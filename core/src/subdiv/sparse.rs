@@ -53,6 +53,11 @@ impl SparseRows {
         self.columns.len()
     }
 
+    /// Bytes of the stored arrays (what applying the matrix reads besides the input points).
+    pub fn memory_bytes(&self) -> usize {
+        4 * self.offsets.len() + 12 * self.columns.len()
+    }
+
     /// The `(column, weight)` entries of row `i`.
     pub fn row(&self, i: usize) -> impl Iterator<Item = (u32, f64)> + '_ {
         let range = self.offsets[i] as usize..self.offsets[i + 1] as usize;
@@ -62,10 +67,10 @@ impl SparseRows {
     /// Row `i` applied to `points`.
     #[inline]
     pub fn apply_row(&self, i: usize, points: &[DVec3]) -> DVec3 {
-        let (a, b) = (self.offsets[i] as usize, self.offsets[i + 1] as usize);
+        let range = self.offsets[i] as usize..self.offsets[i + 1] as usize;
         let mut sum = DVec3::ZERO;
-        for k in a..b {
-            sum += self.weights[k] * points[self.columns[k] as usize];
+        for (&c, &w) in self.columns[range.clone()].iter().zip(&self.weights[range]) {
+            sum += w * points[c as usize];
         }
         sum
     }
@@ -100,6 +105,14 @@ impl SparseRows {
     /// The sum of each row's weights (1 for every row of an affine stencil).
     pub fn row_sums(&self) -> Vec<f64> {
         (0..self.row_count()).map(|i| self.row(i).map(|(_, w)| w).sum()).collect()
+    }
+
+    /// For every column, the rows that use it (the transposed pattern, without weights): what a
+    /// change of one input point reaches.
+    pub fn users(&self) -> Users {
+        let pairs: Vec<(u32, u32)> =
+            (0..self.row_count()).flat_map(|i| self.row(i).map(move |(c, _)| (c, i as u32))).collect();
+        Users::from_pairs(self.column_count, &pairs)
     }
 
     /// Appends the rows of `other` (over the same columns) after these.
@@ -149,6 +162,56 @@ impl SparseRows {
                 }
             }
         })
+    }
+}
+
+/// For every input point, the output rows that read it ([`SparseRows::users`]).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Users {
+    offsets: Vec<u32>,
+    rows: Vec<u32>,
+}
+
+impl Users {
+    /// From `(column, row)` pairs over `column_count` columns; each column's rows ascending and
+    /// without repeats.
+    pub fn from_pairs(column_count: usize, pairs: &[(u32, u32)]) -> Self {
+        let mut offsets = vec![0u32; column_count + 1];
+        for &(c, _) in pairs {
+            offsets[c as usize + 1] += 1;
+        }
+        for c in 0..column_count {
+            offsets[c + 1] += offsets[c];
+        }
+        let mut fill = offsets.clone();
+        let mut rows = vec![0u32; offsets[column_count] as usize];
+        for &(c, r) in pairs {
+            rows[fill[c as usize] as usize] = r;
+            fill[c as usize] += 1;
+        }
+        let mut out = Users { offsets: vec![0], rows: Vec::with_capacity(rows.len()) };
+        for c in 0..column_count {
+            let column = &mut rows[offsets[c] as usize..offsets[c + 1] as usize];
+            column.sort_unstable();
+            let start = out.rows.len();
+            for &r in column.iter() {
+                if out.rows.len() == start || *out.rows.last().unwrap() != r {
+                    out.rows.push(r);
+                }
+            }
+            out.offsets.push(out.rows.len() as u32);
+        }
+        out
+    }
+
+    /// The rows that read column `c`.
+    pub fn of(&self, c: usize) -> &[u32] {
+        &self.rows[self.offsets[c] as usize..self.offsets[c + 1] as usize]
+    }
+
+    /// Bytes of the stored arrays.
+    pub fn memory_bytes(&self) -> usize {
+        4 * (self.offsets.len() + self.rows.len())
     }
 }
 
