@@ -202,6 +202,40 @@ fn catmull_clark_reproduces_affine_maps_and_is_similarity_invariant() {
     }
 }
 
+/// A limit point and normal do not depend on the level they are computed from: vertex `v` of
+/// level 1 is vertex `v` of level 3, and its limit from level 1 (through
+/// `limit_stencils_at(1)`) must equal its limit from level 3. This holds only if every mask,
+/// crease and boundary tangents included, is an exact left eigenvector of the subdivision.
+#[test]
+fn limits_do_not_depend_on_the_level_they_are_taken_at() {
+    let l = l_shape();
+    let c = cube();
+    let sharp = |m: &PolyMesh, pairs: &[(u32, u32)]| {
+        let p: Vec<_> = pairs.iter().map(|&(a, b)| (VertexId(a), VertexId(b), f64::INFINITY)).collect();
+        sharpness_from_pairs(m, &p).unwrap()
+    };
+    let t = triangulate(&prism(5, 1.0, 1.2), Triangulation::ShortestDiagonal).unwrap();
+    let cases = [
+        (Scheme::CatmullClark, prism(5, 1.0, 1.2), vec![]),
+        (Scheme::CatmullClark, l.clone(), vec![]),
+        (Scheme::CatmullClark, c.clone(), sharp(&c, &[(4, 5), (5, 7), (7, 6), (0, 1), (0, 2), (0, 4)])),
+        (Scheme::Loop, t.clone(), sharp(&t, &[(0, 1), (1, 2), (2, 3)])),
+        (Scheme::Loop, triangulate(&l, Triangulation::Fan).unwrap(), vec![]),
+    ];
+    for (scheme, cage, sharpness) in cases {
+        let (r, out) = refine(&cage, scheme, &sharpness, 3);
+        let at1 = r.limit_stencils_at(1).unwrap();
+        let (mut limit, mut normals) = (Vec::new(), Vec::new());
+        at1.evaluate(&out.levels[1], &mut limit, &mut normals);
+        for v in 0..r.mesh(1).vertex_count() {
+            let d = (limit[v] - out.limit[v]).length();
+            assert!(d < 1e-12, "{scheme:?} {} faces: vertex {v} limit {d:.2e} apart", cage.face_count());
+            let a = angle(normals[v], out.normals[v]);
+            assert!(a < 1e-9, "{scheme:?} {} faces: vertex {v} normal {a:.2e} rad apart", cage.face_count());
+        }
+    }
+}
+
 #[test]
 fn refinement_keeps_euler_characteristic_and_cage_numbering() {
     for cage in [cube(), prism(5, 1.0, 1.0), bumpy_grid(3)] {

@@ -1,23 +1,29 @@
 //! Exact limit positions and limit normals at the vertices of a refined level, as stencils.
 //!
-//! For every vertex the limit position is one [`SparseRows`] row over the level's positions, and
-//! the limit normal comes from one or more *tangent pairs* `(t1, t2)` (two more rows each): the
+//! A smooth vertex (and a dart) is stored as its ring of columns with a weight table shared by
+//! every vertex of its valence ([`RingMask`]: the position and both tangents, one gather); any
+//! other vertex as one limit-position row and one or more *tangent pairs* `(t1, t2)` of rows. The
 //! normal is `t1 × t2` normalised, or with several pairs the normalised sum of their unit normals.
-//! So a drag only re-applies the rows ([`LimitStencils::evaluate`]). The rule of a vertex is that
-//! of its level's sharp edges ([`Rule`]); a semi-sharp edge still sharp at this level counts as
-//! sharp, as in OpenSubdiv's `PrimvarRefiner::Limit`.
+//! So a drag only re-applies the masks ([`LimitStencils::evaluate`], or
+//! [`LimitStencils::evaluate_some`] for the vertices it reaches). The rule of a vertex is that of
+//! its level's sharp edges ([`Rule`]); a semi-sharp edge still sharp at this level counts as sharp,
+//! as in OpenSubdiv's `PrimvarRefiner::Limit`, so the limit of a semi-sharp feature is exact only
+//! once the refinement is deeper than its sharpness (a designer's `s ≤ levels`).
 //!
-//! - Catmull–Clark, smooth or dart vertex of valence `n` on an all-quad level (spec
+//! - Catmull–Clark, smooth vertex of valence `n` on an all-quad level (spec
 //!   `curve-mesh-gregory.md` §2, Halstead, Kass and DeRose 1993): `v* = (n² v + 4 Σ e_j + Σ f_j) /
 //!   (n (n + 5))`, tangents `c2 = Σ A_n cos(2πj/n) e_j + (cos(2πj/n) + cos(2π(j+1)/n)) f_j`,
 //!   `c3` the same one step round, `A_n = 1 + cos(2π/n) + cos(π/n) √(2 (9 + cos(2π/n)))`.
-//! - Loop, smooth or dart vertex (`control-cage.md`): `p∞ = (1 − kχ) p + χ Σ p_j`, tangents
+//! - Loop, smooth vertex (`control-cage.md`): `p∞ = (1 − kχ) p + χ Σ p_j`, tangents
 //!   `Σ cos(2πj/k) p_j` and `Σ sin(2πj/k) p_j` (Loop 1987; Hoppe et al. 1994).
+//! - Dart of an infinitely sharp edge (both schemes): the exact eigenvector masks of
+//!   [`super::eigen_masks`] (OpenSubdiv uses the smooth masks, which are not exact there); a dart
+//!   of a semi-sharp edge keeps the smooth masks.
 //! - Crease and boundary vertices (both schemes): `(e_a + 4v + e_b)/6` along the two sharp edges
 //!   (the limit of the cubic B-spline crease curve). Each *sector* of faces between the two sharp
 //!   edges, from `e_a` to `e_b` counter-clockwise with `k` faces, gives the tangent pair
 //!   `(e_a − e_b, t_across)`, `t_across` the exact cross-crease tangent of the sector pointing
-//!   into it, from the eigenvectors of the sector's subdivision matrix ([`super::crease_tangent`];
+//!   into it, from the eigenvectors of the sector's subdivision matrix ([`super::eigen_masks`];
 //!   OpenSubdiv's closed-form masks are exact only for regular sectors). A boundary vertex has one
 //!   sector; an interior crease two, whose unit normals are averaged (the surface has a tangent
 //!   discontinuity there).
@@ -29,7 +35,7 @@
 //!   their position and get a zero normal.
 
 use super::crease::Rule;
-use super::crease_tangent::cross_tangent_mask;
+use super::eigen_masks::{cross_tangent_mask, dart_mask};
 use super::loop_limit::loop_limit_chi;
 use super::rules::Scheme;
 use super::sparse::{RowBuilder, SparseRows, Users};
@@ -51,11 +57,13 @@ pub struct LimitStencils {
     /// (empty for a general vertex).
     ring_offsets: Vec<u32>,
     ring_columns: Vec<u32>,
-    /// Per vertex: its valence (the index of its shared mask), or `GENERAL | index` for the
-    /// `index`-th general vertex.
+    /// Per vertex: its valence (the index of its shared smooth mask), `DART | valence`, or
+    /// `GENERAL | index` for the `index`-th general vertex.
     slot: Vec<u32>,
-    /// Shared masks, indexed by valence (empty below 3).
+    /// Shared smooth masks, indexed by valence (empty below 3).
     masks: Vec<RingMask>,
+    /// Shared dart masks, indexed by valence (empty below 3).
+    dart_masks: Vec<RingMask>,
     /// The general vertices in vertex order: one limit position row each.
     general_positions: SparseRows,
     /// Rows `2p`, `2p + 1`: the tangents of pair `p` of the general vertices.
@@ -66,6 +74,8 @@ pub struct LimitStencils {
 
 /// Marks a general vertex in [`LimitStencils::slot`].
 const GENERAL: u32 = 1 << 31;
+/// Marks a dart in [`LimitStencils::slot`].
+const DART: u32 = 1 << 30;
 
 /// The weights of the limit position and both tangents over a smooth vertex's ring.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -114,33 +124,43 @@ impl RingMask {
 const PARALLEL_VERTICES: usize = 8192;
 
 /// The ring columns of `v` into `ring` when it is a smooth or dart vertex of valence ≥ 3 (its
-/// limit comes from a shared [`RingMask`]); its valence, or `None` for a general vertex.
+/// limit comes from a shared [`RingMask`]), a dart's ring starting at its sharp edge; its slot
+/// (valence, or `DART | valence` for an infinitely sharp dart edge), or `None` for a general
+/// vertex.
 fn smooth_ring(
     scheme: Scheme,
     mesh: &PolyMesh,
     sharpness: &impl Fn(EdgeId) -> f64,
     v: VertexId,
     ring: &mut Vec<u32>,
-) -> Option<usize> {
+) -> Option<u32> {
     if mesh.is_isolated(v) || mesh.is_boundary_vertex(v) {
         return None;
     }
-    let (mut n, mut sharp) = (0, 0);
+    let (mut n, mut sharp, mut start, mut infinite) = (0, 0, mesh.vertex_halfedge(v), false);
     for h in mesh.outgoing(v) {
         n += 1;
-        sharp += usize::from(sharpness(h.edge()) > 0.0);
+        let s = sharpness(h.edge());
+        if s > 0.0 {
+            sharp += 1;
+            start = h;
+            infinite = s == f64::INFINITY;
+        }
     }
     if n < 3 || sharp > 1 {
         return None;
     }
     ring.push(v.0);
-    for h in mesh.outgoing(v) {
+    let mut h = start;
+    for _ in 0..n {
         ring.push(mesh.to_vertex(h).0);
         if scheme == Scheme::CatmullClark {
             ring.push(mesh.to_vertex(mesh.next(h)).0);
         }
+        h = mesh.prev(h).twin();
     }
-    Some(n)
+    // A semi-sharp dart edge runs out further down, so its limit is nearer the smooth one.
+    Some(if infinite { DART | n as u32 } else { n as u32 })
 }
 
 #[inline]
@@ -172,7 +192,13 @@ impl LimitStencils {
     /// needs an all-quad mesh (any level ≥ 1), Loop a triangle mesh.
     pub fn new(scheme: Scheme, mesh: &PolyMesh, sharpness: &[f64]) -> Result<Self> {
         check_faces(scheme, mesh)?;
-        assert_eq!(sharpness.len(), mesh.edge_count(), "one sharpness per edge");
+        if sharpness.len() != mesh.edge_count() {
+            return Err(Error::Input(format!(
+                "{} sharpness values for a level of {} edges; give one per edge",
+                sharpness.len(),
+                mesh.edge_count()
+            )));
+        }
         const CHUNK: usize = 4096;
         let n = mesh.vertex_count();
         let sharp = |e: EdgeId| sharpness[e.index()];
@@ -187,9 +213,8 @@ impl LimitStencils {
                 let mut scratch = Scratch::default();
                 for v in c * CHUNK..((c + 1) * CHUNK).min(n) {
                     let before = out.ring_columns.len();
-                    if let Some(valence) = smooth_ring(scheme, mesh, &sharp, VertexId(v as u32), &mut out.ring_columns)
-                    {
-                        out.slot.push(valence as u32);
+                    if let Some(slot) = smooth_ring(scheme, mesh, &sharp, VertexId(v as u32), &mut out.ring_columns) {
+                        out.slot.push(slot);
                     } else {
                         out.slot.push(GENERAL | out.general_pairs.len() as u32);
                         let pairs = vertex_masks(scheme, mesh, sharp, VertexId(v as u32), &mut scratch);
@@ -227,9 +252,14 @@ impl LimitStencils {
                 out.general_pairs.push(last + count);
             }
         }
-        let max_valence = out.slot.iter().filter(|&&s| s & GENERAL == 0).max().copied().unwrap_or(0) as usize;
+        let max_valence = |dart: bool| {
+            let slots = out.slot.iter().filter(|&&s| s & GENERAL == 0 && (s & DART != 0) == dart);
+            slots.map(|&s| (s & !DART) as usize).max().unwrap_or(0)
+        };
+        let (smooth, darts) = (max_valence(false), max_valence(true));
         out.masks =
-            (0..=max_valence).map(|k| if k < 3 { RingMask::default() } else { RingMask::smooth(scheme, k) }).collect();
+            (0..=smooth).map(|k| if k < 3 { RingMask::default() } else { RingMask::smooth(scheme, k) }).collect();
+        out.dart_masks = (0..=darts).map(|k| if k < 3 { RingMask::default() } else { dart_mask(scheme, k) }).collect();
         Ok(out)
     }
 
@@ -256,7 +286,7 @@ impl LimitStencils {
                 }
             } else {
                 let cols = &self.ring_columns[self.ring_offsets[v] as usize..self.ring_offsets[v + 1] as usize];
-                for (&c, w) in cols.iter().zip(&self.masks[slot as usize].weights) {
+                for (&c, w) in cols.iter().zip(&self.ring_mask(slot).weights) {
                     b.add(c, w[0]);
                 }
             }
@@ -290,13 +320,19 @@ impl LimitStencils {
         }
     }
 
+    /// The shared mask of a ring vertex's slot.
+    #[inline]
+    fn ring_mask(&self, slot: u32) -> &RingMask {
+        if slot & DART != 0 { &self.dart_masks[(slot & !DART) as usize] } else { &self.masks[slot as usize] }
+    }
+
     /// The limit position and unit limit normal of vertex `v`.
     #[inline]
     fn vertex(&self, v: usize, points: &[DVec3]) -> (DVec3, DVec3) {
         let slot = self.slot[v];
         if slot & GENERAL == 0 {
             let cols = &self.ring_columns[self.ring_offsets[v] as usize..self.ring_offsets[v + 1] as usize];
-            apply_ring(&self.masks[slot as usize], cols, points)
+            apply_ring(self.ring_mask(slot), cols, points)
         } else {
             let g = (slot & !GENERAL) as usize;
             let pairs = self.general_pairs[g] as usize..self.general_pairs[g + 1] as usize;
@@ -342,7 +378,7 @@ pub fn catmull_clark_limit(mesh: &PolyMesh, v: VertexId) -> Result<(DVec3, DVec3
     let p = mesh.positions();
     let mut ring = Vec::new();
     if let Some(n) = smooth_ring(Scheme::CatmullClark, mesh, &sharpness, v, &mut ring) {
-        return Ok(apply_ring(&RingMask::smooth(Scheme::CatmullClark, n), &ring, p));
+        return Ok(apply_ring(&RingMask::smooth(Scheme::CatmullClark, n as usize), &ring, p));
     }
     let mut scratch = Scratch::default();
     let pairs = vertex_masks(Scheme::CatmullClark, mesh, sharpness, v, &mut scratch);

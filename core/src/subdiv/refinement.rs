@@ -18,7 +18,7 @@
 //! finest level may have at most [`MAX_REFINED_FACES`] faces (topology, stencils and positions take
 //! roughly 1 KB per finest face, so the bound keeps a refinement under about 2 GB).
 
-use super::crease::{child_sharpness, effective_sharpness};
+use super::crease::{Rule, child_sharpness, effective_sharpness};
 use super::limit::LimitStencils;
 use super::rules::{Scheme, level_stencils};
 use super::sparse::{SparseRows, Users};
@@ -174,6 +174,13 @@ impl Refinement {
             0 => &self.cage_sharpness,
             l => &self.levels[l as usize - 1].sharpness,
         }
+    }
+
+    /// The rule of vertex `v` of `level` (from the sharp edges at it; boundary edges count as
+    /// sharp).
+    pub fn vertex_rule(&self, level: u32, v: VertexId) -> Rule {
+        let (mesh, sharpness) = (self.mesh(level), self.sharpness(level));
+        Rule::from_sharp_edges(mesh.outgoing(v).filter(|h| sharpness[h.edge().index()] > 0.0).count())
     }
 
     /// The stencils making `level ≥ 1` from the level above.
