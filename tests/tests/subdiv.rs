@@ -191,9 +191,14 @@ fn catmull_clark_reproduces_affine_maps_and_is_similarity_invariant() {
     }
     let rotation = glam::DQuat::from_axis_angle(DVec3::new(1.0, 2.0, -0.5).normalize(), 0.7);
     let similar = |p: DVec3| 3.0 * (rotation * p) + DVec3::new(0.2, -1.0, 4.0);
-    let (_, sim) = refine(&transformed(&cage, similar), Scheme::CatmullClark, &[], 2);
-    for (a, b) in out.normals.iter().zip(&sim.normals) {
-        assert!(((rotation * *a) - *b).length() < 1e-12);
+    let triangles = triangulate(&cage, Triangulation::ShortestDiagonal).unwrap();
+    for (scheme, cage) in [(Scheme::CatmullClark, &cage), (Scheme::Loop, &triangles)] {
+        let (_, base) = refine(cage, scheme, &[], 2);
+        let (_, sim) = refine(&transformed(cage, similar), scheme, &[], 2);
+        for ((a, b), (p, q)) in base.normals.iter().zip(&sim.normals).zip(base.limit.iter().zip(&sim.limit)) {
+            assert!(((rotation * *a) - *b).length() < 1e-12, "{scheme:?}");
+            assert!((similar(*p) - *q).length() < 1e-12, "{scheme:?}");
+        }
     }
     // Outward normals on a closed convex cage.
     let centre = cage.positions().iter().sum::<DVec3>() / cage.vertex_count() as f64;
@@ -257,18 +262,19 @@ fn refinement_keeps_euler_characteristic_and_cage_numbering() {
 
 #[test]
 fn bit_identical_for_one_and_two_threads() {
-    let cage = bumpy_grid(16);
-    let mut sharpness = vec![0.0; cage.edge_count()];
-    sharpness[40] = 1.5;
-    sharpness[41] = f64::INFINITY;
-    let run = |threads: usize| {
-        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
-        pool.install(|| {
-            let (r, out) = refine(&cage, Scheme::CatmullClark, &sharpness, 3);
-            (r.stencils(3).clone(), r.limit_stencils().clone(), out.levels, out.limit, out.normals)
-        })
-    };
-    assert!(run(1) == run(2));
+    for (scheme, cage) in [(Scheme::CatmullClark, bumpy_grid(16)), (Scheme::Loop, triangle_grid(16))] {
+        let mut sharpness = vec![0.0; cage.edge_count()];
+        sharpness[40] = 1.5;
+        sharpness[41] = f64::INFINITY;
+        let run = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            pool.install(|| {
+                let (r, out) = refine(&cage, scheme, &sharpness, 3);
+                (r.stencils(3).clone(), r.limit_stencils().clone(), out.levels, out.limit, out.normals)
+            })
+        };
+        assert!(run(1) == run(2), "{scheme:?}");
+    }
 }
 
 #[test]

@@ -295,22 +295,21 @@ impl LimitStencils {
 
     /// For every vertex of the level, the vertices whose limit position or normal reads it.
     pub fn users(&self) -> Users {
-        let n = self.vertex_count();
-        let pairs = (0..n).flat_map(move |v| {
+        // The columns each vertex reads, without repeats: a general vertex's position and
+        // tangent rows may share columns.
+        Users::from_rows(self.vertex_count(), self.vertex_count(), |v, out| {
             let slot = self.slot[v];
-            let ring =
-                self.ring_columns[self.ring_offsets[v] as usize..self.ring_offsets[v + 1] as usize].iter().copied();
-            let (rows, pairs) = if slot & GENERAL != 0 {
+            out.extend_from_slice(&self.ring_columns[self.ring_offsets[v] as usize..self.ring_offsets[v + 1] as usize]);
+            if slot & GENERAL != 0 {
                 let g = (slot & !GENERAL) as usize;
-                (g..g + 1, 2 * self.general_pairs[g] as usize..2 * self.general_pairs[g + 1] as usize)
-            } else {
-                (0..0, 0..0)
-            };
-            let general = rows.flat_map(|g| self.general_positions.row(g).map(|(c, _)| c));
-            let tangents = pairs.flat_map(|t| self.general_tangents.row(t).map(|(c, _)| c));
-            ring.chain(general).chain(tangents).map(move |c| (c, v as u32))
-        });
-        Users::from_pairs(n, &pairs.collect::<Vec<_>>())
+                out.extend(self.general_positions.row(g).map(|(c, _)| c));
+                for t in 2 * self.general_pairs[g] as usize..2 * self.general_pairs[g + 1] as usize {
+                    out.extend(self.general_tangents.row(t).map(|(c, _)| c));
+                }
+                out.sort_unstable();
+                out.dedup();
+            }
+        })
     }
 
     /// Recomputes the limit position and normal of the vertices `dirty` only.

@@ -110,9 +110,8 @@ impl SparseRows {
     /// For every column, the rows that use it (the transposed pattern, without weights): what a
     /// change of one input point reaches.
     pub fn users(&self) -> Users {
-        let pairs: Vec<(u32, u32)> =
-            (0..self.row_count()).flat_map(|i| self.row(i).map(move |(c, _)| (c, i as u32))).collect();
-        Users::from_pairs(self.column_count, &pairs)
+        // Rows hold each column once (the builder merges repeats) and come in ascending order.
+        Users::from_rows(self.column_count, self.row_count(), |i, out| out.extend(self.row(i).map(|(c, _)| c)))
     }
 
     /// Appends the rows of `other` (over the same columns) after these.
@@ -173,35 +172,34 @@ pub struct Users {
 }
 
 impl Users {
-    /// From `(column, row)` pairs over `column_count` columns; each column's rows ascending and
-    /// without repeats.
-    pub fn from_pairs(column_count: usize, pairs: &[(u32, u32)]) -> Self {
+    /// From the columns each of `row_count` rows reads, over `column_count` columns: a counting
+    /// sort, so each column's rows ascend (a column read twice by a row lists it twice, which
+    /// only costs a repeated visit).
+    /// `columns(i, out)` appends row `i`'s columns to `out`.
+    pub fn from_rows(column_count: usize, row_count: usize, columns: impl Fn(usize, &mut Vec<u32>)) -> Self {
+        let mut buffer = Vec::new();
         let mut offsets = vec![0u32; column_count + 1];
-        for &(c, _) in pairs {
-            offsets[c as usize + 1] += 1;
+        for i in 0..row_count {
+            buffer.clear();
+            columns(i, &mut buffer);
+            for &c in &buffer {
+                offsets[c as usize + 1] += 1;
+            }
         }
         for c in 0..column_count {
             offsets[c + 1] += offsets[c];
         }
         let mut fill = offsets.clone();
         let mut rows = vec![0u32; offsets[column_count] as usize];
-        for &(c, r) in pairs {
-            rows[fill[c as usize] as usize] = r;
-            fill[c as usize] += 1;
-        }
-        let mut out = Users { offsets: vec![0], rows: Vec::with_capacity(rows.len()) };
-        for c in 0..column_count {
-            let column = &mut rows[offsets[c] as usize..offsets[c + 1] as usize];
-            column.sort_unstable();
-            let start = out.rows.len();
-            for &r in column.iter() {
-                if out.rows.len() == start || *out.rows.last().unwrap() != r {
-                    out.rows.push(r);
-                }
+        for i in 0..row_count {
+            buffer.clear();
+            columns(i, &mut buffer);
+            for &c in &buffer {
+                rows[fill[c as usize] as usize] = i as u32;
+                fill[c as usize] += 1;
             }
-            out.offsets.push(out.rows.len() as u32);
         }
-        out
+        Users { offsets, rows }
     }
 
     /// The rows that read column `c`.
