@@ -15,8 +15,9 @@
 //! then the limit, with the same bits as a full evaluation.
 //!
 //! Sizes: each level multiplies the face count by about 4. [`MAX_LEVELS`] levels at most, and the
-//! finest level may have at most [`MAX_REFINED_FACES`] faces (topology, stencils and positions take
-//! roughly 1 KB per finest face, so the bound keeps a refinement under about 2 GB).
+//! finest level may have at most [`MAX_REFINED_FACES`] faces: a refinement takes about 400 bytes
+//! per finest face and its [`RefinedPositions`] about 90 more (measured on a level-3
+//! Catmull–Clark torus, [`Refinement::memory_bytes`]), so the bound keeps one under about 1 GB.
 
 use super::crease::{Rule, child_sharpness, effective_sharpness};
 use super::limit::LimitStencils;
@@ -83,7 +84,7 @@ impl Refinement {
     /// cage edge (`0` smooth, `f64::INFINITY` sharp), or nothing for a smooth cage.
     ///
     /// Errors: Loop on a cage with faces other than triangles (triangulate first:
-    /// [`super::triangulate`]), Catmull–Clark with 0 levels on a cage that is not all quads (no
+    /// [`super::triangulate()`]), Catmull–Clark with 0 levels on a cage that is not all quads (no
     /// limit stencils there), a negative or NaN sharpness or one value per edge missing, more than
     /// [`MAX_LEVELS`] levels or more than [`MAX_REFINED_FACES`] faces at the finest level.
     /// Isolated vertices are kept in place at every level; degenerate (zero-area) faces and
@@ -104,7 +105,7 @@ impl Refinement {
         if faces > MAX_REFINED_FACES as f64 {
             return Err(Error::Input(format!(
                 "{levels} levels of this {}-face cage would make about {faces:.0} faces, more than the {MAX_REFINED_FACES} \
-                 Taut refines (about 2 GB of memory); use fewer levels",
+                 Taut refines (about 1 GB of memory); use fewer levels",
                 cage.face_count()
             )));
         }
@@ -189,7 +190,7 @@ impl Refinement {
     }
 
     /// Approximate bytes of everything built: every level's mesh and split bookkeeping, sharpness,
-    /// stencils and the limit stencils.
+    /// stencils and their transposed patterns, the limit stencils and theirs.
     pub fn memory_bytes(&self) -> usize {
         let mesh = |m: &PolyMesh| 28 * m.vertex_count() + 16 * m.halfedge_count() + 4 * m.face_count();
         let levels: usize = self
@@ -197,10 +198,15 @@ impl Refinement {
             .iter()
             .map(|l| {
                 let m = &l.split.mesh;
-                mesh(m) + 12 * m.edge_count() + 4 * m.face_count() + 8 * m.edge_count() + l.stencils.memory_bytes()
+                mesh(m)
+                    + 12 * m.edge_count()
+                    + 4 * m.face_count()
+                    + 8 * m.edge_count()
+                    + l.stencils.memory_bytes()
+                    + l.users.memory_bytes()
             })
             .sum();
-        mesh(&self.cage) + levels + self.limit.memory_bytes()
+        mesh(&self.cage) + levels + self.limit.memory_bytes() + self.limit_users.memory_bytes()
     }
 
     /// The limit stencils of the finest level.
