@@ -298,7 +298,8 @@ fn a_drag_update_is_bit_identical_to_a_full_evaluation() {
             let rows: usize = (1..=3).map(|l| r.mesh(l).vertex_count()).sum::<usize>() + r.mesh(3).vertex_count();
             assert!(recomputed > 0 && recomputed < rows / 8, "{recomputed} of {rows}");
         }
-        // Moving everything falls back to a full evaluation, with the same result.
+        // Moving everything falls back to a full evaluation, with the same result; so do
+        // positions whose limit was left behind or that another refinement filled.
         for p in &mut positions {
             *p = 2.0 * *p;
         }
@@ -306,6 +307,17 @@ fn a_drag_update_is_bit_identical_to_a_full_evaluation() {
         let mut fresh = RefinedPositions::default();
         r.evaluate(&positions, &mut fresh).unwrap();
         assert!(dragged.levels == fresh.levels && dragged.limit == fresh.limit && dragged.normals == fresh.normals);
+        positions[7].x += 0.5;
+        r.evaluate_levels(&positions, &mut dragged).unwrap();
+        r.update(&positions, &mut dragged).unwrap();
+        let other = Refinement::new(&cage, scheme, &sharpness, 3).unwrap();
+        let mut foreign = RefinedPositions::default();
+        other.evaluate(cage.positions(), &mut foreign).unwrap();
+        r.update(&positions, &mut foreign).unwrap();
+        r.evaluate(&positions, &mut fresh).unwrap();
+        for out in [&dragged, &foreign] {
+            assert!(out.levels == fresh.levels && out.limit == fresh.limit && out.normals == fresh.normals);
+        }
     }
 }
 

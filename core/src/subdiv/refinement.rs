@@ -26,6 +26,10 @@ use super::sparse::{SparseRows, Users};
 use super::topology::{SplitRule, SplitTopology};
 use crate::mesh::{EdgeId, PolyMesh, VertexId};
 use crate::{DVec3, Error, Result};
+use std::sync::atomic::{AtomicU64, Ordering};
+
+/// Source of refinement identities, so [`Refinement::update`] knows whose positions it is given.
+static NEXT_ID: AtomicU64 = AtomicU64::new(1);
 
 /// The most levels a refinement may have.
 pub const MAX_LEVELS: u32 = 10;
@@ -54,6 +58,8 @@ pub struct Refinement {
     limit: LimitStencils,
     /// For every vertex of the finest level, the vertices whose limit reads it.
     limit_users: Users,
+    /// Unique per built refinement (clones share it: they hold the same stencils).
+    id: u64,
 }
 
 /// The positions of every level, the limit positions and limit normals of the finest level.
@@ -65,6 +71,8 @@ pub struct RefinedPositions {
     pub limit: Vec<DVec3>,
     /// The unit limit normal of every vertex of the finest level (zero where undefined).
     pub normals: Vec<DVec3>,
+    /// The refinement whose complete evaluation these are (0: none).
+    source: u64,
     /// Scratch for [`Refinement::update`]: per-vertex marks, the current mark, two dirty lists.
     marks: Vec<u32>,
     mark: u32,
@@ -116,6 +124,7 @@ impl Refinement {
             levels: Vec::new(),
             limit: Default::default(),
             limit_users: Default::default(),
+            id: NEXT_ID.fetch_add(1, Ordering::Relaxed),
         };
         for _ in 0..levels {
             let (parent, parent_sharpness) = out.finest_topology();
@@ -232,19 +241,21 @@ impl Refinement {
         self.evaluate_levels(cage_positions, out)?;
         let finest = out.levels.last().expect("level 0 is always there");
         self.limit.evaluate(finest, &mut out.limit, &mut out.normals);
+        out.source = self.id;
         Ok(())
     }
 
-    /// After a drag: brings `out` (last filled by [`Refinement::evaluate`] or `update` for this
-    /// refinement) to new cage positions, recomputing only the rows that read a moved cage vertex,
+    /// After a drag: brings `out` (last filled by [`Refinement::evaluate`] or `update` of this
+    /// refinement; anything else is evaluated in full) to new cage positions, recomputing only the rows that read a moved cage vertex,
     /// level by level, then the limit positions and normals that read a changed finest vertex.
     /// The result is bit-identical to [`Refinement::evaluate`]. Falls back to a full evaluation
-    /// when `out` does not hold this refinement's levels or when more than a quarter of a level
-    /// changes. Returns the number of rows recomputed.
+    /// when `out` does not hold this refinement's complete evaluation or when more than a quarter
+    /// of a level changes. Returns the number of rows recomputed.
     pub fn update(&self, cage_positions: &[DVec3], out: &mut RefinedPositions) -> Result<usize> {
         self.check_cage_positions(cage_positions)?;
         let finest = self.mesh(self.level_count()).vertex_count();
-        let fits = out.levels.len() == self.levels.len() + 1
+        let fits = out.source == self.id
+            && out.levels.len() == self.levels.len() + 1
             && (0..=self.level_count()).all(|l| out.levels[l as usize].len() == self.mesh(l).vertex_count())
             && out.limit.len() == finest
             && out.normals.len() == finest;
@@ -315,6 +326,8 @@ impl Refinement {
     /// Like [`Refinement::evaluate`], without the limit positions and normals.
     pub fn evaluate_levels(&self, cage_positions: &[DVec3], out: &mut RefinedPositions) -> Result<()> {
         self.check_cage_positions(cage_positions)?;
+        // The limit is left behind: the next update must evaluate in full.
+        out.source = 0;
         out.levels.resize_with(self.levels.len() + 1, Vec::new);
         out.levels[0].clear();
         out.levels[0].extend_from_slice(cage_positions);
