@@ -80,7 +80,8 @@ pub fn run(args: &CageArgs) -> Result<(), String> {
     }
     let started = Instant::now();
     let bar = spinner("prepare");
-    let dense = DenseMesh::from_triangles(positions, &triangles).map_err(|e| format!("{}: {e}", args.input.display()))?;
+    let dense =
+        DenseMesh::from_triangles(positions, &triangles).map_err(|e| format!("{}: {e}", args.input.display()))?;
     drop(triangles);
     let prepare_seconds = started.elapsed().as_secs_f64();
     bar.finish_and_clear();

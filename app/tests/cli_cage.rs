@@ -145,7 +145,11 @@ fn a_scan_becomes_a_fitted_cage_with_a_table_and_a_report() {
     assert!(out.status.success(), "{}", text(&out.stderr));
     let doc = Document::load(&doc_path).unwrap();
     assert_eq!(doc.cage.face_count(), 512);
-    let leftovers: Vec<_> = std::fs::read_dir(&dir).unwrap().filter_map(|e| e.ok()).filter(|e| e.file_name().to_string_lossy().contains(".tmp-")).collect();
+    let leftovers: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .filter_map(|e| e.ok())
+        .filter(|e| e.file_name().to_string_lossy().contains(".tmp-"))
+        .collect();
     assert!(leftovers.is_empty());
 }
 
@@ -188,6 +192,7 @@ fn ctrl_c_cancels_and_leaves_no_file() {
     assert!(kill.success());
     let out = child.wait_with_output().unwrap();
     assert_clean_failure(&out, "cancelled (Ctrl+C); nothing was written");
-    let files: Vec<String> = std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    let files: Vec<String> =
+        std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
     assert_eq!(files, vec!["big.stl".to_string()]);
 }

@@ -290,7 +290,11 @@ fn bad_files_are_clear_errors_not_panics() {
         ("empty.stl", vec![], "the file is empty"),
         ("solid.stl", b"solid cube\nendsolid\n".to_vec(), "no faces"),
         ("short.stl", b"hello".to_vec(), "not an STL file"),
-        ("nan.stl", b"solid x\nfacet\nouter loop\nvertex 0 0 0\nvertex 1 0 nan\nvertex 0 1 0\nendloop\n".to_vec(), "non-finite"),
+        (
+            "nan.stl",
+            b"solid x\nfacet\nouter loop\nvertex 0 0 0\nvertex 1 0 nan\nvertex 0 1 0\nendloop\n".to_vec(),
+            "non-finite",
+        ),
         ("empty.ply", vec![], "does not start with the word 'ply'"),
         ("header.ply", b"ply\nformat ascii 1.0\nelement vertex 3\n".to_vec(), "no 'end_header'"),
         (
@@ -330,7 +334,11 @@ fn bad_files_are_clear_errors_not_panics() {
 fn export_refuses_what_it_cannot_write() {
     let dir = TempDir::new("export");
     let mesh = cube();
-    for (name, expected) in [("cube.gltf", "binary .glb only"), ("cube.ply", "exports .obj and .glb only"), ("cube.x3d", "'.x3d' is not a mesh format")] {
+    for (name, expected) in [
+        ("cube.gltf", "binary .glb only"),
+        ("cube.ply", "exports .obj and .glb only"),
+        ("cube.x3d", "'.x3d' is not a mesh format"),
+    ] {
         let err = export_mesh(&mesh, &dir.path(name)).unwrap_err().to_string();
         assert!(err.contains(name) && err.contains(expected), "{err}");
         assert!(!dir.path(name).exists());
@@ -468,7 +476,11 @@ fn ply_bytes(mesh: &PolyMesh, kind: PlyKind) -> Vec<u8> {
     };
     for p in mesh.positions() {
         put(&mut bytes, p.x);
-        if kind == PlyKind::Ascii { bytes.extend(b"200 ") } else { bytes.push(200) }
+        if kind == PlyKind::Ascii {
+            bytes.extend(b"200 ")
+        } else {
+            bytes.push(200)
+        }
         put(&mut bytes, p.y);
         put(&mut bytes, p.z);
         if kind == PlyKind::Ascii {

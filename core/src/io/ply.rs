@@ -228,8 +228,9 @@ fn parse_header(bytes: &[u8]) -> std::result::Result<(Encoding, Vec<Element>, us
                 });
             }
             ["element", name, count] => {
-                let count =
-                    count.parse::<usize>().map_err(|_| format!("header line {line_no}: element count '{count}' is not a count"))?;
+                let count = count
+                    .parse::<usize>()
+                    .map_err(|_| format!("header line {line_no}: element count '{count}' is not a count"))?;
                 elements.push(Element { name: name.to_string(), count, properties: Vec::new() });
             }
             ["property", "list", count, item, name] => {
@@ -239,12 +240,14 @@ fn parse_header(bytes: &[u8]) -> std::result::Result<(Encoding, Vec<Element>, us
                 if matches!(c, Scalar::F32 | Scalar::F64) {
                     return Err(format!("header line {line_no}: a list count must be an integer type, not {count}"));
                 }
-                let element = elements.last_mut().ok_or(format!("header line {line_no}: a property before any element"))?;
+                let element =
+                    elements.last_mut().ok_or(format!("header line {line_no}: a property before any element"))?;
                 element.properties.push(Property::List(name.to_string(), c, i));
             }
             ["property", kind, name] => {
                 let s = Scalar::parse(kind).ok_or(format!("header line {line_no}: unknown property type '{kind}'"))?;
-                let element = elements.last_mut().ok_or(format!("header line {line_no}: a property before any element"))?;
+                let element =
+                    elements.last_mut().ok_or(format!("header line {line_no}: a property before any element"))?;
                 element.properties.push(Property::Scalar(name.to_string(), s));
             }
             _ => return Err(format!("header line {line_no}: cannot read '{}'", line.trim())),
@@ -397,21 +400,33 @@ mod tests {
             ("ply\nformat ascii 1.0\nelement vertex 3\n".into(), "no 'end_header'"),
             (head("element vertex 99999999999\nproperty float x\nend_header\n0\n"), "declares 99999999999 vertex"),
             (head("element vertex 1\nproperty float x\nproperty float y\nend_header\n0 0\n"), "no x, y and z"),
-            (head("element vertex 1\nproperty float x\nproperty float y\nproperty float z\nend_header\n0 0\n"), "truncated"),
-            (head("element vertex 1\nproperty float x\nproperty float y\nproperty float z\nend_header\n0 nan 0\n"), "non-finite"),
+            (
+                head("element vertex 1\nproperty float x\nproperty float y\nproperty float z\nend_header\n0 0\n"),
+                "truncated",
+            ),
+            (
+                head("element vertex 1\nproperty float x\nproperty float y\nproperty float z\nend_header\n0 nan 0\n"),
+                "non-finite",
+            ),
             (head("element vertex 1\nproperty weird x\nend_header\n"), "unknown property type 'weird'"),
             ("ply\nformat binary_middle_endian 1.0\nend_header\n".into(), "unknown format"),
             ("ply\nelement vertex 0\nend_header\n".into(), "no 'format' line"),
             (
-                head("element vertex 1\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n3 0 -1 2\n"),
+                head(
+                    "element vertex 1\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n3 0 -1 2\n",
+                ),
                 "face 0: vertex index -1",
             ),
             (
-                head("element vertex 1\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list int int vertex_indices\nend_header\n0 0 0\n-3 0 1 2\n"),
+                head(
+                    "element vertex 1\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list int int vertex_indices\nend_header\n0 0 0\n-3 0 1 2\n",
+                ),
                 "negative length",
             ),
             (
-                head("element vertex 1\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uint int vertex_indices\nend_header\n0 0 0\n4000000000 0\n"),
+                head(
+                    "element vertex 1\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uint int vertex_indices\nend_header\n0 0 0\n4000000000 0\n",
+                ),
                 "longer than the rest of the file",
             ),
         ];

@@ -34,12 +34,15 @@ pub(crate) fn parse_stl(bytes: &[u8], origin: &Path) -> Result<Soup> {
     if bytes.is_empty() {
         return Err(fail("the file is empty".into()));
     }
-    let declared = (bytes.len() >= HEADER)
-        .then(|| u32::from_le_bytes([bytes[80], bytes[81], bytes[82], bytes[83]]) as usize);
+    let declared =
+        (bytes.len() >= HEADER).then(|| u32::from_le_bytes([bytes[80], bytes[81], bytes[82], bytes[83]]) as usize);
     let binary_size = declared.map(|n| n.checked_mul(RECORD).and_then(|b| b.checked_add(HEADER)));
-    let looks_ascii = bytes.iter().take(512).position(|b| !b.is_ascii_whitespace()).is_some_and(|k| {
-        bytes[k..].len() >= 5 && bytes[k..k + 5].eq_ignore_ascii_case(b"solid")
-    }) && !bytes.contains(&0);
+    let looks_ascii = bytes
+        .iter()
+        .take(512)
+        .position(|b| !b.is_ascii_whitespace())
+        .is_some_and(|k| bytes[k..].len() >= 5 && bytes[k..k + 5].eq_ignore_ascii_case(b"solid"))
+        && !bytes.contains(&0);
     match (declared, binary_size) {
         (Some(n), Some(Some(size))) if size == bytes.len() || (!looks_ascii && size < bytes.len()) => {
             parse_binary(bytes, n, size, origin)
@@ -58,7 +61,8 @@ pub(crate) fn parse_stl(bytes: &[u8], origin: &Path) -> Result<Soup> {
 }
 
 fn parse_binary(bytes: &[u8], count: usize, size: usize, origin: &Path) -> Result<Soup> {
-    let mut soup = Soup { positions: Vec::with_capacity(3 * count), faces: Vec::with_capacity(count), ..Soup::default() };
+    let mut soup =
+        Soup { positions: Vec::with_capacity(3 * count), faces: Vec::with_capacity(count), ..Soup::default() };
     let f32_at = |k: usize| f32::from_le_bytes([bytes[k], bytes[k + 1], bytes[k + 2], bytes[k + 3]]);
     for t in 0..count {
         let record = HEADER + t * RECORD;
@@ -68,7 +72,10 @@ fn parse_binary(bytes: &[u8], count: usize, size: usize, origin: &Path) -> Resul
             if !p.is_finite() {
                 return Err(Error::format(
                     origin,
-                    format!("triangle {t} has a non-finite corner ({:?}); every coordinate must be a finite number", p.to_array()),
+                    format!(
+                        "triangle {t} has a non-finite corner ({:?}); every coordinate must be a finite number",
+                        p.to_array()
+                    ),
                 ));
             }
             soup.positions.push(p);
@@ -98,7 +105,9 @@ fn parse_ascii(text: &str, origin: &Path) -> Result<Soup> {
                 };
                 let mut xyz = [0.0; 3];
                 for (c, slot) in xyz.iter_mut().enumerate() {
-                    let word = words.next().ok_or_else(|| fail(line_no, format!("a vertex needs 3 coordinates, found {c}")))?;
+                    let word = words
+                        .next()
+                        .ok_or_else(|| fail(line_no, format!("a vertex needs 3 coordinates, found {c}")))?;
                     *slot = word
                         .parse::<f64>()
                         .map_err(|_| fail(line_no, format!("cannot read vertex coordinate '{word}' as a number")))?;
