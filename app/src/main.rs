@@ -5,6 +5,7 @@
 //! them on; every failure is one line on stderr with a non-zero exit status.
 
 mod cli;
+mod cage_cmd;
 mod curve_cmd;
 mod editor;
 mod render_cmd;
@@ -19,7 +20,7 @@ use std::process::ExitCode;
 struct Cli {
     #[command(subcommand)]
     command: Option<Command>,
-    /// A cage or mesh to open in the editor (.taut, .obj, .gltf, .glb).
+    /// A cage or mesh to open in the editor (.taut, .obj, .gltf, .glb, .stl, .ply).
     file: Option<std::path::PathBuf>,
     /// How the editor first shows the surface: shaded, zebra or curvature.
     #[arg(long, default_value = "zebra")]
@@ -34,6 +35,8 @@ enum Command {
     SmoothCurve(curve_cmd::SmoothCurveArgs),
     /// Draw a surface shaded, as zebra stripes or in curvature colour into a PNG.
     Render(render_cmd::RenderArgs),
+    /// Make a light Loop control cage from a dense mesh (a scan or a heavy export).
+    Cage(cage_cmd::CageArgs),
 }
 
 mod runtime {
@@ -109,6 +112,7 @@ fn main() -> ExitCode {
         Some(Command::Smooth(args)) => smooth_cmd::run(args),
         Some(Command::SmoothCurve(args)) => curve_cmd::run(args),
         Some(Command::Render(args)) => render_cmd::run(args),
+        Some(Command::Cage(args)) => cage_cmd::run(args),
         None => match cli.view.as_str() {
             "shaded" | "zebra" | "curvature" => {
                 editor::window::run(editor::window::Startup { file: cli.file.clone(), view: cli.view.clone() })

@@ -5,6 +5,7 @@
 //! level, and the smoothed [`PolyMesh`](mesh::PolyMesh) is written out or drawn. Nothing here
 //! touches a GPU or a window.
 
+pub mod cage_fit;
 pub mod curvature;
 pub mod document;
 pub mod error;

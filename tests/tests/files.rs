@@ -287,9 +287,26 @@ fn bad_files_are_clear_errors_not_panics() {
         ),
         ("flipped.obj", format!("{tri}v 1 1 0\nf 1 2 3\nf 2 3 4\n").into_bytes(), "inconsistently"),
         (
-            "cube.stl",
+            "cube.3ds",
             b"solid cube\nendsolid\n".to_vec(),
-            "'.stl' is not a mesh format Taut knows; use .obj, .gltf or .glb",
+            "'.3ds' is not a mesh format Taut knows; use .obj, .gltf, .glb, .stl or .ply",
+        ),
+        ("empty.stl", vec![], "the file is empty"),
+        ("solid.stl", b"solid cube\nendsolid\n".to_vec(), "no faces"),
+        ("short.stl", b"hello".to_vec(), "not an STL file"),
+        (
+            "nan.stl",
+            b"solid x\nfacet\nouter loop\nvertex 0 0 0\nvertex 1 0 nan\nvertex 0 1 0\nendloop\n".to_vec(),
+            "non-finite",
+        ),
+        ("empty.ply", vec![], "does not start with the word 'ply'"),
+        ("header.ply", b"ply\nformat ascii 1.0\nelement vertex 3\n".to_vec(), "no 'end_header'"),
+        (
+            "range.ply",
+            b"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n\
+              element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n"
+                .to_vec(),
+            "face 0 refers to vertex 7, but there are only 3 vertices",
         ),
         ("no_extension", tri.as_bytes().to_vec(), "without an extension"),
     ];
@@ -324,7 +341,11 @@ fn bad_files_are_clear_errors_not_panics() {
 fn export_refuses_what_it_cannot_write() {
     let dir = TempDir::new("export");
     let mesh = cube();
-    for (name, expected) in [("cube.gltf", "binary .glb only"), ("cube.ply", "'.ply' is not a mesh format")] {
+    for (name, expected) in [
+        ("cube.gltf", "binary .glb only"),
+        ("cube.ply", "exports .obj and .glb only"),
+        ("cube.x3d", "'.x3d' is not a mesh format"),
+    ] {
         let err = export_mesh(&mesh, &dir.path(name)).unwrap_err().to_string();
         assert!(err.contains(name) && err.contains(expected), "{err}");
         assert!(!dir.path(name).exists());
@@ -372,7 +393,15 @@ fn damaged_copies_of_good_files_never_panic_and_what_they_accept_is_valid() {
         seed ^= seed << 17;
         (seed % n as u64) as usize
     };
-    for good in [&glb, &obj, &gltf_path] {
+    let stl = dir.path("good.stl");
+    std::fs::write(&stl, binary_stl(&prism(5, 1.0, 1.0))).unwrap();
+    let ascii_stl = dir.path("good_ascii.stl");
+    std::fs::write(&ascii_stl, ascii_stl_text(&prism(5, 1.0, 1.0))).unwrap();
+    let ply_le = dir.path("good_le.ply");
+    std::fs::write(&ply_le, ply_bytes(&prism(5, 1.0, 1.0), PlyKind::Little)).unwrap();
+    let ply_ascii = dir.path("good_ascii.ply");
+    std::fs::write(&ply_ascii, ply_bytes(&prism(5, 1.0, 1.0), PlyKind::Ascii)).unwrap();
+    for good in [&glb, &obj, &gltf_path, &stl, &ascii_stl, &ply_le, &ply_ascii] {
         let bytes = std::fs::read(good).unwrap();
         let name = format!("damaged.{}", good.extension().unwrap().to_string_lossy());
         for cut in (0..bytes.len()).step_by(7) {
@@ -557,4 +586,154 @@ fn written_files_are_y_up_and_read_back_in_place() {
     for (a, b) in back.positions().iter().zip(tall.positions()) {
         assert!((*a - *b).length() < 1e-5, "{a} vs {b}");
     }
+/// What an importer accepts from a damaged file is still a valid cage with finite positions.
+fn accepted_is_valid(result: taut_core::Result<(PolyMesh, taut_core::io::ImportReport)>) {
+    if let Ok((mesh, _)) = result {
+        mesh.validate().unwrap();
+        assert!(mesh.face_count() > 0 && mesh.positions().iter().all(|p| p.is_finite()));
+    }
+}
+
+/// Binary STL written here, independently of Taut's reader: one record per fan triangle.
+fn binary_stl(mesh: &PolyMesh) -> Vec<u8> {
+    let triangles = mesh.triangles();
+    let mut bytes = b"solid binary files often start like this".to_vec();
+    bytes.resize(80, 0);
+    bytes.extend((triangles.len() as u32).to_le_bytes());
+    for t in &triangles {
+        bytes.extend([0u8; 12]);
+        for &i in t {
+            bytes.extend(mesh.positions()[i as usize].as_vec3().to_array().iter().flat_map(|c| c.to_le_bytes()));
+        }
+        bytes.extend([0u8; 2]);
+    }
+    bytes
+}
+
+/// ASCII STL with exact (shortest round-trip) coordinates.
+fn ascii_stl_text(mesh: &PolyMesh) -> String {
+    let mut text = String::from("solid test\n");
+    for t in mesh.triangles() {
+        text += "  facet normal 0 0 0\n    outer loop\n";
+        for i in t {
+            let p = mesh.positions()[i as usize];
+            text += &format!("      vertex {:?} {:?} {:?}\n", p.x, p.y, p.z);
+        }
+        text += "    endloop\n  endfacet\n";
+    }
+    text + "endsolid test\n"
+}
+
+#[derive(Clone, Copy, PartialEq)]
+enum PlyKind {
+    Ascii,
+    Little,
+    Big,
+}
+
+/// PLY with the polygons as they are, an extra colour property and an extra element.
+fn ply_bytes(mesh: &PolyMesh, kind: PlyKind) -> Vec<u8> {
+    let format = match kind {
+        PlyKind::Ascii => "ascii",
+        PlyKind::Little => "binary_little_endian",
+        PlyKind::Big => "binary_big_endian",
+    };
+    let position = if kind == PlyKind::Big { "float" } else { "double" };
+    let mut bytes = format!(
+        "ply\nformat {format} 1.0\ncomment written by the test\nelement vertex {}\nproperty {position} x\n\
+         property uchar red\nproperty {position} y\nproperty {position} z\nelement face {}\n\
+         property list uchar int vertex_indices\nelement extra 1\nproperty short value\nend_header\n",
+        mesh.vertex_count(),
+        mesh.face_count()
+    )
+    .into_bytes();
+    let big = kind == PlyKind::Big;
+    let put = |bytes: &mut Vec<u8>, v: f64| match kind {
+        PlyKind::Ascii => bytes.extend(format!("{v:?} ").into_bytes()),
+        PlyKind::Little => bytes.extend(v.to_le_bytes()),
+        PlyKind::Big => bytes.extend((v as f32).to_be_bytes()),
+    };
+    for p in mesh.positions() {
+        put(&mut bytes, p.x);
+        if kind == PlyKind::Ascii {
+            bytes.extend(b"200 ")
+        } else {
+            bytes.push(200)
+        }
+        put(&mut bytes, p.y);
+        put(&mut bytes, p.z);
+        if kind == PlyKind::Ascii {
+            bytes.push(b'\n');
+        }
+    }
+    for face in mesh.polygons() {
+        if kind == PlyKind::Ascii {
+            let list: Vec<String> = face.iter().map(|v| v.to_string()).collect();
+            bytes.extend(format!("{} {}\n", face.len(), list.join(" ")).into_bytes());
+        } else {
+            bytes.push(face.len() as u8);
+            for v in face {
+                bytes.extend(if big { (v as i32).to_be_bytes() } else { (v as i32).to_le_bytes() });
+            }
+        }
+    }
+    match kind {
+        PlyKind::Ascii => bytes.extend(b"-7\n"),
+        PlyKind::Little => bytes.extend((-7i16).to_le_bytes()),
+        PlyKind::Big => bytes.extend((-7i16).to_be_bytes()),
+    }
+    bytes
+}
+
+#[test]
+fn stl_round_trips_binary_and_ascii() {
+    let dir = TempDir::new("stl");
+    let mesh = awkward_prism();
+    let triangles = mesh.triangles();
+    let as_corners = |m: &PolyMesh| -> Vec<[[u64; 3]; 3]> {
+        m.triangles().iter().map(|t| t.map(|i| m.positions()[i as usize].to_array().map(f64::to_bits))).collect()
+    };
+    // ASCII: exact coordinates; welding restores the shared corners and the numbering.
+    let (back, report) = import_mesh(&dir.file("prism.stl", ascii_stl_text(&mesh))).unwrap();
+    assert_eq!(report.welded, 3 * triangles.len() - mesh.vertex_count());
+    assert_eq!(as_corners(&back), as_corners(&PolyMesh::from_polygons(mesh.positions().to_vec(), &triangles).unwrap()));
+    assert!(back.is_closed());
+    assert!((signed_volume(&back) - signed_volume(&mesh)).abs() < 1e-12);
+    // Binary: f32 corners, even though the header starts with "solid".
+    let (back, _) = import_mesh(&dir.file("binary.stl", binary_stl(&mesh))).unwrap();
+    assert_eq!(back.face_count(), triangles.len());
+    for (a, t) in back.triangles().iter().zip(&triangles) {
+        for k in 0..3 {
+            assert_eq!(back.positions()[a[k] as usize], mesh.positions()[t[k] as usize].as_vec3().as_dvec3());
+        }
+    }
+    // A binary file cut short, and one with trailing bytes (read, with a warning).
+    let bytes = binary_stl(&mesh);
+    refused(&dir.file("cut.stl", &bytes[..bytes.len() - 10]), "truncated binary STL");
+    let mut longer = bytes.clone();
+    longer.extend([0u8; 7]);
+    let (_, report) = import_mesh(&dir.file("long.stl", &longer)).unwrap();
+    assert!(report.warnings.iter().any(|w| w.contains("ignored 7 bytes")), "{:?}", report.warnings);
+    // Not a regular file.
+    std::fs::create_dir_all(dir.path("folder.stl")).unwrap();
+    refused(&dir.path("folder.stl"), "a folder");
+}
+
+#[test]
+fn ply_round_trips_ascii_and_both_byte_orders() {
+    let dir = TempDir::new("ply");
+    let mesh = awkward_prism();
+    for (kind, name) in [(PlyKind::Ascii, "a.ply"), (PlyKind::Little, "le.ply"), (PlyKind::Big, "be.ply")] {
+        let (back, report) = import_mesh(&dir.file(name, ply_bytes(&mesh, kind))).unwrap();
+        assert!(report.is_clean(), "{name}: {report}");
+        assert_eq!(back.polygons(), mesh.polygons(), "{name}");
+        if kind == PlyKind::Big {
+            let f32s: Vec<DVec3> = mesh.positions().iter().map(|p| p.as_vec3().as_dvec3()).collect();
+            assert_eq!(bits(back.positions()), bits(&f32s));
+        } else {
+            assert_eq!(bits(back.positions()), bits(mesh.positions()), "{name}");
+        }
+    }
+    let bytes = ply_bytes(&mesh, PlyKind::Little);
+    refused(&dir.file("cut.ply", &bytes[..bytes.len() - 40]), "truncated PLY");
 }

@@ -1,8 +1,11 @@
-//! Reading and writing cages and surfaces: OBJ, glTF 2.0 (`.gltf`, `.glb`) and `.taut`.
+//! Reading and writing cages and surfaces: OBJ, glTF 2.0 (`.gltf`, `.glb`), STL and PLY (read
+//! only), and `.taut`.
 //!
 //! [`import_mesh`] reads a mesh file by its extension into a polygon soup, welds vertices at
 //! identical positions where the surface stays manifold and repairs what welding collapses
-//! ([`weld()`]), then builds the cage; the [`ImportReport`] says what changed. [`export_mesh`]
+//! ([`weld()`]), then builds the cage; the [`ImportReport`] says what changed.
+//! [`import_triangles`] stops before building the cage, for dense meshes (scans) that may not be
+//! manifold: the control-cage fitter repairs those itself. [`export_mesh`]
 //! writes a surface keeping its vertex order, so a refined surface's file starts with the cage's
 //! vertices in input order. `.taut` documents are read and written by
 //! [`Document`](crate::Document). Every reader reads only regular files ([`file`]).
@@ -15,7 +18,9 @@ pub mod file;
 pub mod glb;
 pub mod gltf;
 pub mod obj;
+pub mod ply;
 pub mod soup;
+pub mod stl;
 pub mod weld;
 
 pub use glb::export_glb;
@@ -105,11 +110,15 @@ pub enum MeshFormat {
     Gltf,
     /// Binary glTF 2.0 `.glb` (read and written).
     Glb,
+    /// STL, binary or ASCII (read only).
+    Stl,
+    /// PLY, ASCII or binary of either byte order (read only).
+    Ply,
 }
 
 impl MeshFormat {
     /// The extensions [`MeshFormat::from_path`] recognises, for messages.
-    pub const SUPPORTED: &str = ".obj, .gltf or .glb";
+    pub const SUPPORTED: &str = ".obj, .gltf, .glb, .stl or .ply";
 
     /// The format of a file, from its extension.
     pub fn from_path(path: &Path) -> Result<Self> {
@@ -118,6 +127,8 @@ impl MeshFormat {
             Some("obj") => Ok(MeshFormat::Obj),
             Some("gltf") => Ok(MeshFormat::Gltf),
             Some("glb") => Ok(MeshFormat::Glb),
+            Some("stl") => Ok(MeshFormat::Stl),
+            Some("ply") => Ok(MeshFormat::Ply),
             other => Err(Error::format(
                 path,
                 format!(
@@ -139,11 +150,41 @@ pub fn import_mesh(path: &Path) -> Result<(PolyMesh, ImportReport)> {
 
 /// [`import_mesh`] with options (the up axis of OBJ files).
 pub fn import_mesh_with(path: &Path, options: &ImportOptions) -> Result<(PolyMesh, ImportReport)> {
-    let soup = match MeshFormat::from_path(path)? {
-        MeshFormat::Obj => obj::read_obj(path, options.obj_up)?,
-        MeshFormat::Gltf | MeshFormat::Glb => self::gltf::read_gltf(path)?,
-    };
-    weld::into_mesh(path, soup)
+    weld::into_mesh(path, read_soup(path, options)?)
+}
+
+/// Imports a mesh file as welded triangles without building a cage, so a surface that is not
+/// manifold still arrives (for [`DenseMesh`](crate::cage_fit::DenseMesh), which repairs it).
+/// Polygons are split into fans of triangles from their first corner.
+pub fn import_triangles(path: &Path, options: &ImportOptions) -> Result<(Vec<DVec3>, Vec<[u32; 3]>, ImportReport)> {
+    let soup = read_soup(path, options)?;
+    let faces = soup.faces.len();
+    let welded = weld_faces(&soup.positions, &soup.faces).map_err(|e| Error::format(path, e.to_string()))?;
+    drop(soup.faces);
+    let mut triangles = Vec::with_capacity(welded.faces.len());
+    for face in welded.faces.iter() {
+        for k in 1..face.len() - 1 {
+            triangles.push([face[0], face[k], face[k + 1]]);
+        }
+    }
+    if triangles.is_empty() {
+        return Err(Error::format(path, format!("no faces: the file has {faces} usable polygons")));
+    }
+    let mut report = welded.report;
+    let mut warnings = soup.warnings;
+    warnings.append(&mut report.warnings);
+    report.warnings = warnings;
+    Ok((welded.positions, triangles, report))
+}
+
+/// Reads a mesh file by extension into a polygon soup in Taut's axes.
+fn read_soup(path: &Path, options: &ImportOptions) -> Result<Soup> {
+    match MeshFormat::from_path(path)? {
+        MeshFormat::Obj => obj::read_obj(path, options.obj_up),
+        MeshFormat::Gltf | MeshFormat::Glb => self::gltf::read_gltf(path),
+        MeshFormat::Stl => stl::read_stl(path),
+        MeshFormat::Ply => ply::read_ply(path),
+    }
 }
 
 /// Exports a mesh by extension (`.obj` or `.glb`), atomically, keeping its vertex order.
@@ -158,6 +199,9 @@ pub fn export_mesh_with(mesh: &PolyMesh, path: &Path, options: &ExportOptions<'_
         MeshFormat::Glb => glb::export_glb_with(mesh, path, options.normals),
         MeshFormat::Gltf => {
             Err(Error::format(path, "Taut exports glTF as binary .glb only; choose a .glb (or .obj) file name"))
+        }
+        MeshFormat::Stl | MeshFormat::Ply => {
+            Err(Error::format(path, "Taut reads STL and PLY but exports .obj and .glb only; choose one of those"))
         }
     }
 }

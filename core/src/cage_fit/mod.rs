@@ -1,0 +1,410 @@
+//! A light Loop control cage from a dense mesh (a scan, a heavy export), whose subdivision
+//! surface keeps the original's shape and volume (Kanaya, Nishio and Kobori, "A Method of Model
+//! Simplification for Control Polygon", seed 002; read in `shared/spec/control-cage.md`).
+//!
+//! The steps, each in its own file:
+//! 1. [`simplify`]: quadric-error simplification to a ratio of the triangles or a face count
+//!    (meshoptimizer), borders locked where the input is open: the QEM cage `V_A`.
+//! 2. The Loop limit-position matrix `M` of that cage ([`loop_limit_matrix`]): `V_B = M V_A`.
+//! 3. [`correspond`]: a target `V_C` on the original for every limit point, by ray casts against
+//!    a bounding-volume hierarchy ([`surface_index`]), made robust beyond the paper.
+//! 4. [`solve`]: `M V_A' = V_C`, one sparse LU factorisation for the three coordinates; further
+//!    rounds fit more limit points in the least-squares sense.
+//! 5. [`evaluate`]: the paper's volume measure and sampled distances, for the QEM cage and every
+//!    fitted round. The fitted cage is kept only when its limit surface is no farther from the
+//!    original than the QEM cage's, in both the Hausdorff and the mean distance; otherwise the QEM
+//!    cage is returned, and [`FitReport::verdict`] says why.
+//!
+//! Input comes through [`DenseMesh`], which makes scans manifold (see [`input`]). Everything
+//! runs on the calling thread with rayon inside, reports progress and can be cancelled through
+//! [`Progress`], and gives the same result on any number of threads.
+//!
+//! Weak spots: the Loop surface has no creases, so sharp edges of the original come out rounded;
+//! the volume measure needs a closed original; the cage is a triangle cage (Loop), not quads.
+
+pub mod correspond;
+pub mod evaluate;
+pub mod input;
+pub mod loop_step;
+pub mod simplify;
+pub mod solve;
+pub mod surface_index;
+
+pub use evaluate::{Evaluation, LimitSurface};
+pub use input::{DenseMesh, InputReport};
+
+use crate::mesh::PolyMesh;
+use crate::subdiv::loop_limit_matrix;
+use crate::{DVec3, Error, Result};
+use correspond::Found;
+use rayon::prelude::*;
+use serde::Serialize;
+use std::time::Instant;
+
+/// How large the cage should be.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum CageSize {
+    /// A fraction in (0, 1] of the input's triangles (the paper uses 0.25).
+    Ratio(f64),
+    /// About this many triangles.
+    Faces(usize),
+}
+
+/// The settings of a fit.
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub struct CageFitParams {
+    /// Target size of the cage.
+    pub size: CageSize,
+    /// Fitting rounds: 1 is the paper's solve; each further round is a least-squares fit to the
+    /// limit points of the once-refined cage ([`solve`]).
+    pub rounds: u32,
+}
+
+impl Default for CageFitParams {
+    fn default() -> Self {
+        CageFitParams { size: CageSize::Ratio(0.25), rounds: 1 }
+    }
+}
+
+impl CageFitParams {
+    /// Settings for a size and a number of rounds.
+    pub fn new(size: CageSize, rounds: u32) -> Self {
+        CageFitParams { size, rounds }
+    }
+
+    /// The target face count for an input of `triangles`, or an error a designer can act on.
+    pub fn target_faces(&self, triangles: usize) -> Result<usize> {
+        let faces = match self.size {
+            CageSize::Ratio(r) if r.is_finite() && r > 0.0 && r <= 1.0 => {
+                ((r * triangles as f64).round() as usize).max(1)
+            }
+            CageSize::Ratio(r) => {
+                return Err(Error::Input(format!(
+                    "the ratio {r} is outside (0, 1]; use for example 0.25 for a quarter"
+                )));
+            }
+            CageSize::Faces(0) => {
+                return Err(Error::Input("a cage needs at least one face; ask for more faces".into()));
+            }
+            CageSize::Faces(n) if n > triangles => {
+                return Err(Error::Input(format!(
+                    "{n} faces asked for, but the input has only {triangles} triangles; ask for at most {triangles}"
+                )));
+            }
+            CageSize::Faces(n) => n,
+        };
+        if self.rounds == 0 {
+            return Err(Error::Input("rounds must be at least 1".into()));
+        }
+        Ok(faces)
+    }
+}
+
+/// Receives progress and may cancel: `update` is called with the step's name and the fraction
+/// of it done, on the thread that runs the fit; returning `false` cancels the fit.
+pub trait Progress {
+    /// Reports progress; return `false` to cancel.
+    fn update(&mut self, step: &str, fraction: f64) -> bool;
+}
+
+impl<F: FnMut(&str, f64) -> bool> Progress for F {
+    fn update(&mut self, step: &str, fraction: f64) -> bool {
+        self(step, fraction)
+    }
+}
+
+/// A [`Progress`] that shows nothing and never cancels.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Silent;
+
+impl Progress for Silent {
+    fn update(&mut self, _: &str, _: f64) -> bool {
+        true
+    }
+}
+
+/// Queries per progress report in long parallel steps.
+const CHUNK: usize = 1 << 14;
+
+/// Tracks the current step, its time and cancellation.
+pub struct Monitor<'a> {
+    progress: &'a mut dyn Progress,
+    step: &'static str,
+    started: Instant,
+    steps: Vec<StepTime>,
+}
+
+impl std::fmt::Debug for Monitor<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "Monitor({})", self.step)
+    }
+}
+
+impl<'a> Monitor<'a> {
+    fn new(progress: &'a mut dyn Progress) -> Self {
+        Monitor { progress, step: "", started: Instant::now(), steps: Vec::new() }
+    }
+
+    /// Ends the current step (recording its time) and starts the next; false when cancelled.
+    fn begin(&mut self, step: &'static str) -> bool {
+        self.finish();
+        self.step = step;
+        self.started = Instant::now();
+        self.progress.update(step, 0.0)
+    }
+
+    fn finish(&mut self) {
+        if !self.step.is_empty() {
+            self.steps.push(StepTime { step: self.step.to_string(), seconds: self.started.elapsed().as_secs_f64() });
+            self.step = "";
+        }
+    }
+
+    /// `f(0..n)` in parallel, in chunks with a progress report after each; `None` when cancelled.
+    pub fn map<T: Send>(&mut self, n: usize, f: impl Fn(usize) -> T + Sync) -> Option<Vec<T>> {
+        let mut out = Vec::with_capacity(n);
+        let mut start = 0;
+        while start < n {
+            let end = (start + CHUNK).min(n);
+            out.par_extend((start..end).into_par_iter().map(&f));
+            start = end;
+            if !self.progress.update(self.step, start as f64 / n as f64) {
+                return None;
+            }
+        }
+        Some(out)
+    }
+}
+
+/// The wall time of one step.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct StepTime {
+    pub step: String,
+    pub seconds: f64,
+}
+
+/// One fitting round.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[non_exhaustive]
+pub struct RoundReport {
+    /// 1 for the paper's solve, 2… for the least-squares rounds.
+    pub round: u32,
+    /// How the targets were found: by a ray within one edge length, by the closest point, or
+    /// (border vertices) kept in place; for least-squares rounds every sample takes its closest point.
+    pub ray_hits: usize,
+    pub closest_points: usize,
+    pub border: usize,
+    /// Conjugate-gradient iterations of a least-squares round (0 for round 1).
+    pub iterations: usize,
+    /// The cage of this round measured; `None` when the round failed.
+    pub evaluation: Option<Evaluation>,
+    /// Why the round failed, if it did.
+    pub failure: Option<String>,
+}
+
+/// What a fit did and measured; serialises as the command's report JSON.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[non_exhaustive]
+pub struct FitReport {
+    pub input: InputReport,
+    /// Triangles of the prepared input.
+    pub input_triangles: usize,
+    pub target_faces: usize,
+    pub cage_faces: usize,
+    pub cage_vertices: usize,
+    /// meshoptimizer's error estimate of the simplification, relative to the mesh's extent.
+    pub simplifier_error: f64,
+    /// The QEM cage measured.
+    pub qem: Evaluation,
+    pub rounds: Vec<RoundReport>,
+    /// The round whose cage was kept, 0 for the QEM cage.
+    pub kept_round: u32,
+    /// One sentence on what was kept and why.
+    pub verdict: String,
+    pub steps: Vec<StepTime>,
+}
+
+impl FitReport {
+    /// The measures of the best fitted round (kept or not), if any round succeeded.
+    pub fn fitted(&self) -> Option<&Evaluation> {
+        let chosen = if self.kept_round > 0 { Some(self.kept_round) } else { None };
+        let best = self.rounds.iter().filter_map(|r| r.evaluation.as_ref().map(|e| (r.round, e)));
+        match chosen {
+            Some(k) => best.into_iter().find(|(r, _)| *r == k).map(|(_, e)| e),
+            None => best.min_by(|a, b| a.1.mean.total_cmp(&b.1.mean)).map(|(_, e)| e),
+        }
+    }
+}
+
+/// The result of a fit.
+#[derive(Clone, Debug)]
+#[non_exhaustive]
+pub struct CageFit {
+    /// The kept cage: the fitted one, or the QEM cage when fitting did not improve on it.
+    pub cage: PolyMesh,
+    /// The QEM cage the fit started from.
+    pub qem_cage: PolyMesh,
+    /// The kept cage's sampled limit surface with per-vertex distances to the original.
+    pub surface: LimitSurface,
+    pub report: FitReport,
+}
+
+/// Fits a Loop cage to a dense mesh; `Ok(None)` when `progress` cancelled it.
+pub fn fit_cage(dense: &DenseMesh, params: &CageFitParams, progress: &mut dyn Progress) -> Result<Option<CageFit>> {
+    let target = params.target_faces(dense.triangles.len())?;
+    let mut monitor = Monitor::new(progress);
+    macro_rules! step {
+        ($name:literal) => {
+            if !monitor.begin($name) {
+                return Ok(None);
+            }
+        };
+    }
+
+    step!("simplify");
+    // A closed piece cannot go below a tetrahedron's four faces.
+    let simplified = simplify::simplify(dense, target.max(4 * dense.report.components))?;
+    let qem_cage = simplified.cage;
+
+    step!("limit matrix");
+    let matrix = loop_limit_matrix(&qem_cage)?;
+    let limit = matrix.apply(qem_cage.positions());
+
+    step!("index original");
+    let index = surface_index::SurfaceIndex::new(&dense.positions, &dense.triangles)?;
+    let volume = dense.closed.then(|| dense.signed_volume());
+    let original = evaluate::Original::new(&index, &dense.positions, dense.triangles.len(), volume);
+
+    step!("correspondence");
+    let lengths = correspond::local_edge_lengths(&qem_cage);
+    let normals = qem_cage.vertex_normals();
+    let border: Vec<bool> = qem_cage.vertices().map(|v| qem_cage.is_boundary_vertex(v)).collect();
+    let a = qem_cage.positions();
+    let Some(found) =
+        monitor.map(a.len(), |i| correspond::target(&index, a[i], limit[i], normals[i], lengths[i], border[i]))
+    else {
+        return Ok(None);
+    };
+    let count = |kind: Found| found.iter().filter(|(_, f)| *f == kind).count();
+    let targets: Vec<DVec3> = found.iter().map(|(x, _)| *x).collect();
+    let mut first = RoundReport {
+        round: 1,
+        ray_hits: count(Found::Ray),
+        closest_points: count(Found::Closest),
+        border: count(Found::Border),
+        iterations: 0,
+        evaluation: None,
+        failure: None,
+    };
+
+    step!("solve");
+    let tolerance = 1e-9 * original.diagonal.max(f64::MIN_POSITIVE);
+    let solved = solve::Factorised::new(&matrix).and_then(|f| f.solve(&targets, tolerance));
+    let mut cages: Vec<(RoundReport, Option<PolyMesh>)> = Vec::new();
+    match solved {
+        Ok(x) => {
+            let mut cage = qem_cage.clone();
+            cage.positions_mut().copy_from_slice(&x);
+            cages.push((first, Some(cage)));
+        }
+        Err(e) => {
+            first.failure = Some(e.to_string());
+            cages.push((first, None));
+        }
+    }
+
+    if params.rounds > 1 && cages[0].1.is_some() {
+        step!("least-squares rounds");
+        let once = loop_step::loop_step(&qem_cage)?;
+        let fit_matrix = solve::compose(&loop_limit_matrix(&once.mesh)?, &once.stencil);
+        for round in 2..=params.rounds {
+            let mut x = cages.last().and_then(|(_, c)| c.as_ref()).map(|c| c.positions().to_vec()).unwrap_or_default();
+            let samples = fit_matrix.apply(&x);
+            let Some(goals) = monitor.map(samples.len(), |j| index.closest_point(samples[j])) else {
+                return Ok(None);
+            };
+            let iterations = solve::least_squares(&fit_matrix, &goals, &mut x, 1e-6, 500);
+            let mut report = RoundReport {
+                round,
+                ray_hits: 0,
+                closest_points: goals.len(),
+                border: 0,
+                iterations,
+                evaluation: None,
+                failure: None,
+            };
+            if x.iter().all(|p| p.is_finite()) {
+                let mut cage = qem_cage.clone();
+                cage.positions_mut().copy_from_slice(&x);
+                cages.push((report, Some(cage)));
+            } else {
+                report.failure = Some("the least-squares round gave non-finite positions".into());
+                cages.push((report, None));
+                break;
+            }
+        }
+    }
+
+    step!("evaluate QEM cage");
+    let Some((qem, qem_surface)) = evaluate::evaluate(&qem_cage, &original, &mut monitor)? else {
+        return Ok(None);
+    };
+    step!("evaluate fitted cage");
+    // Candidates no worse than the QEM cage in either distance; of those the smallest mean.
+    let mut best: Option<(u32, PolyMesh, LimitSurface, Evaluation)> = None;
+    let mut closest_rejected: Option<(u32, Evaluation)> = None;
+    for (report, cage) in &mut cages {
+        let Some(cage) = cage.take() else { continue };
+        let Some((evaluation, surface)) = evaluate::evaluate(&cage, &original, &mut monitor)? else {
+            return Ok(None);
+        };
+        report.evaluation = Some(evaluation.clone());
+        let no_worse = evaluation.hausdorff <= qem.hausdorff && evaluation.mean <= qem.mean;
+        if no_worse && best.as_ref().is_none_or(|b| evaluation.mean < b.3.mean) {
+            best = Some((report.round, cage, surface, evaluation));
+        } else if !no_worse && closest_rejected.as_ref().is_none_or(|b| evaluation.mean < b.1.mean) {
+            closest_rejected = Some((report.round, evaluation));
+        }
+    }
+    monitor.finish();
+
+    let rounds: Vec<RoundReport> = cages.into_iter().map(|(r, _)| r).collect();
+    let (kept_round, cage, surface, verdict) = match (best, closest_rejected) {
+        (Some((round, cage, surface, e)), _) => {
+            let verdict = format!(
+                "kept the fitted cage (round {round}): its limit surface is no farther from the original than the \
+                 QEM cage's (Hausdorff {:.3e} vs {:.3e}, mean {:.3e} vs {:.3e} of the diagonal)",
+                e.hausdorff, qem.hausdorff, e.mean, qem.mean
+            );
+            (round, cage, surface, verdict)
+        }
+        (None, Some((round, e))) => {
+            let worse = if e.hausdorff > qem.hausdorff { "Hausdorff" } else { "mean" };
+            let verdict = format!(
+                "kept the QEM cage: the fitted cage (round {round}) came out worse in {worse} distance (Hausdorff \
+                 {:.3e} vs {:.3e}, mean {:.3e} vs {:.3e} of the diagonal)",
+                e.hausdorff, qem.hausdorff, e.mean, qem.mean
+            );
+            (0, qem_cage.clone(), qem_surface, verdict)
+        }
+        (None, None) => {
+            let why = rounds.iter().find_map(|r| r.failure.clone()).unwrap_or_default();
+            (0, qem_cage.clone(), qem_surface, format!("kept the QEM cage: fitting failed ({why})"))
+        }
+    };
+    let report = FitReport {
+        input: dense.report.clone(),
+        input_triangles: dense.triangles.len(),
+        target_faces: target,
+        cage_faces: qem_cage.face_count(),
+        cage_vertices: qem_cage.vertex_count(),
+        simplifier_error: simplified.relative_error,
+        qem,
+        rounds,
+        kept_round,
+        verdict,
+        steps: monitor.steps,
+    };
+    Ok(Some(CageFit { cage, qem_cage, surface, report }))
+}

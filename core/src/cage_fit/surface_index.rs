@@ -1,0 +1,73 @@
+//! A triangle mesh indexed for ray casts and closest points: a thin wrapper over parry's
+//! `TriMesh`, whose bounding-volume hierarchy answers both queries in about logarithmic time.
+//!
+//! parry's own vector type is `glam` of another version than Taut's, so points cross the
+//! boundary as plain coordinates. Queries take `&self` and are answered independently, so they
+//! run in parallel and give the same answers on any number of threads.
+
+use crate::{DVec3, Error, Result};
+use parry3d_f64::math::Vector;
+use parry3d_f64::query::{PointQuery, Ray, RayCast};
+use parry3d_f64::shape::TriMesh;
+
+/// A triangle surface ready for queries.
+pub struct SurfaceIndex {
+    mesh: TriMesh,
+}
+
+impl std::fmt::Debug for SurfaceIndex {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "SurfaceIndex({} triangles)", self.mesh.num_triangles())
+    }
+}
+
+fn to_parry(p: DVec3) -> Vector {
+    Vector::new(p.x, p.y, p.z)
+}
+
+fn from_parry(p: Vector) -> DVec3 {
+    DVec3::new(p.x, p.y, p.z)
+}
+
+impl SurfaceIndex {
+    /// Indexes triangles over positions (indices must be in range).
+    pub fn new(positions: &[DVec3], triangles: &[[u32; 3]]) -> Result<Self> {
+        let vertices = positions.iter().map(|&p| to_parry(p)).collect();
+        let mesh = TriMesh::new(vertices, triangles.to_vec())
+            .map_err(|e| Error::Input(format!("cannot index the surface for distance queries ({e})")))?;
+        Ok(SurfaceIndex { mesh })
+    }
+
+    /// The closest point of the surface to `p`.
+    pub fn closest_point(&self, p: DVec3) -> DVec3 {
+        from_parry(self.mesh.project_local_point(to_parry(p), false).point)
+    }
+
+    /// The distance from `p` to the surface.
+    pub fn distance(&self, p: DVec3) -> f64 {
+        (self.closest_point(p) - p).length()
+    }
+
+    /// The parameter `t ≤ max` of the first point `origin + t·direction` on the surface
+    /// (`direction` of unit length), if any.
+    pub fn cast(&self, origin: DVec3, direction: DVec3, max: f64) -> Option<f64> {
+        self.mesh.cast_local_ray(&Ray::new(to_parry(origin), to_parry(direction)), max, false)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn queries_on_a_unit_square_match_closed_forms() {
+        let p = vec![DVec3::ZERO, DVec3::X, DVec3::new(1.0, 1.0, 0.0), DVec3::Y];
+        let index = SurfaceIndex::new(&p, &[[0, 1, 2], [0, 2, 3]]).unwrap();
+        assert!((index.closest_point(DVec3::new(0.3, 0.6, 2.0)) - DVec3::new(0.3, 0.6, 0.0)).length() < 1e-12);
+        assert!((index.distance(DVec3::new(2.0, 0.5, 0.0)) - 1.0).abs() < 1e-12);
+        let t = index.cast(DVec3::new(0.5, 0.5, 3.0), -DVec3::Z, 10.0).unwrap();
+        assert!((t - 3.0).abs() < 1e-12);
+        assert!(index.cast(DVec3::new(0.5, 0.5, 3.0), DVec3::Z, 10.0).is_none());
+        assert!(index.cast(DVec3::new(0.5, 0.5, 3.0), -DVec3::Z, 2.0).is_none());
+    }
+}
