@@ -7,6 +7,7 @@
 //! bar on a terminal. Ctrl+C cancels between steps and chunks of work; files are written only
 //! at the end, each atomically, so an interrupted run never leaves a half-written file.
 
+use crate::cli::{FileFlags, note};
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::PathBuf;
@@ -14,6 +15,7 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 use taut_core::cage_fit::{CageFitParams, CageSize, DenseMesh, Evaluation, fit_cage};
+use taut_core::surface::SchemeKind;
 use taut_core::{Document, io};
 
 #[derive(Debug, Args)]
@@ -35,15 +37,22 @@ pub struct CageArgs {
     /// Also write the evaluation and step times as JSON.
     #[arg(long)]
     pub report: Option<PathBuf>,
+    #[command(flatten)]
+    pub files: FileFlags,
 }
 
 pub fn run(args: &CageArgs) -> Result<(), String> {
-    let kind = crate::smooth_cmd::extension(&args.output);
+    let mut outputs = vec![args.output.as_path()];
+    outputs.extend(args.report.as_deref());
+    for output in outputs {
+        args.files.check_output(&[&args.input], output)?;
+    }
+    let kind = crate::surface_cmd::extension(&args.output);
     if !matches!(kind.as_str(), "obj" | "glb" | "taut") {
         return Err(format!("{}: unsupported cage file; use .obj, .glb or .taut", args.output.display()));
     }
     if let Some(report) = &args.report
-        && crate::smooth_cmd::extension(report) != "json"
+        && crate::surface_cmd::extension(report) != "json"
     {
         return Err(format!("{}: the report is JSON; give it a .json name", report.display()));
     }
@@ -69,11 +78,11 @@ pub fn run(args: &CageArgs) -> Result<(), String> {
     };
     let started = Instant::now();
     let bar = spinner("import");
-    let (positions, triangles, import_report) = io::import_triangles(&args.input).map_err(|e| e.to_string())?;
+    let (positions, triangles, import_report) = io::import_triangles(&args.input, &args.files.import_options()).map_err(|e| e.to_string())?;
     let import_seconds = started.elapsed().as_secs_f64();
     bar.finish_and_clear();
     if !import_report.is_clean() {
-        eprintln!("note: {}: {import_report}", args.input.display());
+        note(format!("{}: {import_report}", args.input.display()));
     }
     if interrupted.load(Ordering::SeqCst) {
         return Err(cancelled());
@@ -87,7 +96,7 @@ pub fn run(args: &CageArgs) -> Result<(), String> {
     bar.finish_and_clear();
     let notes = dense.report().notes();
     if !notes.is_empty() {
-        eprintln!("note: {}: {}", args.input.display(), notes.join(", "));
+        note(format!("{}: {}", args.input.display(), notes.join(", ")));
     }
 
     let style = ProgressStyle::with_template("{msg:>22} [{bar:40}] {percent:>3}%")
@@ -132,8 +141,13 @@ pub fn run(args: &CageArgs) -> Result<(), String> {
     println!("time: {}", times.join(", "));
 
     match kind.as_str() {
-        "taut" => Document::new(fit.cage.clone()).save(&args.output).map_err(|e| e.to_string())?,
-        _ => io::export_mesh(&fit.cage, &args.output).map_err(|e| e.to_string())?,
+        // The cage is made for Loop subdivision: its document opens in that scheme.
+        "taut" => Document::new(fit.cage.clone())
+            .with_scheme(SchemeKind::Loop)
+            .save(&args.output)
+            .map_err(|e| e.to_string())?,
+        _ => io::export_mesh_with(&fit.cage, &args.output, &args.files.export_options(None))
+            .map_err(|e| e.to_string())?,
     }
     println!(
         "wrote the cage {} ({} vertices, {} faces)",

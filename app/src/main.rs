@@ -10,6 +10,8 @@ mod curve_cmd;
 mod editor;
 mod render_cmd;
 mod smooth_cmd;
+mod subdivide_cmd;
+mod surface_cmd;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -29,8 +31,10 @@ struct Cli {
 
 #[derive(Debug, Subcommand)]
 enum Command {
-    /// Refine and smooth a cage (OBJ, glTF, GLB or .taut) and write the surface.
+    /// Refine and smooth a cage (OBJ, glTF, GLB, STL, PLY or .taut) and write the surface.
     Smooth(smooth_cmd::SmoothArgs),
+    /// Subdivide a cage by Catmull–Clark or Loop, with creases, and write the surface.
+    Subdivide(subdivide_cmd::SubdivideArgs),
     /// Smooth a polyline given as JSON, inserting points between the input points.
     SmoothCurve(curve_cmd::SmoothCurveArgs),
     /// Draw a surface shaded, as zebra stripes or in curvature colour into a PNG.
@@ -110,6 +114,7 @@ fn main() -> ExitCode {
     };
     let result = match &cli.command {
         Some(Command::Smooth(args)) => smooth_cmd::run(args),
+        Some(Command::Subdivide(args)) => subdivide_cmd::run(args),
         Some(Command::SmoothCurve(args)) => curve_cmd::run(args),
         Some(Command::Render(args)) => render_cmd::run(args),
         Some(Command::Cage(args)) => cage_cmd::run(args),

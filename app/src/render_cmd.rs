@@ -6,19 +6,18 @@
 //! software rasteriser.
 
 use crate::cli::{FileFlags, note};
-use crate::smooth_cmd::{SmoothingFlags, apply_flags, extension, load_document, solve_reporting};
+use crate::editor::state::comb_style;
+use crate::surface_cmd::{SurfaceFlags, extension, load_document, solve_reporting};
 use clap::Args;
 use std::path::PathBuf;
-use std::str::FromStr;
-use taut_core::curvature::{CurvatureQuantity, robust_range, vertex_curvature};
+use taut_core::curvature::{robust_range, vertex_curvature};
+use taut_core::surface::{ColourBy, SchemeKind, SurfaceScheme};
 use taut_core::{DVec3, Document, PolyMesh, io};
 use taut_render::colormap::ColorMap;
-use taut_render::overlay::{self, CageSelection, CombStyle, Legend, OverlayData};
-use taut_render::passes::overlay2d::legend_margin;
+use taut_render::overlay::{self, CageControls, CageSelection, Legend, OverlayData};
 use taut_render::passes::surface::SurfaceMode;
-use taut_render::{
-    AdapterPreference, Camera, DisplayFrame, Gpu, GpuSurface, Renderer, Scene, SurfaceBuffers, TargetFormats, offscreen,
-};
+use taut_render::picture::{Picture, View as CameraView};
+use taut_render::{AdapterPreference, Gpu, RenderError, Renderer, TargetFormats, offscreen};
 
 #[derive(Debug, Args)]
 pub struct RenderArgs {
@@ -62,8 +61,12 @@ pub struct RenderArgs {
     /// Draw with the software rasteriser even when a GPU is present (reproducible pictures).
     #[arg(long)]
     pub software: bool,
+    /// The surface scheme of a cage: nusd, catmull-clark or loop [default: the .taut file's, or
+    /// nusd]; giving it draws a mesh file as a cage.
+    #[arg(long)]
+    pub scheme: Option<SchemeKind>,
     #[command(flatten)]
-    pub smoothing: SmoothingFlags,
+    pub smoothing: SurfaceFlags,
     #[command(flatten)]
     pub files: FileFlags,
 }
@@ -71,17 +74,36 @@ pub struct RenderArgs {
 enum View {
     Shaded,
     Zebra,
-    Curvature(CurvatureQuantity),
+    Colour(String),
+}
+
+/// What a picture shows: a document's surface made by its scheme, or a mesh as it is.
+enum Drawn {
+    Surface { doc: Box<Document>, surface: Box<dyn SurfaceScheme> },
+    Mesh(PolyMesh),
+}
+
+impl Drawn {
+    fn mesh(&self) -> &PolyMesh {
+        match self {
+            Drawn::Surface { surface, .. } => surface.mesh(),
+            Drawn::Mesh(mesh) => mesh,
+        }
+    }
+
+    fn normals(&self) -> Option<&[DVec3]> {
+        match self {
+            Drawn::Surface { surface, .. } => surface.normals(),
+            Drawn::Mesh(_) => None,
+        }
+    }
 }
 
 pub fn run(args: &RenderArgs) -> Result<(), String> {
     let view = match args.view.as_str() {
         "shaded" => View::Shaded,
         "zebra" => View::Zebra,
-        other => View::Curvature(
-            CurvatureQuantity::from_str(other)
-                .map_err(|_| format!("--view {other}: use shaded, zebra, mean, gaussian, kmin, kmax, kabs or r"))?,
-        ),
+        other => View::Colour(other.to_string()),
     };
     let (width, height) = parse_size(&args.size)?;
     if extension(&args.output) != "png" {
@@ -91,8 +113,8 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
     if let Some(bad) = overlays.iter().find(|o| !["cage", "wire", "curves"].contains(o)) {
         return Err(format!("--overlay {bad}: use cage, wire or curves"));
     }
-    if args.legend && !matches!(view, View::Curvature(_)) {
-        return Err("--legend goes with a curvature view (mean, gaussian, kmin, kmax, kabs, r)".into());
+    if args.legend && !matches!(view, View::Colour(_)) {
+        return Err("--legend goes with a colour view (mean, gaussian, kmin, kmax, kabs, r)".into());
     }
     if !(args.stripes > 0.0 && args.stripes.is_finite()) {
         return Err(format!("--stripes {}: must be a positive number", args.stripes));
@@ -107,111 +129,125 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
         ));
     }
     args.files.check_output(&[&args.input], &args.output)?;
+    let colour_by = match &view {
+        View::Colour(name) => {
+            let scheme = args.scheme.unwrap_or(SchemeKind::Nusd);
+            let by = match ColourBy::parse(name, scheme) {
+                Ok(by) => by,
+                Err(_) if name == "r" => {
+                    return Err(format!(
+                        "--view r shows NUSD's second derivative, which the {} scheme does not have",
+                        scheme.display_name()
+                    ));
+                }
+                Err(_) => {
+                    return Err(format!("--view {name}: use shaded, zebra, mean, gaussian, kmin, kmax, kabs or r"));
+                }
+            };
+            Some(by)
+        }
+        _ => None,
+    };
 
-    // The surface: a smoothed cage, or a mesh as it is.
-    let cage_input = extension(&args.input) == "taut" || args.smoothing.any();
-    let (surface, doc, solver) = if cage_input {
+    // The surface: a cage made smooth by its scheme, or a mesh as it is.
+    let cage_input = extension(&args.input) == "taut" || args.smoothing.any() || args.scheme.is_some();
+    let drawn = if cage_input {
         let mut doc = load_document(&args.input, &args.files)?;
-        apply_flags(&mut doc, &args.smoothing)?;
+        args.smoothing.apply(&mut doc, args.scheme)?;
         doc.validate().map_err(|e| e.to_string())?;
-        let solver = solve_reporting(&doc)?;
-        (solver.surface(), Some(doc), Some(solver))
+        let surface = solve_reporting(&doc, true)?;
+        Drawn::Surface { doc: Box::new(doc), surface }
     } else {
         let (mesh, report) =
             io::import_mesh_with(&args.input, &args.files.import_options()).map_err(|e| e.to_string())?;
         if !report.is_clean() {
             note(format!("{}: {report}", args.input.display()));
         }
-        (mesh, None, None)
+        Drawn::Mesh(mesh)
     };
-    if surface.face_count() == 0 {
+    if drawn.mesh().face_count() == 0 {
         return Err(format!("{}: nothing to draw (no faces)", args.input.display()));
     }
 
     let mut data = OverlayData::default();
-    let mode = match view {
-        View::Shaded => SurfaceMode::Shaded,
-        View::Zebra => SurfaceMode::Zebra {
-            stripes: args.stripes,
-            angle_degrees: args.stripe_angle,
-            width_ratio: args.stripe_width,
-        },
-        View::Curvature(q) => {
-            let r = solver.as_ref().map(|s| s.surface_second_derivatives());
-            if q == CurvatureQuantity::NusdR && r.is_none() {
-                return Err("--view r shows NUSD's second derivative: give a .taut cage or a smoothing flag".into());
-            }
-            let values = vertex_curvature(&surface).values(q, r).map_err(|e| e.to_string())?;
-            let (min, max) = match &args.range {
-                Some(text) => parse_range(text)?,
-                None => robust_range(&values, q.is_signed()),
-            };
-            println!("{}: colours from {min:.4e} to {max:.4e}", q.display_name());
-            let map = if q.is_signed() { ColorMap::Diverging } else { ColorMap::Sequential };
-            if args.legend {
-                data.legend = Some(Legend { map, min, max, title: overlay::legend_title(q).to_string() });
-            }
-            // The colours are chosen in f64: curvatures of a tiny model would overflow f32.
-            let values = taut_render::colormap::normalize(&values, min, max);
-            return draw(
-                args,
-                &surface,
-                doc.as_ref(),
-                solver.as_ref(),
-                &overlays,
-                data,
-                SurfaceMode::Curvature { map, min: 0.0, max: 1.0 },
-                Some(&values),
-                (width, height),
-            );
+    let Some(by) = colour_by else {
+        let mode = match view {
+            View::Zebra => SurfaceMode::Zebra {
+                stripes: args.stripes,
+                angle_degrees: args.stripe_angle,
+                width_ratio: args.stripe_width,
+            },
+            _ => SurfaceMode::Shaded,
+        };
+        return draw(args, &drawn, &overlays, data, mode, None, (width, height));
+    };
+    let values = match (&drawn, by) {
+        (Drawn::Surface { surface, .. }, by) => by.values(surface.as_ref()).map_err(|e| e.to_string())?,
+        (Drawn::Mesh(mesh), ColourBy::Curvature(q)) => vertex_curvature(mesh).values(q),
+        (Drawn::Mesh(_), _) => {
+            return Err("--view r shows NUSD's second derivative: give a .taut cage or a smoothing flag".into());
         }
     };
-    draw(args, &surface, doc.as_ref(), solver.as_ref(), &overlays, data, mode, None, (width, height))
+    let (min, max) = match &args.range {
+        Some(text) => parse_range(text)?,
+        None => robust_range(&values, by.is_signed()),
+    };
+    println!("{}: colours from {min:.4e} to {max:.4e}", by.display_name());
+    let map = if by.is_signed() { ColorMap::Diverging } else { ColorMap::Sequential };
+    if args.legend {
+        data.legend = Some(Legend { map, min, max, title: overlay::legend_title(by).to_string() });
+    }
+    // The colours are chosen in f64: curvatures of a tiny model would overflow f32.
+    let values = taut_render::colormap::normalize(&values, min, max);
+    draw(args, &drawn, &overlays, data, SurfaceMode::Curvature { map, min: 0.0, max: 1.0 }, Some(&values), (width, height))
 }
 
-#[allow(clippy::too_many_arguments)]
 fn draw(
     args: &RenderArgs,
-    surface: &PolyMesh,
-    doc: Option<&Document>,
-    solver: Option<&taut_core::nusd::surface::SurfaceSolver>,
+    drawn: &Drawn,
     overlays: &[&str],
     mut data: OverlayData,
     mode: SurfaceMode,
     values: Option<&[f32]>,
     (width, height): (u32, u32),
 ) -> Result<(), String> {
+    let surface = drawn.mesh();
+    let picture = Picture {
+        mesh: surface,
+        normals: drawn.normals(),
+        values,
+        mode,
+        view: parse_view(args.camera.as_deref())?,
+        width,
+        height,
+    };
     // Everything is drawn relative to the surface's own box, so any finite model fits f32.
-    let (lo, hi) = surface.bounding_box().ok_or("nothing to frame")?;
-    let frame = &DisplayFrame::for_bounds(lo, hi);
-    let normals: Option<&[DVec3]> = None;
+    let frame = &picture.frame();
     for &name in overlays {
         match name {
             "cage" => {
-                let doc = doc.ok_or("--overlay cage needs a cage: give a .taut file or a smoothing flag")?;
-                let (lines, points) = overlay::cage_overlay(
-                    &doc.cage,
-                    &doc.fixed,
-                    &doc.vertex_tension,
-                    &doc.edge_tension,
-                    &CageSelection::default(),
-                    frame,
-                );
+                let Drawn::Surface { doc, .. } = drawn else {
+                    return Err("--overlay cage needs a cage: give a .taut file or a smoothing flag".into());
+                };
+                let controls = if doc.scheme.is_subdivision() {
+                    CageControls::Creases { sharpness: &doc.crease }
+                } else {
+                    CageControls::Nusd {
+                        fixed: &doc.fixed,
+                        vertex_tension: &doc.vertex_tension,
+                        edge_tension: &doc.edge_tension,
+                    }
+                };
+                let (lines, points) = overlay::cage_overlay(&doc.cage, controls, &CageSelection::default(), frame);
                 data.on_top_lines.extend(lines);
                 data.points.extend(points);
             }
             "wire" => data.surface_lines.extend(overlay::wireframe(surface, [0.05, 0.05, 0.06, 0.8], 1.0, frame)),
             _ => {
                 // Curves along the cage edges (or the mesh's boundary loops), with combs
-                // scaled so the longest tooth is 6 % of the model's size.
-                let curves = curves_of(surface, solver);
-                let diagonal = surface.bounding_diagonal();
-                let peak = curves
-                    .iter()
-                    .flat_map(|c| taut_core::curvature::polyline_curvature(c, false).magnitude())
-                    .fold(0.0f64, f64::max);
-                let scale = if peak > 0.0 { 0.06 * diagonal / peak } else { 1.0 };
-                let style = CombStyle { scale, ..Default::default() };
+                // scaled so the longest tooth is 12 % of the model's size.
+                let curves = curves_of(drawn);
+                let style = comb_style(&curves, surface.bounding_diagonal(), 0.12, 1);
                 for curve in &curves {
                     data.surface_lines.extend(overlay::polyline_with_comb(curve, false, &style, frame));
                 }
@@ -223,104 +259,64 @@ fn draw(
         .map_err(|e| e.to_string())?;
     let targets = TargetFormats::for_adapter(&gpu.adapter, wgpu::TextureFormat::Rgba8UnormSrgb);
     let mut renderer = Renderer::new(&gpu, targets);
-    let mut buffers = SurfaceBuffers::default();
-    buffers.update_with(surface, normals, frame);
-    if let Some(values) = values {
-        buffers.set_values(values);
-    }
-    let gpu_surface = GpuSurface::new(&gpu.device, &buffers);
-    let margin = data.legend.as_ref().map_or(0, |l| legend_margin(l, width, height));
-    let camera = camera_for(surface, frame, args.camera.as_deref(), (width, height), margin)?;
-    let mut scene = Scene::new(camera, Some(&gpu_surface), mode);
-    scene.overlays = Some(&data);
-    let picture = offscreen::render_image(&gpu, &mut renderer, &scene, width, height).map_err(|e| e.to_string())?;
-    offscreen::save_png(&picture, &args.output).map_err(|e| e.to_string())?;
+    let image = picture.render(&gpu, &mut renderer, &data).map_err(|e| match e {
+        RenderError::Output(m) if m.starts_with("the camera distance") => {
+            format!("--camera {}: {m}", args.camera.as_deref().unwrap_or_default())
+        }
+        other => other.to_string(),
+    })?;
+    offscreen::save_png(&image, &args.output).map_err(|e| e.to_string())?;
     println!(
         "wrote {} ({width}x{height}, {} triangles, on {})",
         args.output.display(),
-        buffers.indices().len() / 3,
+        surface.triangles().len(),
         gpu.description()
     );
     Ok(())
 }
 
 /// The surface's curves along the cage edges, or the boundary loops of a plain mesh.
-fn curves_of(surface: &PolyMesh, solver: Option<&taut_core::nusd::surface::SurfaceSolver>) -> Vec<Vec<DVec3>> {
-    match solver {
-        Some(solver) => solver
-            .cage_edge_curves()
-            .into_iter()
-            .map(|(_, chain)| chain.iter().map(|&v| surface.position(v)).collect())
-            .collect(),
-        None => {
-            let mut seen = vec![false; surface.halfedge_count()];
-            let mut loops = Vec::new();
-            for h in (0..surface.halfedge_count() as u32).map(taut_core::HalfedgeId) {
-                if !surface.is_boundary_halfedge(h) || seen[h.index()] {
-                    continue;
-                }
-                let mut points = Vec::new();
-                let mut g = h;
-                loop {
-                    seen[g.index()] = true;
-                    points.push(surface.position(surface.from_vertex(g)));
-                    g = surface.next(g);
-                    if g == h {
-                        break;
-                    }
-                }
-                points.push(points[0]);
-                loops.push(points);
-            }
-            loops
+fn curves_of(drawn: &Drawn) -> Vec<Vec<DVec3>> {
+    let surface = match drawn {
+        Drawn::Surface { surface, .. } => return surface.curves(),
+        Drawn::Mesh(mesh) => mesh,
+    };
+    let mut seen = vec![false; surface.halfedge_count()];
+    let mut loops = Vec::new();
+    for h in (0..surface.halfedge_count() as u32).map(taut_core::HalfedgeId) {
+        if !surface.is_boundary_halfedge(h) || seen[h.index()] {
+            continue;
         }
+        let mut points = Vec::new();
+        let mut g = h;
+        loop {
+            seen[g.index()] = true;
+            points.push(surface.position(surface.from_vertex(g)));
+            g = surface.next(g);
+            if g == h {
+                break;
+            }
+        }
+        points.push(points[0]);
+        loops.push(points);
     }
+    loops
 }
 
-/// The camera in the display coordinates of `frame`: the surface framed to fill the picture left
-/// of the legend's margin (`margin` pixels at the right), or placed by `--camera` (its distance in
-/// model units).
-fn camera_for(
-    surface: &PolyMesh,
-    frame: &DisplayFrame,
-    spec: Option<&str>,
-    (width, height): (u32, u32),
-    margin: u32,
-) -> Result<Camera, String> {
-    let mut camera = Camera::default();
-    let mut distance = None;
-    if let Some(spec) = spec {
-        let numbers = parse_numbers(spec, "--camera")?;
-        match numbers.as_slice() {
-            [az, el] | [az, el, _] => {
-                camera.azimuth = *az as f32;
-                camera.elevation = (*el as f32).clamp(-90.0, 90.0);
-            }
-            _ => return Err(format!("--camera {spec}: expected AZIMUTH,ELEVATION[,DISTANCE]")),
-        }
-        if let [_, _, d] = numbers.as_slice() {
-            let display = frame.length(*d);
-            if !(*d > 0.0 && display.is_finite() && (1e-6..=1e9).contains(&(display as f32))) {
-                return Err(format!(
-                    "--camera {spec}: the distance must be positive and within a billion times the model's size ({:.3e})",
-                    frame.scale
-                ));
-            }
-            distance = Some(display as f32);
-        }
-    }
-    // Framing every vertex of a million-vertex surface is wasteful: a regular sample sees the
-    // same silhouette to within a pixel.
-    let step = (surface.vertex_count() / 20_000).max(1);
-    let points: Vec<glam::Vec3> = surface.positions().iter().step_by(step).map(|&p| frame.point(p)).collect();
-    let usable = width.saturating_sub(margin).max(1);
-    camera.frame_points(&points, usable as f32 / height.max(1) as f32);
-    if let Some(d) = distance {
-        camera.distance = d;
-    }
-    // Centre the model in the part of the picture the legend leaves free.
-    camera.pan(-(margin as f32) / 2.0, 0.0, height as f32);
-    Ok(camera)
+/// `--camera AZIMUTH,ELEVATION[,DISTANCE]` (the distance in model units).
+fn parse_view(spec: Option<&str>) -> Result<CameraView, String> {
+    let Some(spec) = spec else { return Ok(CameraView::default()) };
+    let numbers = parse_numbers(spec, "--camera")?;
+    let (azimuth, elevation) = match numbers.as_slice() {
+        [az, el] | [az, el, _] => (*az as f32, *el as f32),
+        _ => return Err(format!("--camera {spec}: expected AZIMUTH,ELEVATION[,DISTANCE]")),
+    };
+    let distance = match numbers.as_slice() {
+        [_, _, d] if *d <= 0.0 => return Err(format!("--camera {spec}: the distance must be positive")),
+        [_, _, d] => Some(*d),
+        _ => None,
+    };
+    Ok(CameraView { azimuth, elevation, distance })
 }
 
 fn parse_numbers(text: &str, flag: &str) -> Result<Vec<f64>, String> {

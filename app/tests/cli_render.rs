@@ -158,7 +158,7 @@ fn bad_arguments_fail_with_one_clear_line() {
     assert_clean_failure(&taut(&["render", &cage, "-o", &png, "--size", "0x5"]), "--size 0x5");
     assert_clean_failure(&taut(&["render", &cage, "-o", &png, "--size", "big"]), "WIDTHxHEIGHT");
     assert_clean_failure(&taut(&["render", &cage, "-o", &png, "--overlay", "cage,bogus"]), "--overlay bogus");
-    assert_clean_failure(&taut(&["render", &cage, "-o", &png, "--legend"]), "--legend goes with a curvature view");
+    assert_clean_failure(&taut(&["render", &cage, "-o", &png, "--legend"]), "--legend goes with a colour view");
     assert_clean_failure(
         &taut(&["render", &cage, "-o", &png, "--view", "mean", "--range", "3,1"]),
         "MIN must be below MAX",

@@ -1,12 +1,19 @@
 //! The cage document: what a designer saves in a `.taut` file.
 //!
-//! A cage (positions and polygons), a fixed flag and a tension τ per vertex, a tension τ per
-//! edge, and the solver settings. Tensions are dimensionless (spec: "Scale-free tension"). The
-//! file is JSON with a format name and version; floating-point values are written in their
-//! shortest exact form, so saving and loading reproduces the document bit for bit.
+//! A cage (positions and polygons), the surface scheme that makes a surface of it, and each
+//! scheme's controls and settings: for NUSD a fixed flag and a tension τ per vertex and a tension
+//! τ per edge (dimensionless, spec: "Scale-free tension") and the solver settings; for the
+//! subdivision schemes a crease sharpness per edge and the number of levels. The file is JSON
+//! with a format name and version; floating-point values are written in their shortest exact
+//! form, so saving and loading reproduces the document bit for bit.
+//!
+//! Format versions: 1 had no scheme (NUSD), creases or subdivision settings; 2 adds them. Every
+//! version-1 file opens as a NUSD document. An infinitely sharp crease is written `"inf"` (JSON
+//! has no infinity).
 
 use crate::mesh::{EdgeId, PolyMesh, VertexId};
 use crate::nusd::SolverSettings;
+pub use crate::surface::{SchemeKind, SubdivSettings};
 use crate::{DVec3, Error, Result};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -14,35 +21,92 @@ use std::path::Path;
 /// The `format` field of a `.taut` file.
 pub const FORMAT_NAME: &str = "taut-cage";
 /// The newest `.taut` version this build writes and reads.
-pub const FORMAT_VERSION: u32 = 1;
+pub const FORMAT_VERSION: u32 = 2;
 
-/// A cage with its per-vertex and per-edge controls.
+/// A cage with its scheme and its per-vertex and per-edge controls.
 #[derive(Clone, Debug)]
 pub struct Document {
     /// The control cage.
     pub cage: PolyMesh,
-    /// Per vertex: true when the surface must pass through it.
+    /// How the surface is made from the cage.
+    pub scheme: SchemeKind,
+    /// NUSD, per vertex: true when the surface must pass through it.
     pub fixed: Vec<bool>,
-    /// Per vertex: dimensionless tension τ ≥ 0.
+    /// NUSD, per vertex: dimensionless tension τ ≥ 0.
     pub vertex_tension: Vec<f64>,
-    /// Per cage edge (indexed by [`EdgeId`]): dimensionless tension τ ≥ 0.
+    /// NUSD, per cage edge (indexed by [`EdgeId`]): dimensionless tension τ ≥ 0.
     pub edge_tension: Vec<f64>,
-    /// Solver settings.
+    /// Subdivision, per cage edge: crease sharpness s ≥ 0 (0 smooth, `f64::INFINITY` sharp).
+    pub crease: Vec<f64>,
+    /// NUSD solver settings.
     pub settings: SolverSettings,
+    /// Subdivision settings.
+    pub subdiv: SubdivSettings,
 }
 
 impl Document {
-    /// A document for a cage: every vertex fixed, no tension, default settings.
+    /// A NUSD document for a cage: every vertex fixed, no tension, no crease, default settings.
     pub fn new(cage: PolyMesh) -> Self {
         let n = cage.vertex_count();
         let e = cage.edge_count();
         Document {
             cage,
+            scheme: SchemeKind::Nusd,
             fixed: vec![true; n],
             vertex_tension: vec![0.0; n],
             edge_tension: vec![0.0; e],
+            crease: vec![0.0; e],
             settings: SolverSettings::default(),
+            subdiv: SubdivSettings::default(),
         }
+    }
+
+    /// The same document in another scheme (its other controls kept).
+    pub fn with_scheme(mut self, scheme: SchemeKind) -> Self {
+        self.scheme = scheme;
+        self
+    }
+
+    /// Sets the crease sharpness of the cage edge between `a` and `b`.
+    pub fn set_crease(&mut self, a: VertexId, b: VertexId, sharpness: f64) -> Result<()> {
+        let e = self.edge_between(a, b)?;
+        check_sharpness(sharpness, || format!("edge {}-{}", a.0, b.0))?;
+        self.crease[e.index()] = sharpness;
+        Ok(())
+    }
+
+    /// This document on an edited cage: every per-vertex and per-edge control carried along by
+    /// the edit's provenance ([`crate::mesh::edit`]): what continues or copies an old element keeps
+    /// its value; made vertices are fixed with no tension, made edges smooth with no tension.
+    pub fn with_edited_cage(&self, edited: crate::mesh::edit::Edited) -> Result<Document> {
+        use crate::mesh::edit::{CarryRule, carry_edge_property, carry_vertex_property};
+        let p = &edited.provenance;
+        let doc = Document {
+            fixed: carry_vertex_property(&self.fixed, p, &CarryRule::new_elements(true))?,
+            vertex_tension: carry_vertex_property(&self.vertex_tension, p, &CarryRule::new_elements(0.0))?,
+            edge_tension: carry_edge_property(&self.edge_tension, p, &CarryRule::new_elements(0.0))?,
+            crease: carry_edge_property(&self.crease, p, &CarryRule::new_elements(0.0))?,
+            cage: edited.mesh,
+            scheme: self.scheme,
+            settings: self.settings,
+            subdiv: self.subdiv,
+        };
+        doc.validate()?;
+        Ok(doc)
+    }
+
+    /// Refuses a scheme the cage cannot have, saying what to do (Loop needs triangles).
+    pub fn check_scheme(&self, scheme: SchemeKind) -> Result<()> {
+        if scheme == SchemeKind::Loop
+            && let Some(f) = self.cage.faces().find(|&f| self.cage.face_valence(f) != 3)
+        {
+            return Err(Error::Topology(format!(
+                "Loop subdivision needs a cage of triangles, but face {} has {} sides; triangulate the cage first",
+                f.0,
+                self.cage.face_valence(f)
+            )));
+        }
+        Ok(())
     }
 
     /// Sets the tension of the cage edge between `a` and `b`.
@@ -100,11 +164,12 @@ impl Document {
                 self.vertex_tension.len()
             )));
         }
-        if self.edge_tension.len() != self.cage.edge_count() {
+        if self.edge_tension.len() != self.cage.edge_count() || self.crease.len() != self.cage.edge_count() {
             return Err(Error::Input(format!(
-                "the cage has {} edges but {} edge tensions",
+                "the cage has {} edges but {} edge tensions and {} crease sharpnesses",
                 self.cage.edge_count(),
-                self.edge_tension.len()
+                self.edge_tension.len(),
+                self.crease.len()
             )));
         }
         for (v, &t) in self.vertex_tension.iter().enumerate() {
@@ -113,8 +178,10 @@ impl Document {
         for e in self.cage.edges() {
             let (a, b) = self.cage.edge_vertices(e);
             check_tension(self.edge_tension[e.index()], || format!("edge {}-{}", a.0, b.0))?;
+            check_sharpness(self.crease[e.index()], || format!("edge {}-{}", a.0, b.0))?;
         }
-        self.settings.validate()
+        self.settings.validate()?;
+        self.subdiv.validate()
     }
 
     /// The document as `.taut` JSON text.
@@ -122,6 +189,7 @@ impl Document {
         let file = TautFile {
             format: FORMAT_NAME.to_string(),
             version: FORMAT_VERSION,
+            scheme: Some(self.scheme),
             positions: self.cage.positions().iter().map(|p| p.to_array()).collect(),
             faces: self.cage.polygons(),
             fixed: Some(self.fixed.clone()),
@@ -135,7 +203,17 @@ impl Document {
                     EdgeTension(a.0, b.0, self.edge_tension[e.index()])
                 })
                 .collect(),
+            crease: self
+                .cage
+                .edges()
+                .filter(|e| self.crease[e.index()] != 0.0)
+                .map(|e| {
+                    let (a, b) = self.cage.edge_vertices(e);
+                    Crease(a.0, b.0, Sharpness::from(self.crease[e.index()]))
+                })
+                .collect(),
             settings: self.settings,
+            subdivision: Some(self.subdiv),
         };
         serde_json::to_string_pretty(&file).expect("a document always serialises")
     }
@@ -169,6 +247,14 @@ impl Document {
             doc.vertex_tension = tension;
         }
         doc.settings = file.settings;
+        if file.version == 1 && (file.scheme.is_some() || !file.crease.is_empty() || file.subdivision.is_some()) {
+            return Err(Error::format(
+                origin,
+                "a version-1 file has no scheme, crease or subdivision keys (they came with version 2)",
+            ));
+        }
+        doc.scheme = file.scheme.unwrap_or(SchemeKind::Nusd);
+        doc.subdiv = file.subdivision.unwrap_or_default();
         if doc.fixed.len() != n || doc.vertex_tension.len() != n {
             return Err(Error::format(
                 origin,
@@ -181,6 +267,10 @@ impl Document {
         }
         for EdgeTension(a, b, tau) in file.edge_tension {
             doc.set_edge_tension(VertexId(a), VertexId(b), tau).map_err(|e| Error::format(origin, e.to_string()))?;
+        }
+        for Crease(a, b, s) in file.crease {
+            let s = s.value().map_err(|m| Error::format(origin, format!("crease {a}-{b}: {m}")))?;
+            doc.set_crease(VertexId(a), VertexId(b), s).map_err(|e| Error::format(origin, e.to_string()))?;
         }
         doc.validate().map_err(|e| Error::format(origin, e.to_string()))?;
         Ok(doc)
@@ -205,15 +295,26 @@ impl PartialEq for Document {
             && self.fixed == other.fixed
             && self.vertex_tension == other.vertex_tension
             && self.edge_tension == other.edge_tension
+            && self.crease == other.crease
+            && self.scheme == other.scheme
             && self.settings == other.settings
+            && self.subdiv == other.subdiv
     }
 }
 
-fn check_tension(tau: f64, what: impl Fn() -> String) -> Result<()> {
+pub(crate) fn check_tension(tau: f64, what: impl Fn() -> String) -> Result<()> {
     if tau.is_finite() && tau >= 0.0 {
         Ok(())
     } else {
         Err(Error::Input(format!("tension of {} must be a finite number ≥ 0, not {tau}", what())))
+    }
+}
+
+pub(crate) fn check_sharpness(s: f64, what: impl Fn() -> String) -> Result<()> {
+    if s >= 0.0 {
+        Ok(())
+    } else {
+        Err(Error::Input(format!("crease sharpness of {} must be a number ≥ 0 (or infinite), not {s}", what())))
     }
 }
 
@@ -222,6 +323,8 @@ fn check_tension(tau: f64, what: impl Fn() -> String) -> Result<()> {
 struct TautFile {
     format: String,
     version: u32,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    scheme: Option<SchemeKind>,
     positions: Vec<[f64; 3]>,
     faces: Vec<Vec<u32>>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -230,12 +333,43 @@ struct TautFile {
     vertex_tension: Option<Vec<f64>>,
     #[serde(default)]
     edge_tension: Vec<EdgeTension>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    crease: Vec<Crease>,
     #[serde(default)]
     settings: SolverSettings,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    subdivision: Option<SubdivSettings>,
 }
 
 #[derive(Serialize, Deserialize)]
 struct EdgeTension(u32, u32, f64);
+
+#[derive(Serialize, Deserialize)]
+struct Crease(u32, u32, Sharpness);
+
+/// A sharpness in the file: a number, or `"inf"` for an infinitely sharp crease.
+#[derive(Serialize, Deserialize)]
+#[serde(untagged)]
+enum Sharpness {
+    Number(f64),
+    Word(String),
+}
+
+impl From<f64> for Sharpness {
+    fn from(s: f64) -> Self {
+        if s == f64::INFINITY { Sharpness::Word("inf".into()) } else { Sharpness::Number(s) }
+    }
+}
+
+impl Sharpness {
+    fn value(&self) -> std::result::Result<f64, String> {
+        match self {
+            Sharpness::Number(s) => Ok(*s),
+            Sharpness::Word(w) if w == "inf" => Ok(f64::INFINITY),
+            Sharpness::Word(w) => Err(format!("'{w}' is not a sharpness (a number ≥ 0, or \"inf\")")),
+        }
+    }
+}
 
 #[cfg(test)]
 mod tests {
@@ -282,7 +416,7 @@ mod tests {
         let good = tetra().to_json();
         let cases = [
             (good.replace("taut-cage", "other"), "expected 'taut-cage'"),
-            (good.replace("\"version\": 1", "\"version\": 9"), "not supported"),
+            (good.replace("\"version\": 2", "\"version\": 9"), "not supported"),
             (good[..good.len() / 2].to_string(), "not a valid .taut file"),
             (good.replace("\"settings\"", "\"bogus\": 1, \"settings\""), "unknown field"),
             (good.replace("\"lambda\": 0.6", "\"lambda\": 1.5"), "lambda"),

@@ -1,20 +1,25 @@
-//! Taut's geometry core: polygon cages, their files, and NUSD smoothing.
+//! Taut's geometry core: polygon cages, their files, and the schemes that make smooth surfaces
+//! of them.
 //!
-//! Data flows one way: a file is read into a [`Document`](document::Document) (a cage with fixed
-//! flags, tensions and solver settings), the [`nusd`] solver refines and smooths it level by
-//! level, and the smoothed [`PolyMesh`](mesh::PolyMesh) is written out or drawn. Nothing here
-//! touches a GPU or a window.
+//! Data flows one way: a file is read into a [`Document`](document::Document) (a cage, its
+//! scheme, fixed flags, tensions, creases and settings), changed only through [`Edit`]s, handed
+//! to the document's [`surface`] scheme ([`nusd`] smoothing, [`subdiv`]ision), and the surface's
+//! [`PolyMesh`](mesh::PolyMesh) with its normals is written out or drawn. Nothing here touches a
+//! GPU or a window.
 
 pub mod cage_fit;
 pub mod curvature;
 pub mod document;
+pub mod edit;
 pub mod error;
 pub mod io;
 pub mod mesh;
 pub mod nusd;
 pub mod subdiv;
+pub mod surface;
 
 pub use document::Document;
+pub use edit::Edit;
 pub use error::{Error, Result};
 pub use mesh::{EdgeId, FaceId, HalfedgeId, PolyMesh, VertexId};
 

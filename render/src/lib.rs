@@ -16,13 +16,14 @@ pub mod gpu;
 pub mod offscreen;
 pub mod overlay;
 pub mod passes;
+pub mod picture;
 pub mod renderer;
 
 pub use buffers::{Changes, GpuSurface, SurfaceBuffers, SurfaceVertex};
 pub use camera::{Camera, StandardView};
 pub use display::DisplayFrame;
 pub use gpu::{AdapterPreference, Gpu};
-pub use overlay::{CageSelection, CombStyle, Legend, LineSegment, OverlayData, PointMark, PointStyle};
+pub use overlay::{CageControls, CageSelection, CombStyle, Legend, LineSegment, OverlayData, PointMark, PointStyle};
 pub use renderer::{Renderer, Scene};
 
 /// What can go wrong on the display side.

@@ -103,6 +103,26 @@ const VERTEX_RADIUS_PER_TENSION: f32 = 3.0;
 const HALO_LIGHT: [f32; 4] = [0.85, 0.87, 0.90, 0.9];
 const HALO_DARK: [f32; 4] = [0.0, 0.0, 0.0, 0.6];
 
+/// The per-element controls the cage overlay shows: NUSD's fixed flags and tensions, or the
+/// subdivision schemes' crease sharpness (their cage vertices are all approximated: rings).
+#[derive(Clone, Copy, Debug)]
+pub enum CageControls<'a> {
+    Nusd { fixed: &'a [bool], vertex_tension: &'a [f64], edge_tension: &'a [f64] },
+    Creases { sharpness: &'a [f64] },
+}
+
+/// Crease sharpness at which a crease edge stops growing wider (an infinitely sharp edge is drawn
+/// as this).
+pub const CREASE_SATURATION: f64 = 4.0;
+/// Colour of a crease edge: a cyan apart from the tension crimson and the selection orange
+/// (sRGB ≈ 0, 200, 230).
+pub const CREASE: [f32; 4] = [0.0, 0.58, 0.79, 1.0];
+
+/// Crease sharpness mapped to `[0, 1]`: 0 smooth, 1 at [`CREASE_SATURATION`] or sharp.
+pub fn crease_level(s: f64) -> f32 {
+    if s == f64::INFINITY { 1.0 } else if s.is_finite() && s > 0.0 { (s / CREASE_SATURATION).min(1.0) as f32 } else { 0.0 }
+}
+
 /// Tension mapped to `[0, 1]`, saturating at [`TENSION_SATURATION`]; non-finite or negative
 /// values read as 0.
 pub fn tension_level(tau: f64) -> f32 {
@@ -130,14 +150,20 @@ enum Emphasis {
 /// The cage's edges (on-top lines) and vertex marks, styled as the module documentation says.
 /// `fixed`, `vertex_tension` and `edge_tension` are indexed by vertex and edge; missing entries
 /// read as moving and τ = 0.
+///
+/// With [`CageControls::Creases`], an edge of sharpness `s > 0` is drawn in [`CREASE`], wider with
+/// `c = crease_level(s)` (`2 + 3·c` px), and every vertex as a ring.
 pub fn cage_overlay(
     cage: &PolyMesh,
-    fixed: &[bool],
-    vertex_tension: &[f64],
-    edge_tension: &[f64],
+    controls: CageControls<'_>,
     selection: &CageSelection,
     frame: &DisplayFrame,
 ) -> (Vec<LineSegment>, Vec<PointMark>) {
+    let none: &[f64] = &[];
+    let (fixed, vertex_tension, edge_tension, crease): (&[bool], &[f64], &[f64], &[f64]) = match controls {
+        CageControls::Nusd { fixed, vertex_tension, edge_tension } => (fixed, vertex_tension, edge_tension, none),
+        CageControls::Creases { sharpness } => (&[], none, none, sharpness),
+    };
     let mut selected_edge = vec![false; cage.edge_count()];
     for e in &selection.selected_edges {
         if let Some(flag) = selected_edge.get_mut(e.index()) {
@@ -156,12 +182,17 @@ pub fn cage_overlay(
         .map(|e| {
             let (a, b) = cage.edge_vertices(e);
             let s = tension_level(edge_tension.get(e.index()).copied().unwrap_or(0.0));
+            let c = crease_level(crease.get(e.index()).copied().unwrap_or(0.0));
             let mut line = LineSegment {
                 a: frame.point(cage.position(a)),
                 b: frame.point(cage.position(b)),
                 color: mix(EDGE_NEUTRAL, TENSION_WARM, s),
                 width_px: EDGE_WIDTH + EDGE_WIDTH_PER_TENSION * s,
             };
+            if c > 0.0 {
+                line.color = CREASE;
+                line.width_px = 2.0 + 3.0 * c;
+            }
             let mut emphasis = Emphasis::Plain;
             if selected_edge[e.index()] {
                 emphasis = Emphasis::Selected;
@@ -331,22 +362,49 @@ pub fn format_number(x: f64, significant: usize) -> String {
     }
 }
 
-/// The short title a legend shows for a curvature quantity (the panel stays narrow).
-pub fn legend_title(q: taut_core::curvature::CurvatureQuantity) -> &'static str {
+/// The short title a legend shows for what the colours mean (the panel stays narrow).
+pub fn legend_title(by: taut_core::surface::ColourBy) -> &'static str {
     use taut_core::curvature::CurvatureQuantity as Q;
-    match q {
-        Q::Mean => "mean H",
-        Q::Gaussian => "Gauss K",
-        Q::MinPrincipal => "kmin",
-        Q::MaxPrincipal => "kmax",
-        Q::MaxAbsolute => "|k|max",
-        Q::NusdR => "NUSD |R|",
+    use taut_core::surface::ColourBy;
+    match by {
+        ColourBy::Curvature(Q::Mean) => "mean H",
+        ColourBy::Curvature(Q::Gaussian) => "Gauss K",
+        ColourBy::Curvature(Q::MinPrincipal) => "kmin",
+        ColourBy::Curvature(Q::MaxPrincipal) => "kmax",
+        ColourBy::Curvature(Q::MaxAbsolute) => "|k|max",
+        ColourBy::Field(f) => f.title,
+        ColourBy::Distance => "distance",
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn nusd<'a>(fixed: &'a [bool], vertex_tension: &'a [f64], edge_tension: &'a [f64]) -> CageControls<'a> {
+        CageControls::Nusd { fixed, vertex_tension, edge_tension }
+    }
+
+    #[test]
+    fn crease_edges_are_drawn_apart_and_grow_with_sharpness() {
+        let cage = PolyMesh::from_polygons(
+            vec![DVec3::ZERO, DVec3::X, DVec3::new(1.0, 1.0, 0.0), DVec3::Y],
+            &[[0, 1, 2, 3]],
+        )
+        .unwrap();
+        let sharpness = [0.0, 1.0, 2.5, f64::INFINITY];
+        let (lines, points) = cage_overlay(
+            &cage,
+            CageControls::Creases { sharpness: &sharpness },
+            &CageSelection::default(),
+            &DisplayFrame::IDENTITY,
+        );
+        assert_eq!(lines[0].color, EDGE_NEUTRAL);
+        assert!(lines[1..].iter().all(|l| l.color == CREASE));
+        assert!(lines[1].width_px < lines[2].width_px && lines[2].width_px < lines[3].width_px);
+        assert!(points.iter().all(|p| p.style == PointStyle::Ring), "subdivision cage vertices are rings");
+    }
+
 
     fn cube() -> PolyMesh {
         let p = (0..8).map(|i| DVec3::new((i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64)).collect();
@@ -368,7 +426,7 @@ mod tests {
             hovered_vertex: Some(VertexId(4)),
             ..Default::default()
         };
-        let (_, points) = cage_overlay(&cage, &fixed, &[0.0; 8], &[0.0; 12], &selection, &DisplayFrame::IDENTITY);
+        let (_, points) = cage_overlay(&cage, nusd(&fixed, &[0.0; 8], &[0.0; 12]), &selection, &DisplayFrame::IDENTITY);
         let at = |v: u32| cage.position(VertexId(v)).as_vec3();
         let (fixed_mark, moving, selected_fixed, selected_moving, hovered) = (
             vertex_mark(&points, at(0)),
@@ -398,7 +456,7 @@ mod tests {
     fn tension_widens_edges_and_warms_them_monotonically() {
         let cage = cube();
         let taus = [0.0, 0.5, 1.0, 2.0, 3.0, 4.0, 8.0, 20.0, f64::NAN, -1.0, 0.0, 0.0];
-        let (lines, _) = cage_overlay(&cage, &[], &[], &taus, &CageSelection::default(), &DisplayFrame::IDENTITY);
+        let (lines, _) = cage_overlay(&cage, nusd(&[], &[], &taus), &CageSelection::default(), &DisplayFrame::IDENTITY);
         assert_eq!(lines.len(), 12);
         let (w, red): (Vec<f32>, Vec<f32>) = lines[..8].iter().map(|l| (l.width_px, l.color[0])).unzip();
         assert!(w.windows(2).all(|p| p[1] >= p[0]) && w[5] > w[0], "{w:?}");
@@ -411,9 +469,9 @@ mod tests {
 
         // Vertex tension enlarges the mark and adds a warm ring.
         let (_, calm) =
-            cage_overlay(&cage, &[false; 8], &[0.0; 8], &[], &CageSelection::default(), &DisplayFrame::IDENTITY);
+            cage_overlay(&cage, nusd(&[false; 8], &[0.0; 8], &[]), &CageSelection::default(), &DisplayFrame::IDENTITY);
         let (_, tense) =
-            cage_overlay(&cage, &[false; 8], &[4.0; 8], &[], &CageSelection::default(), &DisplayFrame::IDENTITY);
+            cage_overlay(&cage, nusd(&[false; 8], &[4.0; 8], &[]), &CageSelection::default(), &DisplayFrame::IDENTITY);
         assert!(tense.len() > calm.len());
         assert!(vertex_mark(&tense, Vec3::ZERO).radius_px > vertex_mark(&calm, Vec3::ZERO).radius_px);
         assert!(tense.iter().any(|p| p.color[..3] == TENSION_WARM[..3]));
@@ -424,7 +482,7 @@ mod tests {
         let cage = cube();
         let selection =
             CageSelection { selected_edges: vec![EdgeId(0)], hovered_edge: Some(EdgeId(1)), ..Default::default() };
-        let (lines, _) = cage_overlay(&cage, &[], &[], &[], &selection, &DisplayFrame::IDENTITY);
+        let (lines, _) = cage_overlay(&cage, nusd(&[], &[], &[]), &selection, &DisplayFrame::IDENTITY);
         let (plain, selected, hovered) = (lines[0], lines[10], lines[11]);
         assert_eq!(selected.color, SELECTED);
         assert!(selected.width_px > plain.width_px && hovered.width_px > plain.width_px);

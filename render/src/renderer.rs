@@ -427,7 +427,12 @@ mod tests {
             hovered_edge: Some(EdgeId(20)),
         };
         let identity = crate::DisplayFrame::IDENTITY;
-        let (on_top_lines, points) = cage_overlay(&cage, &fixed, &vertex_tension, &edge_tension, &selection, &identity);
+        let (on_top_lines, points) = cage_overlay(
+            &cage,
+            crate::CageControls::Nusd { fixed: &fixed, vertex_tension: &vertex_tension, edge_tension: &edge_tension },
+            &selection,
+            &identity,
+        );
         let curve: Vec<DVec3> =
             (0..=40).map(|i| -1.0 + i as f64 / 20.0).map(|x| DVec3::new(x, -0.5, bump(x, -0.5))).collect();
         let mut surface_lines = wireframe(&smooth, [0.0, 0.0, 0.0, 0.35], 1.0, &identity);

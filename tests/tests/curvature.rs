@@ -552,7 +552,7 @@ fn thread_count_does_not_change_the_result() {
 }
 
 #[test]
-fn quantities_select_values_and_need_r_for_nusd() {
+fn quantities_select_values() {
     let mesh = cube_sphere(2.0, 6);
     let c = vertex_curvature(&mesh);
     for q in CurvatureQuantity::ALL {
@@ -560,23 +560,18 @@ fn quantities_select_values_and_need_r_for_nusd() {
         assert!(!q.to_string().is_empty());
     }
     let names: Vec<&str> = CurvatureQuantity::ALL.iter().map(|q| q.cli_name()).collect();
-    assert_eq!(names, ["mean", "gaussian", "kmin", "kmax", "kabs", "r"]);
+    assert_eq!(names, ["mean", "gaussian", "kmin", "kmax", "kabs"]);
     assert!("H".parse::<CurvatureQuantity>().is_err());
     let signed: Vec<bool> = CurvatureQuantity::ALL.iter().map(|q| q.is_signed()).collect();
-    assert_eq!(signed, [true, true, true, true, false, false]);
-    assert_eq!(c.values(CurvatureQuantity::Mean, None).unwrap(), c.mean);
-    assert_eq!(c.values(CurvatureQuantity::MinPrincipal, None).unwrap(), c.min_principal);
-    let kabs = c.values(CurvatureQuantity::MaxAbsolute, None).unwrap();
+    assert_eq!(signed, [true, true, true, true, false]);
+    assert_eq!(c.values(CurvatureQuantity::Mean), c.mean);
+    assert_eq!(c.values(CurvatureQuantity::MinPrincipal), c.min_principal);
+    let kabs = c.values(CurvatureQuantity::MaxAbsolute);
     for i in 0..c.len() {
         assert_eq!(kabs[i], c.min_principal[i].abs().max(c.max_principal[i].abs()));
         assert!(c.min_principal[i] <= c.max_principal[i]);
         assert!((c.gaussian[i] - c.min_principal[i] * c.max_principal[i]).abs() < 1e-15);
     }
-    let r: Vec<DVec3> = (0..c.len()).map(|i| DVec3::new(3.0, 4.0, 0.0) * i as f64).collect();
-    let lengths = c.values(CurvatureQuantity::NusdR, Some(&r)).unwrap();
-    assert_eq!(lengths[2], 10.0);
-    assert!(c.values(CurvatureQuantity::NusdR, None).is_err());
-    assert!(c.values(CurvatureQuantity::NusdR, Some(&r[1..])).is_err());
 }
 
 #[test]

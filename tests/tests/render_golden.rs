@@ -7,16 +7,15 @@
 
 use std::path::Path;
 use std::sync::{Mutex, OnceLock};
-use taut_core::curvature::{CurvatureQuantity, robust_range, vertex_curvature};
+use taut_core::curvature::{CurvatureQuantity, robust_range};
 use taut_core::nusd::Spacing;
-use taut_core::nusd::surface::SurfaceSolver;
+use taut_core::surface::{self, ColourBy, SchemeKind, SurfaceScheme};
 use taut_core::{DVec3, Document, PolyMesh, VertexId, io};
-use taut_render::colormap::ColorMap;
-use taut_render::overlay::{self, CageSelection, Legend, OverlayData};
+use taut_render::colormap::{ColorMap, normalize};
+use taut_render::overlay::{self, CageControls, CageSelection, Legend, OverlayData};
 use taut_render::passes::surface::SurfaceMode;
-use taut_render::{
-    AdapterPreference, Camera, Gpu, GpuSurface, Renderer, Scene, SurfaceBuffers, TargetFormats, offscreen,
-};
+use taut_render::picture::{Picture, View};
+use taut_render::{AdapterPreference, DisplayFrame, Gpu, Renderer, TargetFormats};
 use taut_tests::golden::{DEFAULT_TOLERANCE, check};
 
 const SIZE: (u32, u32) = (480, 320);
@@ -47,34 +46,32 @@ fn asset(name: &str) -> Document {
     }
 }
 
-fn smooth(doc: &Document) -> (PolyMesh, Vec<DVec3>) {
-    let mut solver = SurfaceSolver::new(doc).unwrap();
-    solver.solve().unwrap();
-    (solver.surface(), solver.surface_second_derivatives().to_vec())
+/// The document's surface, made to the end by its scheme.
+fn smooth(doc: &Document) -> Box<dyn SurfaceScheme> {
+    surface::solve(doc).unwrap()
 }
 
-fn picture(
-    surface: &PolyMesh,
+/// A picture of a mesh as `taut render` composes it (framed to fill the picture left of the
+/// legend), with its normals, colour values and overlays (built by `overlays` in the picture's
+/// display frame).
+fn picture_of(
+    mesh: &PolyMesh,
+    normals: Option<&[DVec3]>,
     mode: SurfaceMode,
-    values: Option<&[f64]>,
-    overlays: Option<&OverlayData>,
-    view: (f32, f32),
+    values: Option<&[f32]>,
+    overlays: impl FnOnce(&DisplayFrame) -> OverlayData,
+    (azimuth, elevation): (f32, f32),
 ) -> image::RgbaImage {
     let mut display = display().lock().unwrap_or_else(|e| e.into_inner());
     let Display { gpu, renderer } = &mut *display;
-    let mut buffers = SurfaceBuffers::default();
-    buffers.update(surface);
-    if let Some(values) = values {
-        buffers.set_values(&values.iter().map(|&v| v as f32).collect::<Vec<_>>());
-    }
-    let gpu_surface = GpuSurface::new(&gpu.device, &buffers);
-    let mut camera = Camera::default();
-    let (lo, hi) = surface.bounding_box().unwrap();
-    camera.frame(lo.as_vec3(), hi.as_vec3());
-    (camera.azimuth, camera.elevation) = view;
-    let mut scene = Scene::new(camera, Some(&gpu_surface), mode);
-    scene.overlays = overlays;
-    offscreen::render_image(gpu, renderer, &scene, SIZE.0, SIZE.1).unwrap()
+    let picture =
+        Picture { mesh, normals, values, mode, view: View { azimuth, elevation, distance: None }, width: SIZE.0, height: SIZE.1 };
+    let data = overlays(&picture.frame());
+    picture.render(gpu, renderer, &data).unwrap()
+}
+
+fn picture(surface: &dyn SurfaceScheme, mode: SurfaceMode, view: (f32, f32)) -> image::RgbaImage {
+    picture_of(surface.mesh(), surface.normals(), mode, None, |_| OverlayData::default(), view)
 }
 
 const ZEBRA: SurfaceMode = SurfaceMode::Zebra { stripes: 10.0, angle_degrees: 0.0, width_ratio: 0.5 };
@@ -86,17 +83,15 @@ fn golden(name: &str, image: &image::RgbaImage) {
     }
 }
 
-fn curvature_picture(doc: &Document, q: CurvatureQuantity, view: (f32, f32)) -> image::RgbaImage {
-    let (surface, r) = smooth(doc);
-    let values = vertex_curvature(&surface).values(q, Some(&r)).unwrap();
-    let (min, max) = robust_range(&values, q.is_signed());
-    let map = if q.is_signed() { ColorMap::Diverging } else { ColorMap::Sequential };
-    let overlays = OverlayData {
-        legend: Some(Legend { map, min, max, title: overlay::legend_title(q).into() }),
-        ..Default::default()
-    };
-    let mode = SurfaceMode::Curvature { map, min: min as f32, max: max as f32 };
-    picture(&surface, mode, Some(&values), Some(&overlays), view)
+fn curvature_picture(doc: &Document, by: ColourBy, view: (f32, f32)) -> image::RgbaImage {
+    let surface = smooth(doc);
+    let values = by.values(surface.as_ref()).unwrap();
+    let (min, max) = robust_range(&values, by.is_signed());
+    let map = if by.is_signed() { ColorMap::Diverging } else { ColorMap::Sequential };
+    let legend = Legend { map, min, max, title: overlay::legend_title(by).into() };
+    let mode = SurfaceMode::Curvature { map, min: 0.0, max: 1.0 };
+    let values = normalize(&values, min, max);
+    picture_of(surface.mesh(), surface.normals(), mode, Some(&values), |_| OverlayData { legend: Some(legend), ..Default::default() }, view)
 }
 
 #[test]
@@ -108,17 +103,19 @@ fn zebra_of_every_bundled_cage() {
         ("patch.obj", (20.0, 50.0)),
         ("torus.obj", (30.0, 40.0)),
     ] {
-        let (surface, _) = smooth(&asset(name));
-        golden(&format!("zebra-{}", name.replace('.', "-")), &picture(&surface, ZEBRA, None, None, view));
+        let surface = smooth(&asset(name));
+        golden(&format!("zebra-{}", name.replace('.', "-")), &picture(surface.as_ref(), ZEBRA, view));
     }
 }
 
 #[test]
 fn curvature_views_with_legends() {
-    golden("mean-default", &curvature_picture(&asset("default.taut"), CurvatureQuantity::Mean, VIEW));
-    golden("gaussian-torus", &curvature_picture(&asset("torus.obj"), CurvatureQuantity::Gaussian, (30.0, 40.0)));
-    golden("kmax-prism", &curvature_picture(&asset("prism.obj"), CurvatureQuantity::MaxPrincipal, VIEW));
-    golden("r-default", &curvature_picture(&asset("default.taut"), CurvatureQuantity::NusdR, VIEW));
+    let curvature = ColourBy::Curvature;
+    golden("mean-default", &curvature_picture(&asset("default.taut"), curvature(CurvatureQuantity::Mean), VIEW));
+    golden("gaussian-torus", &curvature_picture(&asset("torus.obj"), curvature(CurvatureQuantity::Gaussian), (30.0, 40.0)));
+    golden("kmax-prism", &curvature_picture(&asset("prism.obj"), curvature(CurvatureQuantity::MaxPrincipal), VIEW));
+    let r = ColourBy::parse("r", SchemeKind::Nusd).unwrap();
+    golden("r-default", &curvature_picture(&asset("default.taut"), r, VIEW));
 }
 
 #[test]
@@ -126,10 +123,9 @@ fn chord_and_uniform_spacing_differ_and_tension_shows() {
     let chord = asset("default.taut");
     let mut uniform = chord.clone();
     uniform.settings.spacing = Spacing::Uniform;
-    let (a, _) = smooth(&chord);
-    let (b, _) = smooth(&uniform);
-    let picture_a = picture(&a, ZEBRA, None, None, VIEW);
-    let picture_b = picture(&b, ZEBRA, None, None, VIEW);
+    let (a, b) = (smooth(&chord), smooth(&uniform));
+    let picture_a = picture(a.as_ref(), ZEBRA, VIEW);
+    let picture_b = picture(b.as_ref(), ZEBRA, VIEW);
     golden("zebra-default-uniform", &picture_b);
     // The two spacings give visibly different stripes on the default scene.
     let differing =
@@ -143,17 +139,17 @@ fn chord_and_uniform_spacing_differ_and_tension_shows() {
     for k in 0..8 {
         tense.set_edge_tension(VertexId(8 + k), VertexId(16 + k), 2.0).unwrap();
     }
-    let (t, _) = smooth(&tense);
-    let (lines, points) = overlay::cage_overlay(
-        &tense.cage,
-        &tense.fixed,
-        &tense.vertex_tension,
-        &tense.edge_tension,
-        &CageSelection::default(),
-        &taut_render::DisplayFrame::IDENTITY,
-    );
-    let overlays = OverlayData { on_top_lines: lines, points, ..Default::default() };
-    golden("zebra-default-tension-cage", &picture(&t, ZEBRA, None, Some(&overlays), VIEW));
+    let t = smooth(&tense);
+    let cage = |frame: &DisplayFrame| {
+        let controls = CageControls::Nusd {
+            fixed: &tense.fixed,
+            vertex_tension: &tense.vertex_tension,
+            edge_tension: &tense.edge_tension,
+        };
+        let (lines, points) = overlay::cage_overlay(&tense.cage, controls, &CageSelection::default(), frame);
+        OverlayData { on_top_lines: lines, points, ..Default::default() }
+    };
+    golden("zebra-default-tension-cage", &picture_of(t.mesh(), t.normals(), ZEBRA, None, cage, VIEW));
 }
 
 /// A sheet bent about the y axis: `kink` folds it sharply along x = 0 (a crease), otherwise it
@@ -199,12 +195,42 @@ fn a_crease_breaks_the_stripes_and_a_smooth_bend_does_not() {
     // Seen from the front and a little above, the fold line x = 0 is the picture's centre line.
     let view = (0.0, 35.0);
     let stripes = SurfaceMode::Zebra { stripes: 10.0, angle_degrees: 45.0, width_ratio: 0.5 };
-    let crease = picture(&bent_sheet(true), stripes, None, None, view);
-    let smooth = picture(&bent_sheet(false), stripes, None, None, view);
+    let none = |_: &DisplayFrame| OverlayData::default();
+    let crease = picture_of(&bent_sheet(true), None, stripes, None, none, view);
+    let smooth = picture_of(&bent_sheet(false), None, stripes, None, none, view);
     golden("zebra-crease", &crease);
     golden("zebra-smooth-bend", &smooth);
     let (jump_crease, jump_smooth) = (jump_across_centre(&crease), jump_across_centre(&smooth));
     eprintln!("jump across the centre: crease {jump_crease:.2}, smooth bend {jump_smooth:.2}");
     assert!(jump_smooth < 1.5, "the smooth bend's stripes jump at the centre: {jump_smooth:.2}");
     assert!(jump_crease > 3.0, "the crease does not break the stripes: {jump_crease:.2}");
+}
+
+/// A cube with its top face's four edges infinitely sharp, the others smooth.
+fn creased_cube() -> Document {
+    let mut doc = Document::new(taut_tests::cube()).with_scheme(SchemeKind::CatmullClark);
+    let top: Vec<VertexId> = doc.cage.vertices().filter(|&v| doc.cage.position(v).z > 0.0).collect();
+    for &a in &top {
+        for &b in &top {
+            if a < b && doc.cage.find_halfedge(a, b).is_some() {
+                doc.set_crease(a, b, f64::INFINITY).unwrap();
+            }
+        }
+    }
+    doc
+}
+
+/// The subdivision schemes' limit surfaces with their exact normals: Catmull–Clark of the
+/// default scene and of a cube with a creased top, Loop of the triangulated knob.
+#[test]
+fn subdivision_zebra_pictures() {
+    let default = asset("default.taut").with_scheme(SchemeKind::CatmullClark);
+    golden("zebra-default-catmull-clark", &picture(smooth(&default).as_ref(), ZEBRA, VIEW));
+    let cube = smooth(&creased_cube());
+    let creased = picture(cube.as_ref(), ZEBRA, VIEW);
+    golden("zebra-creased-cube", &creased);
+    let knob = asset("knob.obj");
+    let triangles = taut_core::mesh::edit::triangulate(&knob.cage, None, taut_core::mesh::edit::Triangulation::ShortestDiagonal).unwrap();
+    let loop_doc = knob.with_edited_cage(triangles).unwrap().with_scheme(SchemeKind::Loop);
+    golden("zebra-knob-loop", &picture(smooth(&loop_doc).as_ref(), ZEBRA, VIEW));
 }

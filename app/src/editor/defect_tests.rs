@@ -268,7 +268,7 @@ fn every_text_has_its_glyphs() {
     let mut harness = cube_editor();
     harness.state_mut().editor.notify("a message, to show the strip", true);
     settle(&mut harness);
-    let mut check = |harness: &mut Harness<'_, App>, what: &str| {
+    let check = |harness: &mut Harness<'_, App>, what: &str| {
         let texts: Vec<String> =
             harness.query_all(By::new()).flat_map(|n| [n.accesskit_node().label(), n.value()]).flatten().collect();
         let ctx = harness.ctx.clone();
@@ -369,7 +369,7 @@ fn the_legend_never_covers_the_framed_model() {
     assert!(margin > 0.05, "the legend takes a margin ({margin})");
     let camera = editor.camera;
     let clip = camera.clip_from_view(aspect) * camera.view_from_world();
-    let surface = &editor.surface.as_ref().unwrap().mesh;
+    let surface = &editor.surface_mesh().unwrap();
     let (mut lo, mut hi) = (glam::Vec2::splat(f32::INFINITY), glam::Vec2::splat(f32::NEG_INFINITY));
     for &p in surface.positions() {
         let q = clip.project_point3(editor.display_frame.point(p)).truncate();
@@ -400,7 +400,7 @@ fn unfixing_what_holds_the_surface_is_refused_with_what_to_fix() {
     assert!(!editor.document.can_undo());
     let notice = editor.notice.as_ref().expect("a message says why");
     assert!(notice.is_error && notice.text.contains("fix at least 4 of vertices"), "{}", notice.text);
-    assert!(editor.surface.is_some() && editor.solver_error.is_none(), "the surface stays");
+    assert!(editor.surface.is_some() && editor.surface_error.is_none(), "the surface stays");
     // Freeing the top four of a cube would flatten it onto the bottom: refused too, by name.
     let top: Vec<VertexId> = (0..8).map(VertexId).filter(|&v| before.cage.position(v).z > 0.0).collect();
     harness.state_mut().editor.edit(Edit::SetFixed(top.clone(), false));

@@ -1,8 +1,9 @@
 //! The open document of the editor: the cage [`Document`], the file it lives in, undo and
 //! redo, and whether it has unsaved changes.
 //!
-//! Every change a designer makes arrives as one [`Edit`] through [`EditorDocument::apply`],
-//! which checks it completely before touching anything, so a refused edit changes nothing.
+//! Every change a designer makes arrives as one [`Edit`] (the core's, shared with the command
+//! line) through [`EditorDocument::apply`], which checks it completely before touching anything,
+//! so a refused edit changes nothing.
 //! Undo keeps whole snapshots of the document (cages are small), at most
 //! [`MAX_UNDO_STEPS`] of them; a drag or a slider movement is bracketed by
 //! [`EditorDocument::begin_gesture`] and [`EditorDocument::end_gesture`] and becomes a single
@@ -17,9 +18,8 @@ use std::collections::VecDeque;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
 use taut_core::io::{self, ImportReport, UpAxis};
-use taut_core::nusd::SolverSettings;
-use taut_core::nusd::surface::check_anchoring;
-use taut_core::{DVec3, Document, EdgeId, PolyMesh, VertexId};
+pub use taut_core::Edit;
+use taut_core::{Document, PolyMesh};
 
 /// Most undo steps kept; older ones are forgotten first.
 pub const MAX_UNDO_STEPS: usize = 200;
@@ -30,33 +30,6 @@ static NEXT_REVISION: AtomicU64 = AtomicU64::new(1);
 
 fn fresh_revision() -> u64 {
     NEXT_REVISION.fetch_add(1, Ordering::Relaxed)
-}
-
-/// One change to the document, as the UI sends it.
-#[derive(Clone, Debug)]
-pub enum Edit {
-    /// Moves cage vertices to absolute positions.
-    MoveVertices(Vec<(VertexId, DVec3)>),
-    /// Marks vertices fixed (the surface passes through them) or moving.
-    SetFixed(Vec<VertexId>, bool),
-    /// Sets the tension τ of vertices.
-    SetVertexTension(Vec<VertexId>, f64),
-    /// Sets the tension τ of cage edges.
-    SetEdgeTension(Vec<EdgeId>, f64),
-    /// Sets the tension of the given vertices and edges back to 0.
-    ResetTension {
-        /// Vertices whose tension becomes 0.
-        vertices: Vec<VertexId>,
-        /// Edges whose tension becomes 0.
-        edges: Vec<EdgeId>,
-    },
-    /// Replaces the solver settings.
-    SetSettings(SolverSettings),
-    /// Replaces the whole document (a new cage); the file path stays. Boxed: a document is
-    /// far larger than the other edits.
-    // The editor opens new documents as new `EditorDocument`s; kept for scripted edits.
-    #[cfg_attr(not(test), allow(dead_code))]
-    Replace(Box<Document>),
 }
 
 /// A state the document can go back or forward to.
@@ -191,11 +164,11 @@ impl EditorDocument {
     /// Checks and applies one edit. A refused edit leaves the document and its history as they
     /// were and says why; an edit that changes nothing records nothing.
     pub fn apply(&mut self, edit: Edit) -> Result<(), String> {
-        check(&self.doc, &edit)?;
-        if !changes(&self.doc, &edit) {
+        // The one validator of the core: ranges, indices, and a NUSD surface kept anchored.
+        let mut after = self.doc.clone();
+        if !after.apply(edit).map_err(|e| e.to_string())? {
             return Ok(());
         }
-        check_anchoring_after(&self.doc, &edit)?;
         match &mut self.gesture {
             Some(gesture) => {
                 if !gesture.changed {
@@ -209,7 +182,7 @@ impl EditorDocument {
                 self.redo.clear();
             }
         }
-        perform(&mut self.doc, edit);
+        self.doc = after;
         self.state = self.take_state();
         self.touch();
         Ok(())
@@ -302,7 +275,13 @@ impl EditorDocument {
     }
 
     /// Writes a smoothed surface as `.obj` or `.glb` (by extension, atomically).
-    pub fn export_surface(&self, surface: &PolyMesh, path: &Path, obj_up: UpAxis) -> Result<(), String> {
+    pub fn export_surface(
+        &self,
+        surface: &PolyMesh,
+        normals: Option<&[taut_core::DVec3]>,
+        path: &Path,
+        obj_up: UpAxis,
+    ) -> Result<(), String> {
         if is_taut(path) {
             return Err(format!(
                 "{}: export writes the smoothed surface as .obj or .glb; use Save As for a .taut cage",
@@ -316,7 +295,7 @@ impl EditorDocument {
                 source.display()
             ));
         }
-        let options = io::ExportOptions { normals: None, obj_up };
+        let options = io::ExportOptions { normals, obj_up };
         io::export_mesh_with(surface, path, &options).map_err(|e| e.to_string())
     }
 
@@ -356,124 +335,6 @@ impl EditorDocument {
 
 fn is_taut(path: &Path) -> bool {
     path.extension().is_some_and(|e| e.eq_ignore_ascii_case("taut"))
-}
-
-/// Checks an edit against the document without changing it.
-fn check(doc: &Document, edit: &Edit) -> Result<(), String> {
-    match edit {
-        Edit::MoveVertices(moves) => {
-            for &(v, p) in moves {
-                check_vertex(doc, v, "move")?;
-                if !p.is_finite() {
-                    return Err(format!(
-                        "cannot move vertex {} to ({}, {}, {}): coordinates must be finite numbers",
-                        v.0, p.x, p.y, p.z
-                    ));
-                }
-            }
-            Ok(())
-        }
-        Edit::SetFixed(vertices, _) => vertices.iter().try_for_each(|&v| check_vertex(doc, v, "fix or free")),
-        Edit::SetVertexTension(vertices, tau) => {
-            check_tension(*tau)?;
-            vertices.iter().try_for_each(|&v| check_vertex(doc, v, "set the tension of"))
-        }
-        Edit::SetEdgeTension(edges, tau) => {
-            check_tension(*tau)?;
-            edges.iter().try_for_each(|&e| check_edge(doc, e, "set the tension of"))
-        }
-        Edit::ResetTension { vertices, edges } => {
-            vertices.iter().try_for_each(|&v| check_vertex(doc, v, "reset the tension of"))?;
-            edges.iter().try_for_each(|&e| check_edge(doc, e, "reset the tension of"))
-        }
-        Edit::SetSettings(settings) => settings.validate().map_err(|e| format!("solver settings: {e}")),
-        Edit::Replace(new) => {
-            new.cage.validate().map_err(|e| format!("cannot use the new cage: {e}"))?;
-            new.validate().map_err(|e| format!("cannot use the new cage: {e}"))
-        }
-    }
-}
-
-fn check_vertex(doc: &Document, v: VertexId, action: &str) -> Result<(), String> {
-    let n = doc.cage.vertex_count();
-    if v.index() < n {
-        Ok(())
-    } else {
-        Err(format!("cannot {action} vertex {}: the cage has {n} vertices, numbered from 0", v.0))
-    }
-}
-
-fn check_edge(doc: &Document, e: EdgeId, action: &str) -> Result<(), String> {
-    let n = doc.cage.edge_count();
-    if e.index() < n {
-        Ok(())
-    } else {
-        Err(format!("cannot {action} edge {}: the cage has {n} edges, numbered from 0", e.0))
-    }
-}
-
-fn check_tension(tau: f64) -> Result<(), String> {
-    if tau.is_finite() && tau >= 0.0 {
-        Ok(())
-    } else {
-        Err(format!("tension must be a finite number ≥ 0, not {tau}"))
-    }
-}
-
-/// Refuses an edit that would leave the surface without enough fixed vertices to hold it (it
-/// would collapse or flatten): the message says which vertices to fix.
-fn check_anchoring_after(doc: &Document, edit: &Edit) -> Result<(), String> {
-    let (cage, fixed) = match edit {
-        Edit::SetFixed(..) | Edit::MoveVertices(_) => {
-            let mut after = doc.clone();
-            perform(&mut after, edit.clone());
-            (after.cage, after.fixed)
-        }
-        Edit::Replace(new) => (new.cage.clone(), new.fixed.clone()),
-        _ => return Ok(()),
-    };
-    // Moves only matter when some vertex is moving: fixed ones alone keep their hull.
-    if matches!(edit, Edit::MoveVertices(_)) && doc.fixed.iter().all(|&f| f) {
-        return Ok(());
-    }
-    check_anchoring(&cage, &fixed).map_err(|e| format!("refused: {e}"))
-}
-
-/// True when a checked edit would change the document.
-fn changes(doc: &Document, edit: &Edit) -> bool {
-    match edit {
-        Edit::MoveVertices(moves) => moves.iter().any(|&(v, p)| doc.cage.position(v) != p),
-        Edit::SetFixed(vertices, fixed) => vertices.iter().any(|v| doc.fixed[v.index()] != *fixed),
-        Edit::SetVertexTension(vertices, tau) => vertices.iter().any(|v| doc.vertex_tension[v.index()] != *tau),
-        Edit::SetEdgeTension(edges, tau) => edges.iter().any(|e| doc.edge_tension[e.index()] != *tau),
-        Edit::ResetTension { vertices, edges } => {
-            vertices.iter().any(|v| doc.vertex_tension[v.index()] != 0.0)
-                || edges.iter().any(|e| doc.edge_tension[e.index()] != 0.0)
-        }
-        Edit::SetSettings(settings) => doc.settings != *settings,
-        Edit::Replace(new) => *doc != **new,
-    }
-}
-
-/// Applies a checked edit.
-fn perform(doc: &mut Document, edit: Edit) {
-    match edit {
-        Edit::MoveVertices(moves) => {
-            let positions = doc.cage.positions_mut();
-            for (v, p) in moves {
-                positions[v.index()] = p;
-            }
-        }
-        Edit::SetFixed(vertices, fixed) => vertices.iter().for_each(|v| doc.fixed[v.index()] = fixed),
-        Edit::SetVertexTension(vertices, tau) => vertices.iter().for_each(|v| doc.vertex_tension[v.index()] = tau),
-        Edit::SetEdgeTension(edges, tau) => edges.iter().for_each(|e| doc.edge_tension[e.index()] = tau),
-        Edit::ResetTension { vertices, edges } => {
-            vertices.iter().for_each(|v| doc.vertex_tension[v.index()] = 0.0);
-            edges.iter().for_each(|e| doc.edge_tension[e.index()] = 0.0);
-        }
-        Edit::SetSettings(settings) => doc.settings = settings,
-        Edit::Replace(new) => *doc = *new,
-    }
 }
 
 #[cfg(test)]

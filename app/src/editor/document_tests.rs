@@ -2,6 +2,8 @@
 
 use super::*;
 use taut_core::io::UpAxis;
+use taut_core::nusd::SolverSettings;
+use taut_core::{DVec3, EdgeId, VertexId};
 use taut_core::nusd::Spacing;
 
 /// A unique, empty folder under the system's temp folder.
@@ -67,7 +69,7 @@ fn every_edit_applies_and_undoes_exactly() {
             Edit::SetEdgeTension(es, t) => assert!(es.iter().all(|e| after.edge_tension[e.index()] == *t)),
             Edit::SetSettings(s) => assert_eq!(after.settings, *s),
             Edit::Replace(d) => assert_eq!(after, **d),
-            Edit::ResetTension { .. } => unreachable!(),
+            other => panic!("{other:?} is not among the edits this test makes"),
         }
         assert!(ed.can_undo() && !ed.can_redo());
         assert!(ed.undo());
@@ -309,11 +311,11 @@ fn an_imported_mesh_asks_for_a_taut_file() {
     let obj = dir.join("cube.obj");
     let cube = cube_doc();
     let writer = EditorDocument::new(cube.clone(), None);
-    writer.export_surface(&cube.cage, &obj, UpAxis::Y).unwrap();
-    assert!(writer.export_surface(&cube.cage, &dir.join("x.taut"), UpAxis::Y).is_err());
+    writer.export_surface(&cube.cage, None, &obj, UpAxis::Y).unwrap();
+    assert!(writer.export_surface(&cube.cage, None, &dir.join("x.taut"), UpAxis::Y).is_err());
     let mut ed = EditorDocument::open(&obj).unwrap();
     // Exporting the surface over the mesh the cage came from is refused: it would replace it.
-    let err = ed.export_surface(&cube.cage, &obj, UpAxis::Y).unwrap_err();
+    let err = ed.export_surface(&cube.cage, None, &obj, UpAxis::Y).unwrap_err();
     assert!(err.contains("the file this cage was opened from"), "{err}");
     assert_eq!(ed.doc().cage.positions(), cube.cage.positions());
     assert!(ed.path().is_none());

@@ -8,6 +8,7 @@ mod defect_tests;
 pub mod document;
 pub mod files;
 pub mod interaction;
+pub mod live;
 pub mod menus;
 #[cfg(test)]
 mod panel_tests;

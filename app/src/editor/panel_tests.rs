@@ -15,7 +15,7 @@ use egui::{Key, Modifiers, Pos2, Rect, pos2};
 use egui_kittest::Harness;
 use egui_kittest::kittest::{By, NodeT, Queryable};
 use std::time::Duration;
-use taut_core::nusd::surface::Phase;
+use taut_core::surface::Phase;
 use taut_core::{DVec3, VertexId};
 
 /// The state the harness owns: the editor and its UI state, as the window holds them.
@@ -64,9 +64,9 @@ pub(super) fn settle(harness: &mut Harness<'_, App>) {
     }
     let editor = &harness.state().editor;
     assert!(!editor.busy(), "the solve did not finish");
-    assert_eq!(editor.solver_error, None);
-    let status = editor.status.expect("the solver reported a status");
-    assert_eq!(status.phase, Phase::Done, "the solve ended as {status:?}");
+    assert_eq!(editor.surface_error, None);
+    let progress = editor.progress.clone().expect("the surface reported its progress");
+    assert_eq!(progress.phase, Phase::Done, "the solve ended as {progress:?}");
     // A few quiet frames so that the panels show the settled state.
     harness.run_steps(2);
 }
@@ -80,7 +80,7 @@ pub(super) fn frames(harness: &mut Harness<'_, App>) {
 }
 
 pub(super) fn surface_positions(harness: &Harness<'_, App>) -> Vec<DVec3> {
-    harness.state().editor.surface.as_ref().expect("a smoothed surface").mesh.positions().to_vec()
+    harness.state().editor.surface_mesh().expect("a smoothed surface").positions().to_vec()
 }
 
 fn cage_position(harness: &Harness<'_, App>, v: VertexId) -> DVec3 {
@@ -214,7 +214,9 @@ fn drag_tension_and_undo(doc: taut_core::Document) -> DragOutcome {
     assert_eq!(harness.state().editor.selection.vertices, vec![VERTEX], "undo keeps the selection");
 
     settle(&mut harness);
-    let threshold = harness.state().editor.status.expect("status").threshold;
+    // The solver stops within `tol · diagonal` of its fixed point (its threshold).
+    let doc = harness.state().editor.document.doc();
+    let threshold = doc.settings.tol * doc.cage.bounding_diagonal();
     DragOutcome { near, restored: largest_distance(&original, &surface_positions(&harness)), threshold }
 }
 
@@ -383,7 +385,8 @@ fn levels_slider_and_curvature_display_change_the_state() {
     settle(&mut harness);
     let coarse = surface_positions(&harness).len();
     assert!(coarse < fine, "2 levels give a coarser surface than 3: {coarse} vertices, {fine} before");
-    assert_eq!(harness.state().editor.status.expect("status").levels, 2);
+    let summary = harness.state().editor.progress.clone().expect("progress").summary;
+    assert!(summary.contains("level 2/2"), "{summary}");
 
     // The curvature view.
     assert_eq!(harness.state().editor.display.mode, DisplayMode::Zebra);

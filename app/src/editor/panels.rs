@@ -5,10 +5,19 @@
 use super::document::Edit;
 use super::state::{DisplayMode, EditorState};
 use super::ui::UiState;
+use super::live::CompareMode;
 use taut_core::curvature::CurvatureQuantity;
 use taut_core::nusd::Spacing;
-use taut_core::nusd::surface::Phase;
+use taut_core::surface::{ColourBy, SchemeKind, fields_of};
 use taut_render::overlay::TENSION_SATURATION;
+
+/// The crease slider's end: beyond four levels a crease looks sharp at any level a designer
+/// uses; larger values can be typed, and "infinitely sharp" is a checkbox.
+const CREASE_SLIDER_MAX: f64 = 4.0;
+
+fn sharpness_text(s: f64) -> String {
+    if s == f64::INFINITY { "sharp".into() } else { format!("{s:.2}") }
+}
 
 /// Width of the coordinate and number fields of the cage panel, in points.
 const FIELD_WIDTH: f32 = 150.0;
@@ -40,32 +49,16 @@ impl EditorState {
         ui.horizontal(|ui| {
             ui.label(self.document.title());
             ui.separator();
-            match (&self.status, &self.solver_error) {
+            match (&self.progress, &self.surface_error) {
                 (_, Some(_)) => {
-                    ui.colored_label(egui::Color32::LIGHT_RED, "cannot smooth: see the message");
+                    ui.colored_label(egui::Color32::LIGHT_RED, "cannot make the surface: see the message");
                 }
-                (Some(s), None) => {
-                    let state = match s.phase {
-                        Phase::Iterating => "settling",
-                        Phase::Done
-                            if self.solver.as_ref().is_some_and(|x| x.reports().iter().all(|r| r.converged)) =>
-                        {
-                            "converged"
-                        }
-                        Phase::Done => "stopped at the iteration cap",
-                        Phase::Diverged => "diverged (rolled back)",
-                    };
-                    ui.label(format!(
-                        "level {}/{}  iterations {}  step {:.2e}  {}",
-                        s.level, s.levels, s.total_iterations, s.last_step, state
-                    ))
-                    .on_hover_text(
-                        "The level being solved, the iterations since the last edit, the last step of the \
-                         solver, and whether the surface has reached its fixed point",
+                (Some(p), None) => {
+                    ui.label(&p.summary).on_hover_text(
+                        "The scheme and its work: for NUSD the level being solved, the iterations since the last \
+                         edit, the last step and whether the surface reached its fixed point; for subdivision the \
+                         level and the faces of the limit surface",
                     );
-                    if s.lambda != self.document.doc().settings.lambda {
-                        ui.label(format!("λ reduced to {}", s.lambda));
-                    }
                 }
                 (None, None) => {
                     ui.label("starting");
@@ -156,6 +149,15 @@ impl EditorState {
             ui.label(format!("{} vertices, {} edges", self.selection.vertices.len(), self.selection.edges.len()));
         }
         ui.separator();
+        if self.document.doc().scheme.is_subdivision() {
+            self.crease_controls(ui, ui_state);
+        } else {
+            self.nusd_controls(ui, ui_state, &vertices);
+        }
+    }
+
+    /// Fixed flags and tension: what a NUSD designer sets on the selection.
+    fn nusd_controls(&mut self, ui: &mut egui::Ui, ui_state: &mut UiState, vertices: &[taut_core::VertexId]) {
         let fixed_state = mixed(vertices.iter().map(|v| self.document.doc().fixed[v.index()]));
         let mut fixed = fixed_state == Mixed::All(true);
         let indeterminate = matches!(fixed_state, Mixed::Range(..));
@@ -167,7 +169,7 @@ impl EditorState {
                  a click sets them all.",
             );
         if response.changed() {
-            self.edit(Edit::SetFixed(vertices.clone(), fixed));
+            self.edit(Edit::SetFixed(vertices.to_vec(), fixed));
         }
         ui.separator();
         if !self.selection.vertices.is_empty() {
@@ -192,6 +194,72 @@ impl EditorState {
                 edges: self.selection.edges.clone(),
             });
         }
+    }
+
+    /// Crease sharpness of the selected edges: what a subdivision designer sets.
+    fn crease_controls(&mut self, ui: &mut egui::Ui, ui_state: &mut UiState) {
+        let edges = self.crease_targets();
+        if edges.is_empty() {
+            ui.add(egui::Label::new("Select cage edges (or two vertices of an edge) to crease them.").wrap());
+            return;
+        }
+        let doc = self.document.doc();
+        let values = mixed(edges.iter().map(|e| doc.crease[e.index()]));
+        let (mut s, sharp) = match values {
+            Mixed::None => (0.0, false),
+            Mixed::All(s) => (if s.is_finite() { s } else { CREASE_SLIDER_MAX }, s == f64::INFINITY),
+            Mixed::Range(lo, hi) => {
+                (if hi.is_finite() { hi } else { CREASE_SLIDER_MAX }, lo == f64::INFINITY)
+            }
+        };
+        let name = ui.label("crease sharpness s");
+        let response = ui
+            .push_id("crease", |ui| {
+                ui.add(egui::Slider::new(&mut s, 0.0..=CREASE_SLIDER_MAX).clamping(egui::SliderClamping::Never).max_decimals(2))
+            })
+            .inner
+            .labelled_by(name.id)
+            .on_hover_text(
+                "How sharp the selected edges are: 0 smooth; s creases them for s levels and blends the \
+                 fraction (as in Blender and OpenSubdiv). Shift+E and a drag sets it in the viewport.",
+            );
+        if let Mixed::Range(lo, hi) = values {
+            ui.label(format!("mixed: {} to {}; a change sets them all", sharpness_text(lo), sharpness_text(hi)));
+        }
+        self.gesture_start(&response, ui_state);
+        if response.changed() {
+            self.edit(Edit::SetCrease(edges.clone(), s.max(0.0)));
+        }
+        self.gesture_end(&response, ui_state);
+        let mut infinite = sharp;
+        if ui
+            .checkbox(&mut infinite, "infinitely sharp")
+            .on_hover_text("A crease at every level: the surface keeps a sharp edge there")
+            .changed()
+        {
+            self.edit(Edit::SetCrease(edges.clone(), if infinite { f64::INFINITY } else { 0.0 }));
+        }
+        if ui.button("Clear creases").on_hover_text("Make the selected edges smooth again").clicked() {
+            self.edit(Edit::SetCrease(edges, 0.0));
+        }
+    }
+
+    /// The edges a crease applies to: the selected edges, and the edges joining two selected
+    /// vertices.
+    pub(super) fn crease_targets(&self) -> Vec<taut_core::EdgeId> {
+        let cage = &self.document.doc().cage;
+        let mut edges = self.selection.edges.clone();
+        for &a in &self.selection.vertices {
+            for &b in &self.selection.vertices {
+                if a < b
+                    && let Some(h) = cage.find_halfedge(a, b)
+                    && !edges.contains(&h.edge())
+                {
+                    edges.push(h.edge());
+                }
+            }
+        }
+        edges
     }
 
     /// A tension slider over the useful range 0–4 (larger values can be typed and are marked);
@@ -256,8 +324,54 @@ impl EditorState {
         }
     }
 
+    /// The surface scheme and its settings.
     pub(super) fn solver_panel(&mut self, ui: &mut egui::Ui, ui_state: &mut UiState) {
-        ui.heading("Smoothing");
+        ui.heading("Surface");
+        let doc = self.document.doc();
+        let mut scheme = doc.scheme;
+        egui::ComboBox::from_label("scheme")
+            .selected_text(scheme.display_name())
+            .show_ui(ui, |ui| {
+                for (k, help) in [
+                    (SchemeKind::Nusd, "Nonuniform spline diffusion: passes through the fixed cage points, with tension"),
+                    (SchemeKind::CatmullClark, "Catmull–Clark subdivision, as Blender's: any polygons, with creases"),
+                    (SchemeKind::Loop, "Loop subdivision: triangle cages, with creases"),
+                ] {
+                    ui.selectable_value(&mut scheme, k, k.display_name()).on_hover_text(help);
+                }
+            })
+            .response
+            .on_hover_text("How the surface is made from the cage (undoable, saved with the document)");
+        if scheme != doc.scheme {
+            self.edit(Edit::SetScheme(scheme));
+        }
+        if self.document.doc().scheme.is_subdivision() {
+            self.subdivision_settings(ui, ui_state);
+        } else {
+            self.nusd_settings(ui, ui_state);
+        }
+    }
+
+    fn subdivision_settings(&mut self, ui: &mut egui::Ui, ui_state: &mut UiState) {
+        let mut settings = self.document.doc().subdiv;
+        let before = settings;
+        let response = ui
+            .horizontal(|ui| {
+                let name = ui.label("levels");
+                ui.add(egui::Slider::new(&mut settings.levels, 1..=5)).labelled_by(name.id).on_hover_text(
+                    "Subdivision levels of the surface drawn: each has about four times the faces; the \
+                     drawn vertices sit on the exact limit surface",
+                )
+            })
+            .inner;
+        self.gesture_start(&response, ui_state);
+        if settings != before {
+            self.edit(Edit::SetSubdivSettings(settings));
+        }
+        self.gesture_end(&response, ui_state);
+    }
+
+    fn nusd_settings(&mut self, ui: &mut egui::Ui, ui_state: &mut UiState) {
         let mut settings = self.document.doc().settings;
         let before = settings;
         let mut responses = Vec::new();
@@ -317,6 +431,8 @@ impl EditorState {
         ui.heading("Display");
         let before = self.display.clone();
         let range = self.value_range();
+        let scheme = self.document.doc().scheme;
+        let other = self.other_scheme();
         let d = &mut self.display;
         ui.horizontal(|ui| {
             ui.radio_value(&mut d.mode, DisplayMode::Shaded, "shaded").on_hover_text("Plain shading");
@@ -337,15 +453,20 @@ impl EditorState {
                     .on_hover_text("The fraction of each stripe pair that is black");
             }
             DisplayMode::Curvature => {
+                let mut choices: Vec<ColourBy> = CurvatureQuantity::ALL.iter().map(|&q| ColourBy::Curvature(q)).collect();
+                choices.extend(fields_of(scheme).iter().map(|&f| ColourBy::Field(f)));
+                if !choices.contains(&d.colour_by) {
+                    d.colour_by = choices[0];
+                }
                 egui::ComboBox::from_label("quantity")
-                    .selected_text(d.quantity.display_name())
+                    .selected_text(d.colour_by.display_name())
                     .show_ui(ui, |ui| {
-                        for q in CurvatureQuantity::ALL {
-                            ui.selectable_value(&mut d.quantity, q, q.display_name());
+                        for c in choices {
+                            ui.selectable_value(&mut d.colour_by, c, c.display_name());
                         }
                     })
                     .response
-                    .on_hover_text("Mean, Gaussian, principal curvatures, or NUSD's second derivative |R|");
+                    .on_hover_text("Mean, Gaussian, principal curvatures, or what the scheme offers (NUSD's |R|)");
                 let mut automatic = d.fixed_range.is_none();
                 if ui
                     .checkbox(&mut automatic, "automatic range (2–98 %)")
@@ -383,6 +504,20 @@ impl EditorState {
                 .on_hover_text("The longest tooth of the combs, as a fraction of the model's size");
             ui.add(egui::Slider::new(&mut d.comb_density, 1..=8).text("every n-th point"))
                 .on_hover_text("A tooth at every n-th point of each curve");
+        }
+        ui.separator();
+        let mut compare = d.compare;
+        ui.label(format!("compare with {}", other.display_name()));
+        ui.horizontal(|ui| {
+            ui.radio_value(&mut compare, CompareMode::Off, "off").on_hover_text("Only this scheme's surface");
+            ui.radio_value(&mut compare, CompareMode::Ghost, "ghost")
+                .on_hover_text("The other scheme's surface drawn as a translucent ghost over this one");
+            ui.radio_value(&mut compare, CompareMode::Distance, "distance")
+                .on_hover_text("This surface coloured by its distance to the other scheme's, with a legend");
+        });
+        let compare_changed = compare != self.display.compare;
+        if compare_changed {
+            self.set_compare(compare);
         }
         if self.display != before {
             self.invalidate_values();

@@ -1,18 +1,19 @@
-//! The editor's state apart from any window: the document, the live solver, the camera, the
+//! The editor's state apart from any window: the document, the live surface, the camera, the
 //! selection and the display settings. The UI sends [`Edit`]s to the document; once a frame the
-//! solver catches up with the document's revision (warm start) and advances within a time
-//! budget, so the surface follows every drag and keeps settling after the mouse stops.
+//! surface scheme catches up with the document's revision and advances within a time budget
+//! ([`super::live`]), so the surface follows every drag and keeps settling after the mouse stops.
 
 use super::document::{Edit, EditorDocument};
 use super::files::{Autosave, RecentFiles};
+use super::live::{CompareMode, Comparison, SurfaceView};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
-use taut_core::curvature::{CurvatureQuantity, robust_range, vertex_curvature};
+use taut_core::curvature::CurvatureQuantity;
 use taut_core::io::UpAxis;
-use taut_core::nusd::surface::{Budget, Phase, Status, SurfaceSolver};
-use taut_core::{EdgeId, PolyMesh, VertexId};
+use taut_core::surface::{ColourBy, Progress};
+use taut_core::{EdgeId, VertexId};
 use taut_render::colormap::ColorMap;
-use taut_render::overlay::{self, CageSelection, CombStyle, Legend, OverlayData};
+use taut_render::overlay::{self, CageControls, CageSelection, CombStyle, Legend, OverlayData};
 use taut_render::passes::surface::SurfaceMode;
 use taut_render::{Camera, DisplayFrame};
 
@@ -35,7 +36,10 @@ pub struct Display {
     pub stripes: f32,
     pub stripe_angle: f32,
     pub stripe_width: f32,
-    pub quantity: CurvatureQuantity,
+    /// What the curvature view colours by.
+    pub colour_by: ColourBy,
+    /// The other scheme's surface beside this one.
+    pub compare: CompareMode,
     /// `None`: automatic (robust percentiles).
     pub fixed_range: Option<(f64, f64)>,
     pub show_cage: bool,
@@ -54,7 +58,8 @@ impl Default for Display {
             stripes: 12.0,
             stripe_angle: 0.0,
             stripe_width: 0.5,
-            quantity: CurvatureQuantity::Mean,
+            colour_by: ColourBy::Curvature(CurvatureQuantity::Mean),
+            compare: CompareMode::Off,
             fixed_range: None,
             show_cage: true,
             show_wire: false,
@@ -119,38 +124,30 @@ pub struct Notice {
 /// Most messages the history keeps (oldest dropped first).
 pub const MAX_MESSAGES: usize = 200;
 
-/// The smoothed surface the viewport draws, kept in step with the solver.
-#[derive(Debug)]
-pub struct SurfaceView {
-    /// The finest level built so far, positions from the solver.
-    pub mesh: PolyMesh,
-    /// Per-vertex values of the curvature view, with their colour range.
-    pub values: Option<(Vec<f32>, f64, f64)>,
-    values_stale: bool,
-    values_at: Option<Instant>,
-}
-
 /// Everything the editor holds.
 #[derive(Debug)]
 pub struct EditorState {
     pub document: EditorDocument,
-    pub solver: Option<SurfaceSolver>,
-    /// The document revision the solver has seen.
-    solved_revision: Option<u64>,
+    /// The document revision the surface has seen.
+    pub(super) solved_revision: Option<u64>,
+    /// The surface of the document's scheme.
     pub surface: Option<SurfaceView>,
+    /// The other scheme's surface, while the compare view is on.
+    pub comparison: Option<Comparison>,
     pub camera: Camera,
     pub selection: Selection,
     pub display: Display,
     pub notice: Option<Notice>,
     /// Every message of the session, oldest first (at most [`MAX_MESSAGES`]).
     pub messages: Vec<Notice>,
-    pub status: Option<Status>,
+    /// Where the surface's work stands.
+    pub progress: Option<Progress>,
     pub frame_time: Duration,
     pub recent: RecentFiles,
     pub autosave: Option<Autosave>,
     pub last_autosave: Instant,
-    /// The solver could not even start (a degenerate cage): the message.
-    pub solver_error: Option<String>,
+    /// The surface could not be made (a degenerate cage, Loop on quads): the message.
+    pub surface_error: Option<String>,
     /// The up axis of OBJ files opened and exported.
     pub obj_up: UpAxis,
     /// Model to display coordinates: the camera and every GPU position live in display space.
@@ -165,20 +162,20 @@ impl EditorState {
     pub fn new(document: EditorDocument, recent: RecentFiles, autosave: Option<Autosave>) -> Self {
         let mut state = EditorState {
             document,
-            solver: None,
             solved_revision: None,
             surface: None,
+            comparison: None,
             camera: Camera::default(),
             selection: Selection::default(),
             display: Display::default(),
             notice: None,
             messages: Vec::new(),
-            status: None,
+            progress: None,
             frame_time: Duration::ZERO,
             recent,
             autosave,
             last_autosave: Instant::now(),
-            solver_error: None,
+            surface_error: None,
             obj_up: UpAxis::default(),
             display_frame: DisplayFrame::IDENTITY,
             viewport_shape: (1.6, 0.0),
@@ -207,11 +204,12 @@ impl EditorState {
     /// Replaces the document (open, new, recover); the old one is kept if `document` fails.
     pub fn replace_document(&mut self, document: EditorDocument) {
         self.document = document;
-        self.solver = None;
         self.solved_revision = None;
         self.surface = None;
+        self.comparison = None;
+        self.progress = None;
         self.selection.clear();
-        self.solver_error = None;
+        self.surface_error = None;
         if let Some(path) = self.document.path().map(Path::to_path_buf) {
             let _ = self.recent.add(&path);
         }
@@ -276,137 +274,30 @@ impl EditorState {
             self.notify("there is no surface to export yet", true);
             return;
         };
-        match self.document.export_surface(&surface.mesh, path, self.obj_up) {
+        match self.document.export_surface(surface.mesh(), surface.scheme.normals(), path, self.obj_up) {
             Ok(()) => self.notify(format!("exported {}", path.display()), false),
             Err(message) => self.notify(format!("could not export {}: {message}", path.display()), true),
-        }
-    }
-
-    /// One frame of solving: catch up with the document, then advance within `budget`.
-    pub fn step_solver(&mut self, budget: Duration) {
-        let revision = self.document.revision();
-        if self.solved_revision != Some(revision) {
-            self.solved_revision = Some(revision);
-            let doc = self.document.doc();
-            let result = match &mut self.solver {
-                Some(solver) => solver.update(doc),
-                None => SurfaceSolver::new(doc).map(|s| self.solver = Some(s)),
-            };
-            match result {
-                Ok(()) => self.solver_error = None,
-                Err(e) => {
-                    self.solver = None;
-                    self.surface = None;
-                    self.solver_error = Some(e.to_string());
-                }
-            }
-        }
-        let Some(solver) = &mut self.solver else { return };
-        let before = solver.status();
-        let status = if before.phase == Phase::Iterating {
-            solver.advance(Budget { iterations: usize::MAX, time: Some(budget) })
-        } else {
-            before
-        };
-        for event in solver.take_events() {
-            let text = format!("solver: {event}");
-            if self.messages.len() == MAX_MESSAGES {
-                self.messages.remove(0);
-            }
-            self.messages.push(Notice { text: text.clone(), is_error: true });
-            self.notice = Some(Notice { text, is_error: true });
-        }
-        if status.phase == Phase::Diverged && before.phase != Phase::Diverged {
-            self.notify(
-                "the solve diverged even with the smallest λ and was rolled back to the last good surface; lower the tensions",
-                true,
-            );
-        }
-        self.status = Some(status);
-        let changed = before.total_iterations != status.total_iterations
-            || before.phase != status.phase
-            || self.surface.is_none();
-        if changed {
-            self.sync_surface();
-        }
-    }
-
-    /// Copies the solver's finest positions into the viewport's mesh.
-    fn sync_surface(&mut self) {
-        let Some(solver) = &self.solver else { return };
-        let topology = solver.surface_topology();
-        let reuse =
-            self.surface.as_ref().is_some_and(|s| s.mesh.topology_generation() == topology.topology_generation());
-        if !reuse {
-            self.surface =
-                Some(SurfaceView { mesh: topology.clone(), values: None, values_stale: true, values_at: None });
-        }
-        let surface = self.surface.as_mut().expect("set above");
-        surface.mesh.positions_mut().copy_from_slice(solver.surface_positions());
-        surface.values_stale = true;
-    }
-
-    /// True while the solver still has work: the window keeps redrawing.
-    pub fn busy(&self) -> bool {
-        self.solved_revision != Some(self.document.revision())
-            || self.solver.as_ref().is_some_and(|s| s.status().phase == Phase::Iterating)
-    }
-
-    /// Recomputes the curvature values when shown and stale (at most every 150 ms while the
-    /// solver runs, at once when it has finished).
-    pub fn refresh_values(&mut self) {
-        if self.display.mode != DisplayMode::Curvature {
-            return;
-        }
-        let done = !self.busy();
-        let (Some(surface), Some(solver)) = (&mut self.surface, &self.solver) else { return };
-        let due = surface.values_at.is_none_or(|t| t.elapsed() > Duration::from_millis(150));
-        if !(surface.values_stale && (done || due)) {
-            return;
-        }
-        let q = self.display.quantity;
-        let r = (q == CurvatureQuantity::NusdR).then(|| solver.surface_second_derivatives());
-        let result = vertex_curvature(&surface.mesh).values(q, r);
-        surface.values_stale = false;
-        surface.values_at = Some(Instant::now());
-        match result {
-            Ok(values) => {
-                let (min, max) = self.display.fixed_range.unwrap_or_else(|| robust_range(&values, q.is_signed()));
-                // Mapped to the colour range in f64: a tiny model's curvatures overflow f32.
-                surface.values = Some((taut_render::colormap::normalize(&values, min, max), min, max));
-            }
-            Err(e) => self.notify(e.to_string(), true),
-        }
-    }
-
-    /// Marks the curvature values for recomputation (quantity or range changed).
-    pub fn invalidate_values(&mut self) {
-        if let Some(s) = &mut self.surface {
-            s.values_stale = true;
-            s.values_at = None;
         }
     }
 
     /// The surface mode for the renderer.
     pub fn surface_mode(&self) -> SurfaceMode {
         let d = &self.display;
+        if self.colours_shown() {
+            // The values are uploaded already mapped to the range (see `refresh_values`).
+            return SurfaceMode::Curvature { map: self.color_map(), min: 0.0, max: 1.0 };
+        }
         match d.mode {
             DisplayMode::Shaded => SurfaceMode::Shaded,
             DisplayMode::Zebra => {
                 SurfaceMode::Zebra { stripes: d.stripes, angle_degrees: d.stripe_angle, width_ratio: d.stripe_width }
             }
-            // The values are uploaded already mapped to the range (see `refresh_values`).
             DisplayMode::Curvature => SurfaceMode::Curvature { map: self.color_map(), min: 0.0, max: 1.0 },
         }
     }
 
     fn color_map(&self) -> ColorMap {
-        if self.display.quantity.is_signed() { ColorMap::Diverging } else { ColorMap::Sequential }
-    }
-
-    /// The colour range in force.
-    pub fn value_range(&self) -> (f64, f64) {
-        self.surface.as_ref().and_then(|s| s.values.as_ref()).map_or((-1.0, 1.0), |(_, a, b)| (*a, *b))
+        if self.colour_by().is_signed() { ColorMap::Diverging } else { ColorMap::Sequential }
     }
 
     /// Cage, wireframe, curves and the legend, from the current document and selection, in
@@ -416,22 +307,15 @@ impl EditorState {
         let doc = self.document.doc();
         let frame = &self.display_frame;
         if self.display.show_wire
-            && let Some(s) = &self.surface
+            && let Some(mesh) = self.surface_mesh()
         {
-            data.surface_lines.extend(overlay::wireframe(&s.mesh, [0.05, 0.05, 0.06, 0.7], 1.0, frame));
+            data.surface_lines.extend(overlay::wireframe(mesh, [0.05, 0.05, 0.06, 0.7], 1.0, frame));
         }
         if self.display.show_curves
-            && let (Some(s), Some(solver)) = (&self.surface, &self.solver)
+            && let Some(mesh) = self.surface_mesh()
         {
-            let curves: Vec<Vec<taut_core::DVec3>> = solver
-                .cage_edge_curves()
-                .into_iter()
-                .map(|(_, chain)| {
-                    chain.iter().filter(|v| v.index() < s.mesh.vertex_count()).map(|&v| s.mesh.position(v)).collect()
-                })
-                .collect();
-            let style =
-                comb_style(&curves, s.mesh.bounding_diagonal(), self.display.comb_length, self.display.comb_density);
+            let curves = self.surface_curves();
+            let style = comb_style(&curves, mesh.bounding_diagonal(), self.display.comb_length, self.display.comb_density);
             for c in &curves {
                 data.surface_lines.extend(overlay::polyline_with_comb(c, false, &style, frame));
             }
@@ -443,8 +327,12 @@ impl EditorState {
                 hovered_vertex: self.selection.hovered_vertex,
                 hovered_edge: self.selection.hovered_edge,
             };
-            let (lines, points) =
-                overlay::cage_overlay(&doc.cage, &doc.fixed, &doc.vertex_tension, &doc.edge_tension, &selection, frame);
+            let controls = if doc.scheme.is_subdivision() {
+                CageControls::Creases { sharpness: &doc.crease }
+            } else {
+                CageControls::Nusd { fixed: &doc.fixed, vertex_tension: &doc.vertex_tension, edge_tension: &doc.edge_tension }
+            };
+            let (lines, points) = overlay::cage_overlay(&doc.cage, controls, &selection, frame);
             data.on_top_lines = lines;
             data.points = points;
         }
@@ -452,11 +340,11 @@ impl EditorState {
         data
     }
 
-    /// The colour legend, when the curvature view is on.
+    /// The colour legend, when the surface is coloured.
     pub fn legend(&self) -> Option<Legend> {
-        (self.display.mode == DisplayMode::Curvature).then(|| {
+        self.colours_shown().then(|| {
             let (min, max) = self.value_range();
-            let title = overlay::legend_title(self.display.quantity).to_string();
+            let title = overlay::legend_title(self.colour_by()).to_string();
             Legend { map: self.color_map(), min, max, title }
         })
     }
@@ -466,9 +354,9 @@ impl EditorState {
     pub fn frame_all(&mut self) {
         let cage = &self.document.doc().cage;
         let mut points: Vec<taut_core::DVec3> = cage.positions().to_vec();
-        if let Some(s) = &self.surface {
-            let step = (s.mesh.vertex_count() / 20_000).max(1);
-            points.extend(s.mesh.positions().iter().step_by(step));
+        if let Some(mesh) = self.surface_mesh() {
+            let step = (mesh.vertex_count() / 20_000).max(1);
+            points.extend(mesh.positions().iter().step_by(step));
         }
         if points.is_empty() {
             return;
@@ -481,7 +369,7 @@ impl EditorState {
     fn frame_display_points(&mut self, points: &[taut_core::DVec3]) {
         let display: Vec<glam::Vec3> = points.iter().map(|&p| self.display_frame.point(p)).collect();
         let (aspect, margin_fraction) = self.viewport_shape;
-        let margin_fraction = if self.display.mode == DisplayMode::Curvature { margin_fraction } else { 0.0 };
+        let margin_fraction = if self.colours_shown() { margin_fraction } else { 0.0 };
         self.camera.frame_points(&display, aspect * (1.0 - margin_fraction));
         // Centre the model in what the legend leaves free: half the margin to the left, in
         // pixels of a viewport one unit high.

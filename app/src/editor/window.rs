@@ -329,7 +329,9 @@ impl Running {
             self.drawn_generation = None;
             return;
         };
-        let generation = (surface.mesh.topology_generation(), surface.mesh.generation());
+        let mesh = surface.mesh();
+        let normals = surface.scheme.normals();
+        let generation = (mesh.topology_generation(), mesh.generation());
         let values = surface.values.as_ref().map(|(v, _, _)| v.as_ptr());
         let frame = self.editor.display_frame;
         if self.drawn_generation == Some(generation)
@@ -339,12 +341,12 @@ impl Running {
         {
             return;
         }
-        let mut changes = self.buffers.update_with(&surface.mesh, None, &frame);
+        let mut changes = self.buffers.update_with(mesh, normals, &frame);
         if let Some((v, _, _)) = &surface.values
-            && v.len() == surface.mesh.vertex_count()
+            && v.len() == mesh.vertex_count()
         {
             self.buffers.set_values(v);
-            changes = self.buffers.update_with(&surface.mesh, None, &frame);
+            changes = self.buffers.update_with(mesh, normals, &frame);
             changes.vertices = true;
         }
         match &mut self.gpu_surface {

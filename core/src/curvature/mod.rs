@@ -90,31 +90,14 @@ impl Curvature {
         self.estimated.iter().enumerate().filter(|(_, ok)| !**ok).map(|(v, _)| VertexId(v as u32))
     }
 
-    /// One value per vertex of quantity `q`. [`CurvatureQuantity::NusdR`] is the length of the
-    /// NUSD second-derivative vector, which only the solver knows: pass its
-    /// `surface_second_derivatives()` as `nusd_r` (ignored for the other quantities).
-    ///
-    /// Fails when `q` is `NusdR` and `nusd_r` is missing or has a different number of vertices.
-    pub fn values(&self, q: CurvatureQuantity, nusd_r: Option<&[DVec3]>) -> Result<Vec<f64>> {
-        let copy = |v: &Vec<f64>| Ok(v.clone());
+    /// One value per vertex of quantity `q`.
+    pub fn values(&self, q: CurvatureQuantity) -> Vec<f64> {
         match q {
-            CurvatureQuantity::Mean => copy(&self.mean),
-            CurvatureQuantity::Gaussian => copy(&self.gaussian),
-            CurvatureQuantity::MinPrincipal => copy(&self.min_principal),
-            CurvatureQuantity::MaxPrincipal => copy(&self.max_principal),
-            CurvatureQuantity::MaxAbsolute => copy(&self.max_absolute),
-            CurvatureQuantity::NusdR => match nusd_r {
-                Some(r) if r.len() == self.len() => Ok(r.iter().map(|r| r.length()).collect()),
-                Some(r) => Err(Error::Input(format!(
-                    "the NUSD second derivatives have {} vertices but the surface has {}; \
-                     pass the solver's `surface_second_derivatives()` for this surface",
-                    r.len(),
-                    self.len()
-                ))),
-                None => {
-                    Err(Error::Input("the |R| view needs the NUSD solver's second derivatives; none were given".into()))
-                }
-            },
+            CurvatureQuantity::Mean => self.mean.clone(),
+            CurvatureQuantity::Gaussian => self.gaussian.clone(),
+            CurvatureQuantity::MinPrincipal => self.min_principal.clone(),
+            CurvatureQuantity::MaxPrincipal => self.max_principal.clone(),
+            CurvatureQuantity::MaxAbsolute => self.max_absolute.clone(),
         }
     }
 }
@@ -250,18 +233,15 @@ pub enum CurvatureQuantity {
     MaxPrincipal,
     /// `max(|κ_min|, |κ_max|)` (a magnitude).
     MaxAbsolute,
-    /// Length of the NUSD second-derivative vector `R` (a magnitude, from the solver).
-    NusdR,
 }
 
 impl CurvatureQuantity {
     /// Every quantity, in menu order.
-    pub const ALL: [Self; 6] =
-        [Self::Mean, Self::Gaussian, Self::MinPrincipal, Self::MaxPrincipal, Self::MaxAbsolute, Self::NusdR];
+    pub const ALL: [Self; 5] = [Self::Mean, Self::Gaussian, Self::MinPrincipal, Self::MaxPrincipal, Self::MaxAbsolute];
 
     /// True for quantities with a sign (shown with a diverging map centred at 0).
     pub fn is_signed(self) -> bool {
-        !matches!(self, Self::MaxAbsolute | Self::NusdR)
+        !matches!(self, Self::MaxAbsolute)
     }
 
     /// The name for menus and legends.
@@ -272,7 +252,6 @@ impl CurvatureQuantity {
             Self::MinPrincipal => "min principal curvature κmin",
             Self::MaxPrincipal => "max principal curvature κmax",
             Self::MaxAbsolute => "max |κ|",
-            Self::NusdR => "NUSD |R|",
         }
     }
 
@@ -284,7 +263,6 @@ impl CurvatureQuantity {
             Self::MinPrincipal => "kmin",
             Self::MaxPrincipal => "kmax",
             Self::MaxAbsolute => "kabs",
-            Self::NusdR => "r",
         }
     }
 }
@@ -298,7 +276,7 @@ impl fmt::Display for CurvatureQuantity {
 impl FromStr for CurvatureQuantity {
     type Err = Error;
 
-    /// Reads a command-line name: `mean`, `gaussian`, `kmin`, `kmax`, `kabs` or `r`.
+    /// Reads a command-line name: `mean`, `gaussian`, `kmin`, `kmax` or `kabs`.
     fn from_str(s: &str) -> Result<Self> {
         Self::ALL.into_iter().find(|q| q.cli_name() == s).ok_or_else(|| {
             let names: Vec<&str> = Self::ALL.iter().map(|q| q.cli_name()).collect();

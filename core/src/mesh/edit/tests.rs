@@ -106,12 +106,7 @@ fn a_document_carries_its_controls_through_an_edit() {
     doc.set_edge_tension(VertexId(5), VertexId(7), 2.0).unwrap();
     let top = FaceId(1);
     let edited = extrude_faces(&doc.cage, &[top], FaceGrouping::Region, 0.5).unwrap();
-    let p = &edited.provenance;
-    let fixed = carry_vertex_property(&doc.fixed, p, &CarryRule::new_elements(true)).unwrap();
-    let vertex_tension = carry_vertex_property(&doc.vertex_tension, p, &CarryRule::new_elements(0.0)).unwrap();
-    let edge_tension = carry_edge_property(&doc.edge_tension, p, &CarryRule::new_elements(0.0)).unwrap();
-    let next = Document { cage: edited.mesh, fixed, vertex_tension, edge_tension, settings: doc.settings };
-    next.validate().unwrap();
+    let next = doc.with_edited_cage(edited).unwrap();
     // Vertex 7 and its copy on the cap keep τ = 1.5; edge 5-7 and its copy keep τ = 2.
     let at = |p: DVec3| next.cage.vertices().find(|&v| next.cage.position(v) == p).unwrap();
     assert_eq!(next.vertex_tension[at(DVec3::ONE).index()], 1.5);
@@ -434,14 +429,7 @@ fn the_smoothed_surface_of_a_mirrored_cage_is_mirror_symmetric() {
     doc.settings.levels = 2;
     let plane = MirrorPlane::new(Axis::X, 0.0);
     let edited = apply_mirror(&doc.cage, plane, DEFAULT_MIRROR_TOLERANCE).unwrap();
-    let p = &edited.provenance;
-    let mirrored = Document {
-        fixed: carry_vertex_property(&doc.fixed, p, &CarryRule::new_elements(true)).unwrap(),
-        vertex_tension: carry_vertex_property(&doc.vertex_tension, p, &CarryRule::new_elements(0.0)).unwrap(),
-        edge_tension: carry_edge_property(&doc.edge_tension, p, &CarryRule::new_elements(0.0)).unwrap(),
-        cage: edited.mesh,
-        settings: doc.settings,
-    };
+    let mirrored = doc.with_edited_cage(edited).unwrap();
     let mut solver = crate::nusd::surface::SurfaceSolver::new(&mirrored).unwrap();
     solver.solve().unwrap();
     let surface = solver.surface_positions();

@@ -1,0 +1,234 @@
+//! The live surface: the document's scheme kept in step with the document, advanced within a
+//! budget each frame, its colour values, and the compare view (the other scheme's surface as a
+//! ghost, or the distance to it as colour).
+//!
+//! Whatever the scheme, the editor only talks to it through [`SurfaceScheme`]: on a new document
+//! revision the scheme takes the document ([`SurfaceScheme::update`]: NUSD warm-starts, a
+//! subdivision scheme re-evaluates its stencils), then it advances within the frame's budget, and
+//! the viewport draws its mesh with its normals.
+
+use super::state::{DisplayMode, EditorState, MAX_MESSAGES, Notice};
+use std::time::{Duration, Instant};
+use taut_core::curvature::robust_range;
+use taut_core::surface::{self, Budget, ColourBy, Phase, SchemeKind, SurfaceScheme};
+use taut_core::{DVec3, PolyMesh};
+
+/// The surface the viewport draws, kept in step with the document.
+#[derive(Debug)]
+pub struct SurfaceView {
+    /// The scheme making the surface.
+    pub scheme: Box<dyn SurfaceScheme>,
+    /// Per-vertex values of the colour view (already mapped to the range, see
+    /// `taut_render::colormap::normalize`), with their range.
+    pub values: Option<(Vec<f32>, f64, f64)>,
+    values_stale: bool,
+    values_at: Option<Instant>,
+}
+
+impl SurfaceView {
+    fn new(scheme: Box<dyn SurfaceScheme>) -> Self {
+        SurfaceView { scheme, values: None, values_stale: true, values_at: None }
+    }
+
+    /// The surface mesh (cage vertices first).
+    pub fn mesh(&self) -> &PolyMesh {
+        self.scheme.mesh()
+    }
+}
+
+/// How the other scheme's surface is shown beside the document's.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CompareMode {
+    Off,
+    /// Drawn as a translucent ghost over the surface.
+    Ghost,
+    /// The surface coloured by its distance to the other one, with a legend.
+    Distance,
+}
+
+/// The other scheme's surface, for the compare view.
+#[derive(Debug)]
+pub struct Comparison {
+    pub scheme: Box<dyn SurfaceScheme>,
+    /// Per vertex of the document's surface: its distance to the other surface.
+    pub distances: Option<Vec<f64>>,
+    /// The work of both surfaces the distances were measured at.
+    measured_at: Option<(usize, usize)>,
+}
+
+impl EditorState {
+    /// The surface's mesh, if there is one yet.
+    pub fn surface_mesh(&self) -> Option<&PolyMesh> {
+        self.surface.as_ref().map(SurfaceView::mesh)
+    }
+
+    /// The scheme the compare view shows against the document's: NUSD against Catmull–Clark,
+    /// either subdivision scheme against NUSD.
+    pub fn other_scheme(&self) -> SchemeKind {
+        match self.document.doc().scheme {
+            SchemeKind::Nusd => SchemeKind::CatmullClark,
+            SchemeKind::CatmullClark | SchemeKind::Loop => SchemeKind::Nusd,
+        }
+    }
+
+    /// One frame of surface work: catch up with the document, then advance within `budget`.
+    pub fn step_solver(&mut self, budget: Duration) {
+        let revision = self.document.revision();
+        if self.solved_revision != Some(revision) {
+            self.solved_revision = Some(revision);
+            let doc = self.document.doc();
+            let result = match &mut self.surface {
+                Some(view) if view.scheme.kind() == doc.scheme => view.scheme.update(doc),
+                _ => surface::build(doc).map(|s| self.surface = Some(SurfaceView::new(s))),
+            };
+            match result {
+                Ok(()) => self.surface_error = None,
+                Err(e) => {
+                    self.surface = None;
+                    if self.surface_error.as_deref() != Some(&e.to_string()) {
+                        self.notify(format!("cannot make the surface: {e}"), true);
+                    }
+                    self.surface_error = Some(e.to_string());
+                }
+            }
+            self.update_comparison();
+        }
+        let Some(view) = &mut self.surface else { return };
+        let before = view.scheme.progress();
+        let progress = view.scheme.advance(Budget { iterations: usize::MAX, time: Some(budget) });
+        let events = view.scheme.take_events();
+        if progress.work != before.work || progress.phase != before.phase {
+            view.values_stale = true;
+        }
+        for event in events {
+            self.remember(Notice { text: format!("solver: {event}"), is_error: true });
+        }
+        if progress.phase == Phase::Diverged && before.phase != Phase::Diverged {
+            self.notify(
+                "the solve diverged even with the smallest λ and was rolled back to the last good surface; lower the tensions",
+                true,
+            );
+        }
+        self.progress = Some(progress);
+        if let Some(other) = &mut self.comparison {
+            other.scheme.advance(Budget { iterations: usize::MAX, time: Some(budget / 2) });
+        }
+    }
+
+    /// Keeps the compare view's surface in step with the document (in the other scheme).
+    fn update_comparison(&mut self) {
+        if self.display.compare == CompareMode::Off {
+            self.comparison = None;
+            return;
+        }
+        let other = self.document.doc().clone().with_scheme(self.other_scheme());
+        let result = match &mut self.comparison {
+            Some(c) if c.scheme.kind() == other.scheme => c.scheme.update(&other),
+            _ => surface::build(&other)
+                .map(|scheme| self.comparison = Some(Comparison { scheme, distances: None, measured_at: None })),
+        };
+        if let Err(e) = result {
+            self.comparison = None;
+            self.display.compare = CompareMode::Off;
+            self.notify(format!("cannot compare with {}: {e}", other.scheme.display_name()), true);
+        }
+    }
+
+    /// Turns the compare view on or off (or switches between ghost and distance).
+    pub fn set_compare(&mut self, mode: CompareMode) {
+        self.display.compare = mode;
+        self.update_comparison();
+        self.invalidate_values();
+    }
+
+    /// Keeps a message in the history and shows it, without the borrow of [`notify`].
+    fn remember(&mut self, notice: Notice) {
+        if self.messages.len() == MAX_MESSAGES {
+            self.messages.remove(0);
+        }
+        self.messages.push(notice.clone());
+        self.notice = Some(notice);
+    }
+
+    /// True while the surface still has work: the window keeps redrawing.
+    pub fn busy(&self) -> bool {
+        let working = |s: &dyn SurfaceScheme| s.progress().phase == Phase::Iterating;
+        self.solved_revision != Some(self.document.revision())
+            || self.surface.as_ref().is_some_and(|v| working(v.scheme.as_ref()))
+            || self.comparison.as_ref().is_some_and(|c| working(c.scheme.as_ref()))
+    }
+
+    /// What the colour view shows now.
+    pub fn colour_by(&self) -> ColourBy {
+        if self.display.compare == CompareMode::Distance { ColourBy::Distance } else { self.display.colour_by }
+    }
+
+    /// True when the surface is drawn in colour (the curvature view, or the compare distance).
+    pub fn colours_shown(&self) -> bool {
+        self.display.mode == DisplayMode::Curvature || self.display.compare == CompareMode::Distance
+    }
+
+    /// Recomputes the colour values when shown and stale (at most every 150 ms while the surface
+    /// is still settling, at once when it has finished).
+    pub fn refresh_values(&mut self) {
+        if !self.colours_shown() {
+            return;
+        }
+        let done = !self.busy();
+        let by = self.colour_by();
+        let Some(view) = &self.surface else { return };
+        let due = view.values_at.is_none_or(|t| t.elapsed() > Duration::from_millis(150));
+        let comparison_moved = by == ColourBy::Distance
+            && self.comparison.as_ref().is_some_and(|c| {
+                c.measured_at != Some((view.scheme.progress().work, c.scheme.progress().work))
+            });
+        if !((view.values_stale || comparison_moved) && (done || due)) {
+            return;
+        }
+        let result = match by {
+            ColourBy::Distance => self.measure_distances(),
+            other => other.values(view.scheme.as_ref()).map_err(|e| e.to_string()),
+        };
+        let fixed_range = self.display.fixed_range;
+        let Some(view) = &mut self.surface else { return };
+        view.values_stale = false;
+        view.values_at = Some(Instant::now());
+        match result {
+            Ok(values) => {
+                let (min, max) = fixed_range.unwrap_or_else(|| robust_range(&values, by.is_signed()));
+                // Mapped to the colour range in f64: a tiny model's curvatures overflow f32.
+                view.values = Some((taut_render::colormap::normalize(&values, min, max), min, max));
+            }
+            Err(e) => self.notify(e, true),
+        }
+    }
+
+    /// Distances from the surface's vertices to the other scheme's surface.
+    fn measure_distances(&mut self) -> Result<Vec<f64>, String> {
+        let (Some(view), Some(other)) = (&self.surface, &mut self.comparison) else {
+            return Err("there is no surface to compare with yet".into());
+        };
+        let distances = taut_core::surface::distance::distances_to(view.mesh(), other.scheme.mesh());
+        other.measured_at = Some((view.scheme.progress().work, other.scheme.progress().work));
+        other.distances = Some(distances.clone());
+        Ok(distances)
+    }
+
+    /// Marks the colour values for recomputation (quantity or range changed).
+    pub fn invalidate_values(&mut self) {
+        if let Some(s) = &mut self.surface {
+            s.values_stale = true;
+            s.values_at = None;
+        }
+    }
+
+    /// The colour range in force.
+    pub fn value_range(&self) -> (f64, f64) {
+        self.surface.as_ref().and_then(|s| s.values.as_ref()).map_or((-1.0, 1.0), |(_, a, b)| (*a, *b))
+    }
+
+    /// The surface's curves along the cage edges, in model coordinates.
+    pub fn surface_curves(&self) -> Vec<Vec<DVec3>> {
+        self.surface.as_ref().map_or_else(Vec::new, |s| s.scheme.curves())
+    }
+}

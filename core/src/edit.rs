@@ -1,0 +1,189 @@
+//! [`Edit`]: every change a designer can make to a [`Document`], with the one validator the
+//! editor's undo and the command line's flags both go through.
+//!
+//! An edit is checked completely against the document before anything changes
+//! ([`Document::apply`]), so a refused edit leaves the document as it was and says why in one
+//! line. Besides each value's own range, an edit must leave a NUSD surface anchored: a surface
+//! without enough fixed vertices collapses or flattens (see
+//! [`check_anchoring`](crate::nusd::surface::check_anchoring)), so the edit that would do that is
+//! refused, naming the vertices to fix.
+
+use crate::document::{Document, SchemeKind, SubdivSettings, check_sharpness, check_tension};
+use crate::mesh::{EdgeId, VertexId};
+use crate::nusd::SolverSettings;
+use crate::{DVec3, Error, Result};
+
+/// One change to a document.
+#[derive(Clone, Debug)]
+#[non_exhaustive]
+pub enum Edit {
+    /// Moves cage vertices to absolute positions.
+    MoveVertices(Vec<(VertexId, DVec3)>),
+    /// Marks vertices fixed (the NUSD surface passes through them) or moving.
+    SetFixed(Vec<VertexId>, bool),
+    /// Sets the NUSD tension τ of vertices.
+    SetVertexTension(Vec<VertexId>, f64),
+    /// Sets the NUSD tension τ of cage edges.
+    SetEdgeTension(Vec<EdgeId>, f64),
+    /// Sets the tension of the given vertices and edges back to 0.
+    ResetTension {
+        /// Vertices whose tension becomes 0.
+        vertices: Vec<VertexId>,
+        /// Edges whose tension becomes 0.
+        edges: Vec<EdgeId>,
+    },
+    /// Sets the crease sharpness of cage edges (subdivision schemes; `f64::INFINITY` is sharp).
+    SetCrease(Vec<EdgeId>, f64),
+    /// Replaces the NUSD solver settings.
+    SetSettings(SolverSettings),
+    /// Replaces the subdivision settings.
+    SetSubdivSettings(SubdivSettings),
+    /// Chooses the surface scheme.
+    SetScheme(SchemeKind),
+    /// Replaces the whole document (a new cage, an undoable topology change). Boxed: a document
+    /// is far larger than the other edits.
+    Replace(Box<Document>),
+}
+
+impl Document {
+    /// Checks `edit` completely and applies it; a refused edit changes nothing and says why.
+    /// Returns whether the document changed (an edit that sets what is already there does not).
+    pub fn apply(&mut self, edit: Edit) -> Result<bool> {
+        self.check_edit(&edit)?;
+        if !self.changed_by(&edit) {
+            return Ok(false);
+        }
+        if self.anchoring_matters(&edit) {
+            let mut after = self.clone();
+            after.perform(edit);
+            crate::nusd::surface::check_anchoring(&after.cage, &after.fixed)
+                .map_err(|e| Error::Input(format!("refused: {e}")))?;
+            *self = after;
+        } else {
+            self.perform(edit);
+        }
+        Ok(true)
+    }
+
+    /// Checks an edit against the document without changing it.
+    pub fn check_edit(&self, edit: &Edit) -> Result<()> {
+        match edit {
+            Edit::MoveVertices(moves) => {
+                for &(v, p) in moves {
+                    self.check_vertex_for(v, "move")?;
+                    if !p.is_finite() {
+                        return Err(Error::Input(format!(
+                            "cannot move vertex {} to ({}, {}, {}): coordinates must be finite numbers",
+                            v.0, p.x, p.y, p.z
+                        )));
+                    }
+                }
+                Ok(())
+            }
+            Edit::SetFixed(vertices, _) => vertices.iter().try_for_each(|&v| self.check_vertex_for(v, "fix or free")),
+            Edit::SetVertexTension(vertices, tau) => {
+                check_tension(*tau, || "the selection".to_string())?;
+                vertices.iter().try_for_each(|&v| self.check_vertex_for(v, "set the tension of"))
+            }
+            Edit::SetEdgeTension(edges, tau) => {
+                check_tension(*tau, || "the selection".to_string())?;
+                edges.iter().try_for_each(|&e| self.check_edge_for(e, "set the tension of"))
+            }
+            Edit::ResetTension { vertices, edges } => {
+                vertices.iter().try_for_each(|&v| self.check_vertex_for(v, "reset the tension of"))?;
+                edges.iter().try_for_each(|&e| self.check_edge_for(e, "reset the tension of"))
+            }
+            Edit::SetCrease(edges, s) => {
+                check_sharpness(*s, || "the selection".to_string())?;
+                edges.iter().try_for_each(|&e| self.check_edge_for(e, "set the crease of"))
+            }
+            Edit::SetSettings(settings) => {
+                settings.validate().map_err(|e| Error::Input(format!("smoothing settings: {e}")))
+            }
+            Edit::SetSubdivSettings(settings) => settings.validate(),
+            Edit::SetScheme(scheme) => self.check_scheme(*scheme),
+            Edit::Replace(new) => {
+                new.cage.validate().map_err(|e| Error::Input(format!("cannot use the new cage: {e}")))?;
+                new.validate().map_err(|e| Error::Input(format!("cannot use the new cage: {e}")))
+            }
+        }
+    }
+
+    fn check_vertex_for(&self, v: VertexId, action: &str) -> Result<()> {
+        let n = self.cage.vertex_count();
+        if v.index() < n {
+            Ok(())
+        } else {
+            Err(Error::Input(format!("cannot {action} vertex {}: the cage has {n} vertices, numbered from 0", v.0)))
+        }
+    }
+
+    fn check_edge_for(&self, e: EdgeId, action: &str) -> Result<()> {
+        let n = self.cage.edge_count();
+        if e.index() < n {
+            Ok(())
+        } else {
+            Err(Error::Input(format!("cannot {action} edge {}: the cage has {n} edges, numbered from 0", e.0)))
+        }
+    }
+
+    /// True when a checked edit would change the document.
+    pub fn changed_by(&self, edit: &Edit) -> bool {
+        match edit {
+            Edit::MoveVertices(moves) => moves.iter().any(|&(v, p)| self.cage.position(v) != p),
+            Edit::SetFixed(vertices, fixed) => vertices.iter().any(|v| self.fixed[v.index()] != *fixed),
+            Edit::SetVertexTension(vertices, tau) => vertices.iter().any(|v| self.vertex_tension[v.index()] != *tau),
+            Edit::SetEdgeTension(edges, tau) => edges.iter().any(|e| self.edge_tension[e.index()] != *tau),
+            Edit::ResetTension { vertices, edges } => {
+                vertices.iter().any(|v| self.vertex_tension[v.index()] != 0.0)
+                    || edges.iter().any(|e| self.edge_tension[e.index()] != 0.0)
+            }
+            Edit::SetCrease(edges, s) => edges.iter().any(|e| self.crease[e.index()] != *s),
+            Edit::SetSettings(settings) => self.settings != *settings,
+            Edit::SetSubdivSettings(settings) => self.subdiv != *settings,
+            Edit::SetScheme(scheme) => self.scheme != *scheme,
+            Edit::Replace(new) => *self != **new,
+        }
+    }
+
+    /// Whether the edit can change what holds a NUSD surface: the fixed flags, the positions of a
+    /// cage with moving vertices, the scheme becoming NUSD, a new cage.
+    fn anchoring_matters(&self, edit: &Edit) -> bool {
+        let nusd_after = match edit {
+            Edit::SetScheme(s) => *s == SchemeKind::Nusd,
+            Edit::Replace(new) => new.scheme == SchemeKind::Nusd,
+            _ => self.scheme == SchemeKind::Nusd,
+        };
+        nusd_after
+            && match edit {
+                Edit::SetFixed(..) | Edit::SetScheme(_) | Edit::Replace(_) => true,
+                // Fixed vertices alone keep their hull when nothing else moves them.
+                Edit::MoveVertices(_) => self.fixed.iter().any(|&f| !f),
+                _ => false,
+            }
+    }
+
+    /// Applies a checked edit.
+    fn perform(&mut self, edit: Edit) {
+        match edit {
+            Edit::MoveVertices(moves) => {
+                let positions = self.cage.positions_mut();
+                for (v, p) in moves {
+                    positions[v.index()] = p;
+                }
+            }
+            Edit::SetFixed(vertices, fixed) => vertices.iter().for_each(|v| self.fixed[v.index()] = fixed),
+            Edit::SetVertexTension(vertices, tau) => vertices.iter().for_each(|v| self.vertex_tension[v.index()] = tau),
+            Edit::SetEdgeTension(edges, tau) => edges.iter().for_each(|e| self.edge_tension[e.index()] = tau),
+            Edit::ResetTension { vertices, edges } => {
+                vertices.iter().for_each(|v| self.vertex_tension[v.index()] = 0.0);
+                edges.iter().for_each(|e| self.edge_tension[e.index()] = 0.0);
+            }
+            Edit::SetCrease(edges, s) => edges.iter().for_each(|e| self.crease[e.index()] = s),
+            Edit::SetSettings(settings) => self.settings = settings,
+            Edit::SetSubdivSettings(settings) => self.subdiv = settings,
+            Edit::SetScheme(scheme) => self.scheme = scheme,
+            Edit::Replace(new) => *self = *new,
+        }
+    }
+}
