@@ -171,7 +171,8 @@ fn the_editors_warm_started_solve_converges_to_the_fresh_solves_fixed_point() {
     solver.update(&doc).unwrap();
     frames(&mut solver, 2_000);
     let status = solver.status();
-    assert!(status.converged(solver.reports()), "{:?} {:?}", status, solver.reports());
+    let events = solver.take_events();
+    assert!(status.converged(solver.reports()), "{status:?} {:?} {events:?}", solver.reports());
     assert!(status.total_iterations < 10_000, "{} iterations", status.total_iterations);
 
     // The method's fixed point of the final document, solved far tighter and with a λ at which

@@ -13,7 +13,12 @@
 //! die first and a single window overstates the contraction (a re-solve after undo stopped 7×
 //! the threshold away with one window). While the steps are not shrinking, the estimate is
 //! infinite and the solve goes on. The estimate is not a guaranteed
-//! bound: for the iteration's Jordan-block modes it is low by a factor that tends to 1.
+//! bound: for the iteration's Jordan-block modes it is low by a factor that tends to 1, and
+//! while faster modes still carry the largest step the measured rate is that of the fast modes
+//! and the slow ones hold the error: on the default scene with two rings unfixed, at tol 1e-3,
+//! the plain iteration stopped 4–6 thresholds from its fixed point (up to 18 after a warm start).
+//! Surface levels solved by multigrid use the per-cycle estimate of `surface::solver::cycle`
+//! instead, whose contraction is the same for smooth and rough error and which stays true.
 
 /// Iterations over which the contraction rate is measured.
 pub const WINDOW: usize = 8;

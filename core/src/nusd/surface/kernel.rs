@@ -51,12 +51,59 @@ fn laplacian(op: &Operator, p: &[DVec3], i: usize) -> DVec3 {
     avg - p[i]
 }
 
+/// Right-hand sides of a level's equations, for the multigrid coarse levels: the iteration then
+/// solves `N(x) = f` instead of `N(x) = 0`, with the equations written per vertex divided by `K`
+/// (so they mean the same on every level):
+/// - moving `i`: `ΔR̃_i / K_i = f.r_i` and `ΔP_i / K_i − R_i = f.p_i`,
+/// - fixed `i`: `ΔP_i / K_i − R_i = f.r_i` (its `P` is given).
+#[derive(Clone, Debug, Default)]
+pub struct Forcing {
+    pub r: Vec<DVec3>,
+    pub p: Vec<DVec3>,
+}
+
+impl Forcing {
+    pub fn zeros(n: usize) -> Self {
+        Forcing { r: vec![DVec3::ZERO; n], p: vec![DVec3::ZERO; n] }
+    }
+}
+
 /// Recomputes `R = ΔP/K` of the fixed vertices (eq. 4).
 pub fn update_fixed(op: &Operator, state: &mut State) {
+    update_fixed_forced(op, state, None);
+}
+
+/// Recomputes `R = ΔP/K − f` of the fixed vertices.
+pub fn update_fixed_forced(op: &Operator, state: &mut State, forcing: Option<&Forcing>) {
     for &i in &op.fixed {
         let i = i as usize;
-        state.r[i] = laplacian(op, &state.p, i) / op.k[i];
+        let f = forcing.map_or(DVec3::ZERO, |f| f.r[i]);
+        state.r[i] = laplacian(op, &state.p, i) / op.k[i] - f;
     }
+}
+
+/// The neighbour averages of `P` and of `R` (tensioned neighbours' `R` replaced) of a moving
+/// vertex `i`.
+#[inline]
+fn averages(op: &Operator, mesh: &PolyMesh, p: &[DVec3], r: &[DVec3], i: usize) -> (DVec3, DVec3) {
+    let (a, b) = (op.offsets[i] as usize, op.offsets[i + 1] as usize);
+    let mut avg_p = DVec3::ZERO;
+    let mut avg_r = DVec3::ZERO;
+    for s in a..b {
+        let j = op.neighbors[s] as usize;
+        avg_p += op.weight_p[s] * p[j];
+        avg_r += op.weight_r[s] * r[j];
+    }
+    if !op.override_offsets.is_empty() {
+        let (oa, ob) = (op.override_offsets[i] as usize, op.override_offsets[i + 1] as usize);
+        for o in &op.overrides[oa..ob] {
+            let w = op.weight_r[o.slot as usize];
+            if w != 0.0 {
+                avg_r += w * (tensioned_r(op, mesh, p, i, o) - r[o.source as usize]);
+            }
+        }
+    }
+    (avg_p, avg_r)
 }
 
 /// The second derivative of `o.source` as seen across the slot, with tension.
@@ -109,7 +156,19 @@ fn max_nan(a: f64, b: f64) -> f64 {
 
 /// One iteration.
 pub fn iterate(op: &Operator, mesh: &PolyMesh, state: &mut State, lambda: f64) -> Sweep {
-    update_fixed(op, state);
+    iterate_forced(op, mesh, state, lambda, None)
+}
+
+/// One iteration of `N(x) = f` (see [`Forcing`]); with no forcing, the plain iteration:
+/// `R' = R + λ (ΔR̃ − K f_r)`, `P' = P + λ (ΔP − K R' − K f_p)`.
+pub fn iterate_forced(
+    op: &Operator,
+    mesh: &PolyMesh,
+    state: &mut State,
+    lambda: f64,
+    forcing: Option<&Forcing>,
+) -> Sweep {
+    update_fixed_forced(op, state, forcing);
     let State { p, r, p_next, r_next } = state;
     let (p, r) = (&p[..], &r[..]);
     let n = p.len();
@@ -123,25 +182,17 @@ pub fn iterate(op: &Operator, mesh: &PolyMesh, state: &mut State, lambda: f64) -
                 *ri_out = r[i];
                 continue;
             }
-            let (a, b) = (op.offsets[i] as usize, op.offsets[i + 1] as usize);
-            let mut avg_p = DVec3::ZERO;
-            let mut avg_r = DVec3::ZERO;
-            for s in a..b {
-                let j = op.neighbors[s] as usize;
-                avg_p += op.weight_p[s] * p[j];
-                avg_r += op.weight_r[s] * r[j];
-            }
-            if !op.override_offsets.is_empty() {
-                let (oa, ob) = (op.override_offsets[i] as usize, op.override_offsets[i + 1] as usize);
-                for o in &op.overrides[oa..ob] {
-                    let w = op.weight_r[o.slot as usize];
-                    if w != 0.0 {
-                        avg_r += w * (tensioned_r(op, mesh, p, i, o) - r[o.source as usize]);
-                    }
+            let (avg_p, avg_r) = averages(op, mesh, p, r, i);
+            let (r_new, delta) = match forcing {
+                None => {
+                    let r_new = r[i] + lambda * (avg_r - r[i]);
+                    (r_new, lambda * (avg_p - p[i]) - lambda * op.k[i] * r_new)
                 }
-            }
-            let r_new = r[i] + lambda * (avg_r - r[i]);
-            let delta = lambda * (avg_p - p[i]) - lambda * op.k[i] * r_new;
+                Some(f) => {
+                    let r_new = r[i] + lambda * (avg_r - r[i] - op.k[i] * f.r[i]);
+                    (r_new, lambda * (avg_p - p[i]) - lambda * op.k[i] * (r_new + f.p[i]))
+                }
+            };
             // The second buffer still holds the previous iterate.
             let previous = p[i] - *pi_out;
             *pi_out = p[i] + delta;
@@ -170,4 +221,48 @@ pub fn iterate(op: &Operator, mesh: &PolyMesh, state: &mut State, lambda: f64) -
     std::mem::swap(&mut state.p, &mut state.p_next);
     std::mem::swap(&mut state.r, &mut state.r_next);
     sweep
+}
+
+/// The residual `f − N(x)` of every equation (see [`Forcing`]), written into `out`; fixed
+/// vertices' `R` are brought up to date first (their residual is then zero). Returns the
+/// largest residual of a moving vertex's `P` equation times `K` (a length: the size of the
+/// step the plain iteration would take, over λ).
+pub fn residual(
+    op: &Operator,
+    mesh: &PolyMesh,
+    state: &mut State,
+    forcing: Option<&Forcing>,
+    out: &mut Forcing,
+) -> f64 {
+    update_fixed_forced(op, state, forcing);
+    let (p, r) = (&state.p[..], &state.r[..]);
+    let run = |start: usize, out_r: &mut [DVec3], out_p: &mut [DVec3]| -> f64 {
+        let mut largest = 0.0f64;
+        for (k, (or, opp)) in out_r.iter_mut().zip(out_p.iter_mut()).enumerate() {
+            let i = start + k;
+            if op.role[i] != Role::Moving {
+                *or = DVec3::ZERO;
+                *opp = DVec3::ZERO;
+                continue;
+            }
+            let (avg_p, avg_r) = averages(op, mesh, p, r, i);
+            let (fr, fp) = forcing.map_or((DVec3::ZERO, DVec3::ZERO), |f| (f.r[i], f.p[i]));
+            let ki = op.k[i];
+            *or = fr - (avg_r - r[i]) / ki;
+            *opp = fp - ((avg_p - p[i]) / ki - r[i]);
+            largest = max_nan(largest, (ki * *opp).length());
+        }
+        largest
+    };
+    let n = p.len();
+    if n < 2 * CHUNK {
+        run(0, &mut out.r, &mut out.p)
+    } else {
+        out.r
+            .par_chunks_mut(CHUNK)
+            .zip(out.p.par_chunks_mut(CHUNK))
+            .enumerate()
+            .map(|(c, (a, b))| run(c * CHUNK, a, b))
+            .reduce(|| 0.0, max_nan)
+    }
 }

@@ -1,20 +1,30 @@
 //! The hierarchical NUSD surface solver the editor drives every frame (spec: "Surfaces").
 //!
-//! Level 0 is the cage. Each level is refined from the previous one
-//! ([`hierarchy`]), its operator is built from the unsmoothed domain ([`operator`]), and it is
-//! iterated to convergence ([`kernel`]) before the next level is made.
+//! Level 0 is the cage. Each level is refined from the previous one ([`hierarchy`]), its
+//! operator is built from the unsmoothed domain ([`operator`]), and it is solved to convergence
+//! before the next level is made: the cage (and level 1, unless some cage vertex moves) by the
+//! plain NUSD iteration ([`kernel`]), every finer level by multigrid W-cycles that use the coarser
+//! levels as coarse grids and the NUSD iteration as smoother ([`multigrid`]). Multigrid reaches
+//! the same fixed point in a number of sweeps that stays flat with the level, where the plain
+//! iteration's grows; [`SurfaceSolver::set_multigrid`] turns it off for comparisons.
 //!
 //! [`SurfaceSolver`] keeps every level's state between calls. An edit (a moved fixed point, a
-//! changed tension, flag or setting) rebuilds only the operators and *warm-starts*: the change of
-//! the cage is prolonged down to every finer level at once, so the finest surface follows the
+//! changed tension, flag or setting) updates the level set-up only where the cage changed
+//! (the domain and the operator rows that see a moved vertex, in `level.rs`) and *warm-starts*: the change
+//! of the cage is prolonged down to every finer level at once, so the finest surface follows the
 //! edit immediately, and the levels are then re-solved from coarse to fine, each starting from
 //! its previous solution plus the prolonged correction of the level above. Work is done in
-//! [`SurfaceSolver::advance`] calls bounded by an iteration count and a time budget.
+//! [`SurfaceSolver::advance`] calls bounded by an iteration count and a time budget, checked
+//! after every step of at most one sweep; [`SurfaceSolver::converged_level`],
+//! [`SurfaceSolver::level_surface`] and [`SurfaceSolver::timings`] tell an editor which level has
+//! settled, show any level, and say where the time went.
 //!
-//! Divergence (a non-finite value, a step larger than the model, a step growing for
-//! [`DIVERGENCE_GROWTH`] iterations in a row past every earlier step, or an oscillation: the
-//! largest step reversing direction for [`OSCILLATION_ITERATIONS`] in a row) restores the state the level started from, halves λ
-//! and tries again, down to [`MIN_LAMBDA`]; each retry is reported as an event.
+//! Divergence of the plain iteration (a non-finite value, a step larger than the model, a step
+//! growing for [`DIVERGENCE_GROWTH`] iterations in a row past every earlier step, or an
+//! oscillation: the largest step reversing direction for [`OSCILLATION_ITERATIONS`] in a row)
+//! restores the state the level started from, halves λ and tries again, down to
+//! [`MIN_LAMBDA`]; divergence of the cycles (strong tension) restores the level and solves it by
+//! the plain iteration. Each retry is reported as an event.
 //!
 //! Before solving, [`check_anchoring`] refuses cages whose fixed vertices cannot hold the
 //! surface (it would collapse or flatten), and cages of extreme size are solved in a frame
@@ -24,11 +34,15 @@ pub mod anchoring;
 pub mod frame;
 pub mod hierarchy;
 pub mod kernel;
+mod level;
+pub mod multigrid;
 pub mod operator;
 mod solver;
+mod status;
 
 pub use anchoring::check_anchoring;
-pub use solver::{Budget, LevelReport, Phase, Status, SurfaceSolver};
+pub use solver::SurfaceSolver;
+pub use status::{Budget, LevelReport, LevelTiming, Phase, Status};
 
 /// Consecutive growing steps taken as divergence.
 pub const DIVERGENCE_GROWTH: usize = 64;

@@ -69,6 +69,14 @@ pub struct Operator {
     /// than there are vertices, or is empty when there is no tension at all).
     pub override_offsets: Vec<u32>,
     pub overrides: Vec<TensionOverride>,
+    /// The spacing clamp in force (spec: `1e-9 · bbox_diagonal`).
+    min_spacing: f64,
+    /// The smallest spacing of any edge before clamping (a lower bound after refreshes): while
+    /// it stays above the clamp, a changed clamp changes no row.
+    smallest_spacing: f64,
+    /// Which cage vertices and edges have a nonzero β (vertices first): the pattern the
+    /// overrides were laid out for.
+    tension_pattern: Vec<bool>,
 }
 
 /// The designer's controls, resolved for the cage.
@@ -80,21 +88,115 @@ pub struct Controls<'a> {
     pub spacing: Spacing,
 }
 
+/// Everything a row depends on besides the level's connectivity.
+struct Context<'a> {
+    level: &'a LevelTopology,
+    domain: &'a [DVec3],
+    spacing: Spacing,
+    min_spacing: f64,
+    vertex_beta: Vec<f64>,
+    edge_beta: Vec<f64>,
+}
+
+impl Context<'_> {
+    fn new<'a>(level: &'a LevelTopology, domain: &'a [DVec3], cage: &PolyMesh, controls: &Controls<'_>) -> Context<'a> {
+        let diagonal = crate::mesh::bounding_box(domain).map_or(0.0, |(lo, hi)| crate::mesh::diagonal_length(lo, hi));
+        Context {
+            level,
+            domain,
+            spacing: controls.spacing,
+            min_spacing: controls.spacing.min_spacing(diagonal),
+            vertex_beta: vertex_betas(cage, controls.vertex_tension),
+            edge_beta: edge_betas(cage, controls.edge_tension),
+        }
+    }
+
+    /// The spacing of the edge from `a` to `b`, and the unclamped value.
+    fn spacing(&self, a: VertexId, b: VertexId) -> (f64, f64) {
+        let chord = (self.domain[b.index()] - self.domain[a.index()]).length();
+        let raw = self.spacing.of_chord(chord, 0.0);
+        (raw.max(self.min_spacing), raw)
+    }
+
+    fn any_tension(&self) -> bool {
+        self.vertex_beta.iter().chain(&self.edge_beta).any(|&b| b != 0.0)
+    }
+
+    fn tension_pattern(&self) -> Vec<bool> {
+        self.vertex_beta.iter().chain(&self.edge_beta).map(|&b| b != 0.0).collect()
+    }
+
+    /// The neighbour slots of `v` (only its two boundary neighbours on an open boundary) with
+    /// their spacings; returns the smallest unclamped spacing.
+    fn slots(&self, v: VertexId, out: &mut Vec<(HalfedgeId, f64)>) -> f64 {
+        let mesh = &self.level.mesh;
+        out.clear();
+        let mut smallest = f64::INFINITY;
+        let mut push = |h: HalfedgeId, other: VertexId| {
+            let (s, raw) = self.spacing(v, other);
+            smallest = smallest.min(if raw.is_finite() { raw } else { 0.0 });
+            out.push((h, s));
+        };
+        if mesh.is_boundary_vertex(v) {
+            let out_h = mesh.vertex_halfedge(v);
+            let into = mesh.prev(out_h);
+            push(out_h, mesh.to_vertex(out_h));
+            push(into.twin(), mesh.from_vertex(into));
+        } else {
+            for h in mesh.outgoing(v) {
+                push(h, mesh.to_vertex(h));
+            }
+        }
+        smallest
+    }
+
+    /// `K`, and the `ΔP` and `ΔR` weights of the slots, of vertex `v`.
+    fn row(&self, v: VertexId, slots: &[(HalfedgeId, f64)], weight_p: &mut [f64], weight_r: &mut [f64]) -> f64 {
+        let level = self.level;
+        let boundary = level.mesh.is_boundary_vertex(v);
+        let inv_sum: f64 = slots.iter().map(|&(_, s)| 1.0 / s).sum();
+        let k = if slots.is_empty() {
+            1.0
+        } else if boundary {
+            slots[0].1 * slots[1].1 / 2.0
+        } else {
+            slots.iter().map(|&(_, s)| s).sum::<f64>() / inv_sum
+        };
+        // Patch-boundary diffusion: a vertex on a cage edge (cage vertices included) sees only
+        // neighbours along cage edges when diffusing R.
+        let on_cage_edge = v.index() < level.cage_vertices || level.vertex_on_cage_edge[v.index()] != NOT_ON_CAGE_EDGE;
+        let r_mask =
+            |h: HalfedgeId| boundary || !on_cage_edge || level.edge_on_cage[h.edge().index()] != NOT_ON_CAGE_EDGE;
+        let inv_sum_r: f64 = slots.iter().filter(|&&(h, _)| r_mask(h)).map(|&(_, s)| 1.0 / s).sum();
+        for (k, &(h, s)) in slots.iter().enumerate() {
+            weight_p[k] = (1.0 / s) / inv_sum;
+            weight_r[k] = if r_mask(h) { (1.0 / s) / inv_sum_r } else { 0.0 };
+        }
+        k
+    }
+
+    /// The tension overrides seen by `v` through its slots, starting at slot index `first`.
+    fn overrides(&self, v: VertexId, slots: &[(HalfedgeId, f64)], first: usize, out: &mut Vec<TensionOverride>) {
+        let mesh = &self.level.mesh;
+        for (slot, &(h, s)) in slots.iter().enumerate() {
+            let source = mesh.to_vertex(h);
+            let beta = directed_beta(self.level, &self.vertex_beta, &self.edge_beta, source, h.twin());
+            if beta != 0.0 {
+                let spacing = |a: VertexId, b: VertexId| self.spacing(a, b).0;
+                out.push(tension_override(mesh, &spacing, (first + slot) as u32, v, source, beta, s));
+            }
+        }
+    }
+}
+
 impl Operator {
     /// Builds the operator of `level` with domain positions `domain` (the cage's positions
     /// prolonged without smoothing) and the cage `cage` (for the tension length scales).
     pub fn build(level: &LevelTopology, domain: &[DVec3], cage: &PolyMesh, controls: &Controls<'_>) -> Operator {
+        let cx = Context::new(level, domain, cage, controls);
         let mesh = &level.mesh;
         let n = mesh.vertex_count();
-        let diagonal = crate::mesh::bounding_box(domain).map_or(0.0, |(lo, hi)| (hi - lo).length());
-        let min_spacing = controls.spacing.min_spacing(diagonal);
-        let spacing = |a: VertexId, b: VertexId| {
-            controls.spacing.of_chord((domain[b.index()] - domain[a.index()]).length(), min_spacing)
-        };
-        let vertex_beta = vertex_betas(cage, controls.vertex_tension);
-        let edge_beta = edge_betas(cage, controls.edge_tension);
-        let any_tension = vertex_beta.iter().chain(&edge_beta).any(|&b| b != 0.0);
-
+        let any_tension = cx.any_tension();
         let mut op = Operator {
             role: Vec::with_capacity(n),
             k: Vec::with_capacity(n),
@@ -102,6 +204,9 @@ impl Operator {
             neighbors: Vec::with_capacity(mesh.halfedge_count()),
             weight_p: Vec::with_capacity(mesh.halfedge_count()),
             weight_r: Vec::with_capacity(mesh.halfedge_count()),
+            min_spacing: cx.min_spacing,
+            smallest_spacing: f64::INFINITY,
+            tension_pattern: cx.tension_pattern(),
             ..Default::default()
         };
         op.offsets.push(0);
@@ -110,16 +215,7 @@ impl Operator {
         }
         let mut slots: Vec<(HalfedgeId, f64)> = Vec::new();
         for v in mesh.vertices() {
-            slots.clear();
-            let boundary = mesh.is_boundary_vertex(v);
-            if boundary {
-                let out = mesh.vertex_halfedge(v);
-                let into = mesh.prev(out);
-                slots.push((out, spacing(v, mesh.to_vertex(out))));
-                slots.push((into.twin(), spacing(v, mesh.from_vertex(into))));
-            } else {
-                slots.extend(mesh.outgoing(v).map(|h| (h, spacing(v, mesh.to_vertex(h)))));
-            }
+            op.smallest_spacing = op.smallest_spacing.min(cx.slots(v, &mut slots));
             let role = if slots.is_empty() {
                 Role::Isolated
             } else if v.index() < level.cage_vertices && controls.fixed[v.index()] {
@@ -131,50 +227,76 @@ impl Operator {
                 op.fixed.push(v.0);
             }
             op.role.push(role);
-
-            let inv_sum: f64 = slots.iter().map(|&(_, s)| 1.0 / s).sum();
-            let k = if slots.is_empty() {
-                1.0
-            } else if boundary {
-                slots[0].1 * slots[1].1 / 2.0
-            } else {
-                slots.iter().map(|&(_, s)| s).sum::<f64>() / inv_sum
-            };
+            let first = op.neighbors.len();
+            op.neighbors.extend(slots.iter().map(|&(h, _)| mesh.to_vertex(h).0));
+            op.weight_p.resize(first + slots.len(), 0.0);
+            op.weight_r.resize(first + slots.len(), 0.0);
+            let k = cx.row(v, &slots, &mut op.weight_p[first..], &mut op.weight_r[first..]);
             op.k.push(k);
-
-            // Patch-boundary diffusion: a vertex on a cage edge (cage vertices included) sees
-            // only neighbours along cage edges when diffusing R.
-            let on_cage_edge =
-                v.index() < level.cage_vertices || level.vertex_on_cage_edge[v.index()] != NOT_ON_CAGE_EDGE;
-            let r_mask =
-                |h: HalfedgeId| boundary || !on_cage_edge || level.edge_on_cage[h.edge().index()] != NOT_ON_CAGE_EDGE;
-            let inv_sum_r: f64 = slots.iter().filter(|&&(h, _)| r_mask(h)).map(|&(_, s)| 1.0 / s).sum();
-            for &(h, s) in &slots {
-                op.neighbors.push(mesh.to_vertex(h).0);
-                op.weight_p.push((1.0 / s) / inv_sum);
-                op.weight_r.push(if r_mask(h) { (1.0 / s) / inv_sum_r } else { 0.0 });
-            }
             if any_tension {
-                for (slot, &(h, s)) in slots.iter().enumerate() {
-                    let source = mesh.to_vertex(h);
-                    let beta = directed_beta(level, &vertex_beta, &edge_beta, source, h.twin());
-                    if beta != 0.0 {
-                        op.overrides.push(tension_override(
-                            mesh,
-                            &spacing,
-                            (op.offsets.last().copied().unwrap_or(0) as usize + slot) as u32,
-                            v,
-                            source,
-                            beta,
-                            s,
-                        ));
-                    }
-                }
+                cx.overrides(v, &slots, first, &mut op.overrides);
                 op.override_offsets.push(op.overrides.len() as u32);
             }
             op.offsets.push(op.neighbors.len() as u32);
         }
         op
+    }
+
+    /// Brings the operator up to date after the domain moved at the vertices flagged in
+    /// `moved` (same connectivity, fixed flags and tension *pattern*: which tensions are zero).
+    /// Only the rows that see a moved vertex are recomputed, and every tension override
+    /// (there are few). The result is bit for bit what [`build`](Self::build) gives. Returns
+    /// false, changing nothing, when that cannot be done in place (the spacing clamp now
+    /// reaches an edge, or a tension override appeared or vanished): then build anew.
+    pub fn refresh(
+        &mut self,
+        level: &LevelTopology,
+        domain: &[DVec3],
+        cage: &PolyMesh,
+        controls: &Controls<'_>,
+        moved: &[bool],
+    ) -> bool {
+        let cx = Context::new(level, domain, cage, controls);
+        if cx.min_spacing != self.min_spacing && self.smallest_spacing <= cx.min_spacing.max(self.min_spacing) {
+            return false;
+        }
+        if cx.tension_pattern() != self.tension_pattern {
+            return false;
+        }
+        let mesh = &level.mesh;
+        // The overrides first (only vertices that have some: the pattern is unchanged): if one
+        // appeared or vanished, nothing has been touched yet.
+        let mut slots: Vec<(HalfedgeId, f64)> = Vec::new();
+        if !self.override_offsets.is_empty() {
+            let mut fresh = Vec::with_capacity(self.overrides.len());
+            for v in 0..mesh.vertex_count() {
+                let (a, b) = (self.override_offsets[v] as usize, self.override_offsets[v + 1] as usize);
+                if a == b {
+                    continue;
+                }
+                cx.slots(VertexId(v as u32), &mut slots);
+                cx.overrides(VertexId(v as u32), &slots, self.offsets[v] as usize, &mut fresh);
+                if fresh.len() != b {
+                    return false;
+                }
+            }
+            self.overrides = fresh;
+        }
+        let stale: Vec<u32> = (0..mesh.vertex_count() as u32)
+            .filter(|&v| {
+                let (a, b) = (self.offsets[v as usize] as usize, self.offsets[v as usize + 1] as usize);
+                moved[v as usize] || self.neighbors[a..b].iter().any(|&j| moved[j as usize])
+            })
+            .collect();
+        for v in stale {
+            let v = VertexId(v);
+            self.smallest_spacing = self.smallest_spacing.min(cx.slots(v, &mut slots));
+            let first = self.offsets[v.index()] as usize;
+            let end = self.offsets[v.index() + 1] as usize;
+            self.k[v.index()] = cx.row(v, &slots, &mut self.weight_p[first..end], &mut self.weight_r[first..end]);
+        }
+        self.min_spacing = cx.min_spacing;
+        true
     }
 }
 

@@ -1,110 +1,20 @@
 //! [`SurfaceSolver`]: levels, warm starts, budgets and divergence handling.
 
+mod cycle;
+
 use super::anchoring::check_anchoring;
 use super::frame::Frame;
-use super::hierarchy::LevelTopology;
-use super::kernel::{self, State};
-use super::operator::{Controls, Operator, Role};
+use super::kernel;
+use super::level::{Level, refresh_levels};
+use super::operator::Controls;
+use super::status::{Budget, LevelReport, LevelTiming, Phase, Status};
 use super::{DIVERGENCE_GROWTH, MIN_LAMBDA, OSCILLATION_ITERATIONS};
 use crate::document::Document;
 use crate::mesh::PolyMesh;
 use crate::nusd::SolverSettings;
 use crate::nusd::convergence::ConvergenceMonitor;
 use crate::{DVec3, Error, Result};
-use std::time::{Duration, Instant};
-
-/// How much work one [`SurfaceSolver::advance`] call may do.
-#[derive(Clone, Copy, Debug)]
-pub struct Budget {
-    /// Most iterations (summed over levels).
-    pub iterations: usize,
-    /// Wall-clock limit, checked after every iteration.
-    pub time: Option<Duration>,
-}
-
-impl Budget {
-    /// No limit: run until converged or diverged.
-    pub const UNLIMITED: Budget = Budget { iterations: usize::MAX, time: None };
-
-    /// At most `iterations` iterations.
-    pub fn iterations(iterations: usize) -> Self {
-        Budget { iterations, time: None }
-    }
-
-    /// At most `time` of work (at least one iteration).
-    pub fn time(time: Duration) -> Self {
-        Budget { iterations: usize::MAX, time: Some(time) }
-    }
-}
-
-/// Where a solve stands.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Phase {
-    /// Levels remain to be iterated.
-    Iterating,
-    /// Every level is done (converged, or stopped at the iteration cap: see the reports).
-    Done,
-    /// Even the smallest λ diverged; the state is the last good one.
-    Diverged,
-}
-
-/// What happened on one level during the latest solve of that level.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct LevelReport {
-    pub level: u32,
-    pub vertices: usize,
-    pub iterations: usize,
-    /// Largest position step of the last iteration.
-    pub last_step: f64,
-    /// Estimated distance to the fixed point (see [`crate::nusd::convergence`]).
-    pub remaining: f64,
-    /// True when the estimate fell under the threshold (false: stopped at the cap).
-    pub converged: bool,
-    /// λ used.
-    pub lambda: f64,
-}
-
-/// A snapshot for the status bar.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Status {
-    pub phase: Phase,
-    /// Level being iterated (or the finest, when done).
-    pub level: u32,
-    pub levels: u32,
-    /// Iterations on the current level so far.
-    pub iterations: usize,
-    /// Iterations since the last edit, all levels.
-    pub total_iterations: usize,
-    pub last_step: f64,
-    pub remaining: f64,
-    /// `tol · bbox_diagonal`.
-    pub threshold: f64,
-    pub lambda: f64,
-}
-
-impl Status {
-    /// True when every level converged.
-    pub fn converged(&self, reports: &[LevelReport]) -> bool {
-        self.phase == Phase::Done && reports.iter().all(|r| r.converged)
-    }
-}
-
-#[derive(Clone, Debug)]
-struct Level {
-    topology: LevelTopology,
-    domain: Vec<DVec3>,
-    operator: Operator,
-    state: State,
-    /// The coarser level's P and R when this level last absorbed them.
-    synced_p: Vec<DVec3>,
-    synced_r: Vec<DVec3>,
-}
-
-impl Level {
-    fn has_moving(&self) -> bool {
-        self.operator.role.contains(&Role::Moving)
-    }
-}
+use std::time::Instant;
 
 /// The hierarchical solver; see the [module docs](super).
 #[derive(Clone, Debug)]
@@ -124,11 +34,16 @@ pub struct SurfaceSolver {
     lambda: f64,
     threshold: f64,
     diagonal: f64,
+    /// Levels from 2 up are solved by multigrid cycles unless this is off.
+    multigrid: bool,
     monitor: ConvergenceMonitor,
+    /// The V-cycle in progress and the cycles of the level being solved.
+    cycle: cycle::CycleRun,
     level_iterations: usize,
     total_iterations: usize,
     snapshot: Option<(Vec<DVec3>, Vec<DVec3>)>,
     reports: Vec<LevelReport>,
+    timings: Vec<LevelTiming>,
     events: Vec<String>,
 }
 
@@ -146,6 +61,13 @@ impl SurfaceSolver {
         }
         let diagonal = extent(cage.positions())?;
         check_anchoring(&doc.cage, &doc.fixed)?;
+        let controls = Controls {
+            fixed: &doc.fixed,
+            vertex_tension: &doc.vertex_tension,
+            edge_tension: &doc.edge_tension,
+            spacing: doc.settings.spacing,
+        };
+        let level0 = Level::cage(&cage, &controls);
         let mut solver = SurfaceSolver {
             frame,
             external: None,
@@ -153,32 +75,23 @@ impl SurfaceSolver {
             vertex_tension: doc.vertex_tension.clone(),
             edge_tension: doc.edge_tension.clone(),
             settings: doc.settings,
-            levels: Vec::new(),
+            levels: vec![level0],
             active: 0,
             phase: Phase::Iterating,
             lambda: doc.settings.lambda,
             threshold: doc.settings.tol * diagonal,
             diagonal,
+            multigrid: true,
             monitor: ConvergenceMonitor::default(),
+            cycle: cycle::CycleRun::default(),
             level_iterations: 0,
             total_iterations: 0,
             snapshot: None,
             reports: Vec::new(),
+            timings: Vec::new(),
             events: Vec::new(),
             cage,
         };
-        let topology = LevelTopology::cage(&solver.cage);
-        let domain = solver.cage.positions().to_vec();
-        let operator = solver.build_operator(&topology, &domain);
-        let n = domain.len();
-        solver.levels.push(Level {
-            state: State::new(domain.clone(), vec![DVec3::ZERO; n]),
-            topology,
-            domain,
-            operator,
-            synced_p: Vec::new(),
-            synced_r: Vec::new(),
-        });
         solver.refresh_external();
         Ok(solver)
     }
@@ -202,12 +115,32 @@ impl SurfaceSolver {
         }
     }
 
+    /// Multigrid on (the default) or off: off, every level is solved by the plain iteration
+    /// alone, to the same fixed point (for comparisons). Takes effect from the next level.
+    pub fn set_multigrid(&mut self, on: bool) {
+        self.multigrid = on;
+    }
+
+    /// True when levels from 2 up are solved by multigrid cycles.
+    pub fn multigrid(&self) -> bool {
+        self.multigrid
+    }
+
+    fn uses_multigrid(&self, level: usize) -> bool {
+        self.multigrid && level > self.coarsest() && !self.levels.get(level).is_some_and(|l| l.multigrid_failed)
+    }
+
+    /// The coarsest multigrid grid: the cage when some cage vertex is moving, else level 1.
+    fn coarsest(&self) -> usize {
+        usize::from(!self.levels[0].has_moving())
+    }
+
     /// Iterates within `budget`, moving on to finer levels as each converges.
     pub fn advance(&mut self, budget: Budget) -> Status {
         let start = Instant::now();
-        let mut done = 0usize;
+        let (mut done, mut steps) = (0usize, 0usize);
         while self.phase == Phase::Iterating && done < budget.iterations {
-            if budget.time.is_some_and(|t| done > 0 && start.elapsed() >= t) {
+            if budget.time.is_some_and(|t| steps > 0 && start.elapsed() >= t) {
                 break;
             }
             if let Err(e) = self.ensure_active_level() {
@@ -224,31 +157,62 @@ impl SurfaceSolver {
             if self.snapshot.is_none() {
                 self.snapshot = Some((level.state.p.clone(), level.state.r.clone()));
                 self.monitor.reset();
+                self.cycle.reset();
                 self.level_iterations = 0;
             }
-            let sweep = kernel::iterate(&level.operator, &level.topology.mesh, &mut level.state, self.lambda);
-            let step = sweep.step;
-            done += 1;
-            self.level_iterations += 1;
-            self.total_iterations += 1;
-            self.monitor.push_sweep(step, sweep.reversing);
-            let oscillating = self.monitor.oscillating(OSCILLATION_ITERATIONS) && step > self.threshold;
-            if !step.is_finite()
-                || step > 10.0 * self.diagonal
-                || self.monitor.runaway(DIVERGENCE_GROWTH, self.threshold)
-                || oscillating
-            {
-                self.roll_back(step, oscillating);
-                continue;
-            }
-            if self.monitor.converged(self.threshold) {
-                self.finish_level(true);
-            } else if self.level_iterations >= self.settings.max_iterations {
-                self.finish_level(false);
-            }
+            let t0 = Instant::now();
+            let active = self.active;
+            let counted = if self.uses_multigrid(active) { self.cycle_step() } else { self.plain_step() };
+            steps += 1;
+            done += counted;
+            let timing = self.timing(active);
+            timing.seconds += t0.elapsed().as_secs_f64();
         }
         self.refresh_external();
         self.status()
+    }
+
+    /// One plain iteration of the active level, with the stopping and divergence rules.
+    /// Returns the iterations counted.
+    fn plain_step(&mut self) -> usize {
+        let level = &mut self.levels[self.active];
+        let sweep = kernel::iterate(&level.operator, &level.topology.mesh, &mut level.state, self.lambda);
+        let step = sweep.step;
+        self.level_iterations += 1;
+        self.total_iterations += 1;
+        let timing = self.timing(self.active);
+        timing.sweeps += 1;
+        timing.work += 1.0;
+        self.monitor.push_sweep(step, sweep.reversing);
+        let oscillating = self.monitor.oscillating(OSCILLATION_ITERATIONS) && step > self.threshold;
+        if !step.is_finite()
+            || step > 10.0 * self.diagonal
+            || self.monitor.runaway(DIVERGENCE_GROWTH, self.threshold)
+            || oscillating
+        {
+            let why = if oscillating {
+                "the step stopped shrinking: an oscillation"
+            } else if step.is_finite() {
+                "the step kept growing"
+            } else {
+                "a value became infinite"
+            };
+            self.roll_back(why);
+        } else if self.monitor.converged(self.threshold) {
+            self.finish_level(true);
+        } else if self.level_iterations >= self.settings.max_iterations {
+            self.finish_level(false);
+        }
+        1
+    }
+
+    /// The timing record of `level` in this solve.
+    fn timing(&mut self, level: usize) -> &mut LevelTiming {
+        while self.timings.len() <= level {
+            let l = self.timings.len() as u32;
+            self.timings.push(LevelTiming { level: l, ..Default::default() });
+        }
+        &mut self.timings[level]
     }
 
     /// Takes the latest solve's messages (λ reductions, divergence).
@@ -259,6 +223,35 @@ impl SurfaceSolver {
     /// Per-level reports of the levels solved since the last edit.
     pub fn reports(&self) -> &[LevelReport] {
         &self.reports
+    }
+
+    /// Where the time went, per level, since the last edit.
+    pub fn timings(&self) -> &[LevelTiming] {
+        &self.timings
+    }
+
+    /// The finest level converged since the last edit (every coarser one converged too): the
+    /// level an editor can show as settled while finer ones are still being solved.
+    pub fn converged_level(&self) -> Option<u32> {
+        let mut best = None;
+        for l in 0..=self.settings.levels {
+            match self.reports.iter().find(|r| r.level == l) {
+                Some(r) if r.converged => best = Some(l),
+                _ => break,
+            }
+        }
+        best
+    }
+
+    /// The surface of one level as it stands (its own solution; `None` for a level not built
+    /// yet), in the designer's frame.
+    pub fn level_surface(&self, level: u32) -> Option<PolyMesh> {
+        let l = self.levels.get(level as usize)?;
+        let mut mesh = l.topology.mesh.clone();
+        for (out, &p) in mesh.positions_mut().iter_mut().zip(&l.state.p) {
+            *out = self.frame.position_out(p);
+        }
+        Some(mesh)
     }
 
     /// Where the solve stands.
@@ -280,14 +273,19 @@ impl SurfaceSolver {
             };
         }
         let out = |x: f64| self.frame.length_out(x);
+        let (last_step, remaining) = if self.uses_multigrid(self.active) && self.cycle.cycles() > 0 {
+            (self.cycle.last_change(), self.cycle.remaining(self.levels[self.active].cycle_rate))
+        } else {
+            (self.monitor.last_step().unwrap_or(0.0), self.monitor.remaining())
+        };
         Status {
             phase: self.phase,
             level: self.active as u32,
             levels: self.settings.levels,
             iterations: self.level_iterations,
             total_iterations: self.total_iterations,
-            last_step: out(self.monitor.last_step().unwrap_or(0.0)),
-            remaining: out(self.monitor.remaining()),
+            last_step: out(last_step),
+            remaining: out(remaining),
             threshold: out(self.threshold),
             lambda: self.lambda,
         }
@@ -391,7 +389,8 @@ impl SurfaceSolver {
             internal = doc.cage.positions().iter().map(|&p| self.frame.to_internal(p)).collect();
             &internal
         };
-        let moved = positions != self.cage.positions();
+        let moved_flags: Vec<bool> = positions.iter().zip(self.cage.positions()).map(|(a, b)| a != b).collect();
+        let moved = moved_flags.contains(&true);
         let controls_changed = doc.fixed != self.fixed
             || doc.vertex_tension != self.vertex_tension
             || doc.edge_tension != self.edge_tension
@@ -428,6 +427,9 @@ impl SurfaceSolver {
         {
             self.lambda = doc.settings.lambda;
         }
+        // Full operator builds for a changed role or spacing; otherwise only the rows that see a
+        // moved vertex, and the tension overrides.
+        let rebuild = doc.fixed != self.fixed || doc.settings.spacing != self.settings.spacing;
         self.fixed.clone_from(&doc.fixed);
         self.vertex_tension.clone_from(&doc.vertex_tension);
         self.edge_tension.clone_from(&doc.edge_tension);
@@ -435,7 +437,16 @@ impl SurfaceSolver {
         self.threshold = self.settings.tol * self.diagonal;
         self.levels.truncate(self.settings.levels as usize + 1);
         if moved || controls_changed {
-            self.rebuild_operators();
+            let controls = Controls {
+                fixed: &self.fixed,
+                vertex_tension: &self.vertex_tension,
+                edge_tension: &self.edge_tension,
+                spacing: self.settings.spacing,
+            };
+            refresh_levels(&mut self.levels, &self.cage, &controls, &moved_flags, rebuild);
+        }
+        if controls_changed {
+            self.levels.iter_mut().for_each(|l| l.multigrid_failed = false);
         }
         self.propagate_from(0);
         // Fixed cage vertices are interpolated at every level, whatever the levels held before.
@@ -462,33 +473,11 @@ impl SurfaceSolver {
         self.phase = Phase::Iterating;
         self.snapshot = None;
         self.monitor.reset();
+        self.cycle.reset();
         self.level_iterations = 0;
         self.total_iterations = 0;
         self.reports.clear();
-    }
-
-    fn build_operator(&self, topology: &LevelTopology, domain: &[DVec3]) -> Operator {
-        let controls = Controls {
-            fixed: &self.fixed,
-            vertex_tension: &self.vertex_tension,
-            edge_tension: &self.edge_tension,
-            spacing: self.settings.spacing,
-        };
-        Operator::build(topology, domain, &self.cage, &controls)
-    }
-
-    /// Recomputes every level's domain (the cage prolonged without smoothing) and operator.
-    fn rebuild_operators(&mut self) {
-        self.levels[0].domain.copy_from_slice(self.cage.positions());
-        for l in 0..self.levels.len() {
-            if l > 0 {
-                let (coarse, fine) = self.levels.split_at_mut(l);
-                let fine = &mut fine[0];
-                fine.topology.prolong(&coarse[l - 1].domain, &mut fine.domain);
-            }
-            let operator = self.build_operator(&self.levels[l].topology, &self.levels[l].domain);
-            self.levels[l].operator = operator;
-        }
+        self.timings.clear();
     }
 
     /// Adds the change of level `k` since the finer levels last absorbed it to every finer
@@ -509,31 +498,38 @@ impl SurfaceSolver {
     /// Makes sure the active level exists, refining the finest one if needed.
     fn ensure_active_level(&mut self) -> Result<()> {
         while self.levels.len() <= self.active {
-            let coarse = self.levels.last().expect("level 0 always exists");
-            let topology = coarse.topology.refine()?;
-            let n = topology.vertex_count();
-            let mut domain = vec![DVec3::ZERO; n];
-            topology.prolong(&coarse.domain, &mut domain);
-            let mut p = vec![DVec3::ZERO; n];
-            let mut r = vec![DVec3::ZERO; n];
-            topology.prolong(&coarse.state.p, &mut p);
-            topology.prolong(&coarse.state.r, &mut r);
-            let (synced_p, synced_r) = (coarse.state.p.clone(), coarse.state.r.clone());
-            let operator = self.build_operator(&topology, &domain);
-            self.levels.push(Level { topology, domain, operator, state: State::new(p, r), synced_p, synced_r });
+            let controls = Controls {
+                fixed: &self.fixed,
+                vertex_tension: &self.vertex_tension,
+                edge_tension: &self.edge_tension,
+                spacing: self.settings.spacing,
+            };
+            let finer = self.levels.last().expect("level 0 always exists").refine(&self.cage, &controls)?;
+            self.levels.push(finer);
         }
         Ok(())
     }
 
     fn finish_level(&mut self, converged: bool) {
+        let (last_step, remaining) = if self.uses_multigrid(self.active) && self.cycle.cycles() > 0 {
+            let rate = self.cycle.measured_rate();
+            let level = &mut self.levels[self.active];
+            let estimate = (self.cycle.last_change(), self.cycle.remaining(level.cycle_rate));
+            if let Some(rate) = rate {
+                level.cycle_rate = rate.clamp(super::level::MIN_CYCLE_RATE, 0.95);
+            }
+            estimate
+        } else {
+            (self.monitor.last_step().unwrap_or(0.0), self.monitor.remaining())
+        };
         let level = &self.levels[self.active];
         let out = |x: f64| self.frame.length_out(x);
         let report = LevelReport {
             level: self.active as u32,
             vertices: level.topology.vertex_count(),
             iterations: if level.has_moving() { self.level_iterations } else { 0 },
-            last_step: if level.has_moving() { out(self.monitor.last_step().unwrap_or(0.0)) } else { 0.0 },
-            remaining: if level.has_moving() { out(self.monitor.remaining()) } else { 0.0 },
+            last_step: if level.has_moving() { out(last_step) } else { 0.0 },
+            remaining: if level.has_moving() { out(remaining) } else { 0.0 },
             converged,
             lambda: self.lambda,
         };
@@ -542,6 +538,7 @@ impl SurfaceSolver {
         self.propagate_from(self.active);
         self.snapshot = None;
         self.monitor.reset();
+        self.cycle.reset();
         self.level_iterations = 0;
         if self.active >= self.settings.levels as usize {
             self.phase = Phase::Done;
@@ -550,17 +547,11 @@ impl SurfaceSolver {
         }
     }
 
-    fn roll_back(&mut self, step: f64, oscillating: bool) {
+    fn roll_back(&mut self, why: &str) {
         let (p, r) = self.snapshot.clone().expect("a level being iterated has a snapshot");
         let level = &mut self.levels[self.active];
-        level.state = State::new(p, r);
-        let why = if oscillating {
-            "the step stopped shrinking: an oscillation"
-        } else if step.is_finite() {
-            "the step kept growing"
-        } else {
-            "a value became infinite"
-        };
+        level.state = kernel::State::new(p, r);
+        self.cycle.reset();
         let reduced = self.lambda * 0.5;
         self.monitor.reset();
         self.level_iterations = 0;

@@ -1,0 +1,247 @@
+//! One level of a surface solve and the level set-up: its domain, operator and multigrid
+//! transfer, built once and afterwards brought up to date only where the cage changed.
+//!
+//! After a drag only the cage faces around the moved vertices change their domain, and at level
+//! `l` only their descendants: a vertex's domain is the average of its parents', so it changes
+//! exactly when a parent's does. The operator rows that see such a vertex (its own and its
+//! neighbours') are recomputed ([`Operator::refresh`]), bit for bit what a full build gives; a
+//! full build happens only when the connectivity, a fixed flag or the pattern of tensions
+//! changed, or when the spacing clamp (`1e-9` of the diagonal) starts to matter.
+
+use super::hierarchy::LevelTopology;
+use super::kernel::{Forcing, State};
+use super::multigrid::{Grid, Transfer, Work};
+use super::operator::{Controls, Operator, Role};
+use crate::DVec3;
+use crate::mesh::PolyMesh;
+use rayon::prelude::*;
+
+/// A level: connectivity, domain, operator, its own solution, and the scratch it needs as a
+/// coarse grid.
+#[derive(Clone, Debug)]
+pub(super) struct Level {
+    pub topology: LevelTopology,
+    pub domain: Vec<DVec3>,
+    pub operator: Operator,
+    pub state: State,
+    /// The coarser level's P and R when this level last absorbed them.
+    pub synced_p: Vec<DVec3>,
+    pub synced_r: Vec<DVec3>,
+    /// Restriction to the coarser level (none at level 0).
+    pub transfer: Option<Transfer>,
+    /// Multigrid scratch as a coarse grid, made on first use.
+    pub work: Option<Work>,
+    /// Residual buffer for multigrid, made on first use.
+    pub residual: Forcing,
+    /// Largest contraction per V-cycle measured at this level: the rate assumed for the
+    /// stopping estimate before a solve has measured its own.
+    pub cycle_rate: f64,
+    /// Multigrid diverged on this level (strong tension): it is solved by the plain iteration
+    /// until the tensions or fixed flags change.
+    pub multigrid_failed: bool,
+}
+
+/// The contraction per V-cycle assumed until one is measured.
+pub const PRIOR_CYCLE_RATE: f64 = 0.5;
+/// The least contraction ever assumed (a level that once contracted faster is not trusted to
+/// do so again by more than this).
+pub const MIN_CYCLE_RATE: f64 = 0.25;
+
+impl Level {
+    /// Level 0: the cage, starting at its own positions with `R = 0`.
+    pub fn cage(cage: &PolyMesh, controls: &Controls<'_>) -> Level {
+        let topology = LevelTopology::cage(cage);
+        let domain = cage.positions().to_vec();
+        let operator = Operator::build(&topology, &domain, cage, controls);
+        let n = domain.len();
+        Level {
+            state: State::new(domain.clone(), vec![DVec3::ZERO; n]),
+            topology,
+            domain,
+            operator,
+            synced_p: Vec::new(),
+            synced_r: Vec::new(),
+            transfer: None,
+            work: None,
+            residual: Forcing::default(),
+            cycle_rate: PRIOR_CYCLE_RATE,
+            multigrid_failed: false,
+        }
+    }
+
+    /// The next finer level, starting from this level's solution prolonged.
+    pub fn refine(&self, cage: &PolyMesh, controls: &Controls<'_>) -> crate::Result<Level> {
+        let topology = self.topology.refine()?;
+        let n = topology.vertex_count();
+        let mut domain = vec![DVec3::ZERO; n];
+        topology.prolong(&self.domain, &mut domain);
+        let mut p = vec![DVec3::ZERO; n];
+        let mut r = vec![DVec3::ZERO; n];
+        topology.prolong(&self.state.p, &mut p);
+        topology.prolong(&self.state.r, &mut r);
+        let operator = Operator::build(&topology, &domain, cage, controls);
+        let transfer = Some(Transfer::new(&topology, self.topology.vertex_count()));
+        Ok(Level {
+            topology,
+            domain,
+            operator,
+            state: State::new(p, r),
+            synced_p: self.state.p.clone(),
+            synced_r: self.state.r.clone(),
+            transfer,
+            work: None,
+            residual: Forcing::default(),
+            cycle_rate: PRIOR_CYCLE_RATE,
+            multigrid_failed: false,
+        })
+    }
+
+    pub fn has_moving(&self) -> bool {
+        self.operator.role.contains(&Role::Moving)
+    }
+
+    pub fn vertex_count(&self) -> usize {
+        self.topology.vertex_count()
+    }
+
+    /// This level's part in a cycle whose top is `top` (scratch made on first use).
+    pub fn grid(&mut self, is_top: bool) -> Grid<'_> {
+        let n = self.vertex_count();
+        if self.residual.r.len() != n {
+            self.residual = Forcing::zeros(n);
+        }
+        let Level { topology, operator, transfer, state, work, residual, .. } = self;
+        let work = if is_top { None } else { Some(work.get_or_insert_with(|| Work::new(n))) };
+        Grid { topology, operator, transfer: transfer.as_ref(), state, work, residual }
+    }
+}
+
+/// Brings every level's domain and operator up to date with a cage whose positions changed at
+/// the vertices flagged in `moved` (none, after a change of tension values). `rebuild` forces
+/// full operator builds (a fixed flag, the spacing or the pattern of tensions changed).
+pub(super) fn refresh_levels(
+    levels: &mut [Level],
+    cage: &PolyMesh,
+    controls: &Controls<'_>,
+    moved: &[bool],
+    rebuild: bool,
+) {
+    let mut dirty = moved.to_vec();
+    for (v, d) in levels[0].domain.iter_mut().enumerate() {
+        if dirty[v] {
+            *d = cage.positions()[v];
+        }
+    }
+    for l in 0..levels.len() {
+        if l > 0 {
+            let (coarse, fine) = levels.split_at_mut(l);
+            let (coarse, fine) = (&coarse[l - 1], &mut fine[0]);
+            let topology = &fine.topology;
+            let parents = |v: usize| {
+                &topology.parents[topology.parent_offsets[v] as usize..topology.parent_offsets[v + 1] as usize]
+            };
+            let fine_dirty: Vec<bool> = (0..topology.vertex_count())
+                .into_par_iter()
+                .with_min_len(4096)
+                .map(|v| parents(v).iter().any(|&c| dirty[c as usize]))
+                .collect();
+            // The same average as the prolongation that made the domain, so bit for bit equal.
+            fine.domain.par_iter_mut().enumerate().with_min_len(4096).for_each(|(v, d)| {
+                if fine_dirty[v] {
+                    let ps = parents(v);
+                    let sum: DVec3 = ps.iter().map(|&c| coarse.domain[c as usize]).sum();
+                    *d = sum / ps.len() as f64;
+                }
+            });
+            dirty = fine_dirty;
+        }
+        let level = &mut levels[l];
+        if rebuild || !level.operator.refresh(&level.topology, &level.domain, cage, controls, &dirty) {
+            level.operator = Operator::build(&level.topology, &level.domain, cage, controls);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn same(a: &Operator, b: &Operator) -> bool {
+        let bits = |x: &[f64]| x.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+        a.role == b.role
+            && bits(&a.k) == bits(&b.k)
+            && a.neighbors == b.neighbors
+            && bits(&a.weight_p) == bits(&b.weight_p)
+            && bits(&a.weight_r) == bits(&b.weight_r)
+            && a.fixed == b.fixed
+            && a.override_offsets == b.override_offsets
+            && a.overrides.len() == b.overrides.len()
+            && a.overrides.iter().zip(&b.overrides).all(|(x, y)| {
+                (x.slot, x.source, x.other) == (y.slot, y.source, y.other)
+                    && (x.beta.to_bits(), x.spacing.to_bits(), x.other_spacing.to_bits())
+                        == (y.beta.to_bits(), y.spacing.to_bits(), y.other_spacing.to_bits())
+            })
+    }
+
+    #[test]
+    fn refreshing_after_drags_and_tension_changes_equals_a_full_build() {
+        let mut cage = PolyMesh::from_polygons(
+            (0..12).map(|i| DVec3::new((i % 4) as f64, (i / 4) as f64, 0.1 * ((i * 7) % 5) as f64)).collect(),
+            &[[0, 1, 5, 4], [1, 2, 6, 5], [2, 3, 7, 6], [4, 5, 9, 8], [5, 6, 10, 9], [6, 7, 11, 10]],
+        )
+        .unwrap();
+        let fixed = vec![true; 12];
+        let mut vt = vec![0.0; 12];
+        vt[5] = 1.5;
+        let mut et = vec![0.0; cage.edge_count()];
+        et[3] = 2.0;
+        let controls = |vt: &'static [f64], et: &'static [f64], fixed: &'static [bool]| Controls {
+            fixed,
+            vertex_tension: vt,
+            edge_tension: et,
+            spacing: Default::default(),
+        };
+        let (vt, et, fixed): (&'static [f64], &'static [f64], &'static [bool]) =
+            (Vec::leak(vt), Vec::leak(et), Vec::leak(fixed));
+        let c = controls(vt, et, fixed);
+        let mut levels = vec![Level::cage(&cage, &c)];
+        for _ in 0..3 {
+            let finer = levels.last().unwrap().refine(&cage, &c).unwrap();
+            levels.push(finer);
+        }
+        let mut changed_rows = 0;
+        for (step, v) in [5usize, 0, 11, 6].into_iter().enumerate() {
+            let before: Vec<Operator> = levels.iter().map(|l| l.operator.clone()).collect();
+            let p = cage.position(crate::VertexId(v as u32)) + DVec3::new(0.05, -0.03, 0.08 * step as f64);
+            cage.set_position(crate::VertexId(v as u32), p);
+            let mut moved = vec![false; 12];
+            moved[v] = true;
+            refresh_levels(&mut levels, &cage, &c, &moved, false);
+            for (l, level) in levels.iter().enumerate() {
+                let full = Operator::build(&level.topology, &level.domain, &cage, &c);
+                assert!(same(&level.operator, &full), "drag {step}, level {l}: refresh differs from a full build");
+                let mut full_domain = vec![DVec3::ZERO; level.vertex_count()];
+                if l > 0 {
+                    level.topology.prolong(&levels[l - 1].domain, &mut full_domain);
+                    assert_eq!(level.domain, full_domain);
+                }
+                changed_rows += level.operator.k.iter().zip(&before[l].k).filter(|(a, b)| a != b).count();
+            }
+        }
+        assert!(changed_rows > 0);
+        // A new tension value with the same pattern refreshes the overrides only.
+        let vt2: &'static [f64] = Vec::leak(vt.iter().map(|t| t * 2.0).collect());
+        let c2 = controls(vt2, et, fixed);
+        refresh_levels(&mut levels, &cage, &c2, &[false; 12], false);
+        for level in &levels {
+            assert!(same(&level.operator, &Operator::build(&level.topology, &level.domain, &cage, &c2)));
+        }
+        // A new pattern (a tension where there was none) falls back to a full build.
+        let mut vt3 = vt2.to_vec();
+        vt3[0] = 1.0;
+        let c3 = controls(Vec::leak(vt3), et, fixed);
+        let top = levels.last_mut().unwrap();
+        let unmoved = vec![false; top.vertex_count()];
+        assert!(!top.operator.refresh(&top.topology, &top.domain, &cage, &c3, &unmoved));
+    }
+}

@@ -1,0 +1,448 @@
+//! Multigrid for one level's NUSD system: the same fixed point, reached in a flat number of
+//! sweeps (issue 13).
+//!
+//! The plain NUSD iteration is a damped Jacobi-type diffusion: it removes the rough part of the
+//! error within a few sweeps but the smooth part only slowly (its rate tends to 1 as the level
+//! gets finer), and smooth error is exactly what refinement and drags leave. The level hierarchy
+//! Taut already builds is a natural multigrid hierarchy (Brandt's full approximation scheme,
+//! FAS, because tension makes the system nonlinear; Trottenberg, Oosterlee & Schüller,
+//! *Multigrid*, 2001, ch. 5.3): a V-cycle on level `L`
+//! 1. smooths with the NUSD iteration itself (ν₁ sweeps), computes the residual `f − N(x)` of
+//!    the level's equations, written per vertex divided by `K` so that they mean the same
+//!    continuous equations on every level ([`kernel::Forcing`]),
+//! 2. restricts the iterate (coarse vertex `i` is fine vertex `i`: injection) and the residual
+//!    (full weighting: the transpose of the parent-average prolongation, normalised, gathering
+//!    only from fine vertices whose equation is of the same kind — open boundary, patch-boundary
+//!    curve, interior — because the patch-boundary rule and open boundaries make those different
+//!    equations),
+//! 3. sets the coarse right-hand side `f_c = N_c(x_c⁰) + restricted residual` and solves the
+//!    coarse problem the same way (recursively, [`GAMMA`] cycles: a W-cycle); the coarsest
+//!    grid (level 0 when some cage vertex is moving, else level 1) is smoothed until its steps
+//!    fall to a tenth,
+//! 4. adds the prolonged coarse correction `x_c − x_c⁰` and smooths again (ν₂ sweeps).
+//!
+//! The top level's right-hand side is zero, so a converged cycle leaves an exact fixed point of
+//! the plain iteration: the surface does not change, only the number of sweeps. Fixed vertices,
+//! tension (the `R_i^j` substitution, evaluated on every level with that level's own operator),
+//! open boundaries and patch-boundary diffusion all enter through the operators; the coarse
+//! levels' own solutions are not touched (each level keeps a scratch iterate for its role as a
+//! coarse grid).
+//!
+//! A cycle is a list of [`Op`]s, each at most one sweep of one level, so the solver can stop
+//! between any two of them when a frame's time is up and carry on in the next frame.
+//!
+//! Weak spots: the smoother is the plain iteration, so a λ at which it is unstable (strong
+//! tension) makes the cycle diverge like the plain iteration does, and the same fallback (halve
+//! λ) applies; the coarsest grid is only smoothed, so with very few fixed vertices (a
+//! slowly converging level 1) cycles cost more.
+
+use super::hierarchy::{LevelTopology, NOT_ON_CAGE_EDGE};
+use super::kernel::{self, Forcing, State};
+use super::operator::{Operator, Role};
+use crate::DVec3;
+use rayon::prelude::*;
+
+/// Smoothing sweeps before the coarse correction, and as many after it. Measured on the
+/// default scene (levels 2–5), its partly unfixed variant and a torus: 3 sweeps with W-cycles
+/// gave the fewest sweeps per level (flat, 21–42); 2 diverged at level 2, 4 and 6 cost more.
+pub const SWEEPS: usize = 3;
+/// The part of the spectrum of `I − W` (the diffusion's random-walk Laplacian, eigenvalues in
+/// `[0, 2]`) that the smoother damps; the rest is left to the coarse level. On a quad grid the
+/// modes the coarse grid cannot represent have eigenvalues from 0.5 up; the interval starts at
+/// 0.7 because wider ones (larger λ steps) made the cycles erratic or divergent: the coupling of
+/// `P` and `R` (and of a fixed vertex's `R` to its neighbours' `P`) makes the iteration
+/// non-normal, and big steps amplify that.
+pub const ROUGH_SPECTRUM: (f64, f64) = (0.7, 2.0);
+/// Cycles each coarse problem gets below the top: 2, a W-cycle (V-cycles, 1, lost their
+/// contraction with depth: 7 cycles at level 5 of the default scene against 3).
+pub const GAMMA: usize = 2;
+
+/// The smoothing λ of each of the [`SWEEPS`] sweeps: the Chebyshev schedule for
+/// [`ROUGH_SPECTRUM`] (the reciprocals of the Chebyshev nodes), which damps every mode in it by
+/// `1/T_ν(27/13)` (0.02 for 3 sweeps) where a fixed λ = 0.6 damps those at its lower end by
+/// `0.7^ν`. The iteration's eigenvalues are real (the weights are those of a symmetric
+/// conductance matrix, scaled per row), so the Chebyshev bound applies. Only the path changes:
+/// any λ schedule has the same fixed point.
+pub fn smoothing_schedule() -> [f64; SWEEPS] {
+    let (a, b) = ROUGH_SPECTRUM;
+    let (centre, half) = ((a + b) / 2.0, (b - a) / 2.0);
+    std::array::from_fn(|k| {
+        let node = (std::f64::consts::PI * (2 * k + 1) as f64 / (2 * SWEEPS) as f64).cos();
+        1.0 / (centre + half * node)
+    })
+}
+/// The coarsest grid is smoothed until its step falls to this fraction of its first step...
+pub const COARSE_REDUCTION: f64 = 0.1;
+/// ... or for at most this many sweeps.
+pub const COARSE_SWEEPS: usize = 200;
+
+/// The kind of equation a vertex's `R` (or `P`) obeys; residuals are restricted only between
+/// vertices of one kind.
+fn kind_r(level: &LevelTopology, v: usize) -> u8 {
+    if level.mesh.is_boundary_vertex(crate::mesh::VertexId(v as u32)) {
+        0
+    } else if v < level.cage_vertices || level.vertex_on_cage_edge[v] != NOT_ON_CAGE_EDGE {
+        1
+    } else {
+        2
+    }
+}
+
+fn kind_p(level: &LevelTopology, v: usize) -> u8 {
+    u8::from(level.mesh.is_boundary_vertex(crate::mesh::VertexId(v as u32)))
+}
+
+/// Full-weighting restriction from a level to the next coarser one, per coarse vertex a
+/// normalised list of fine vertices and weights, for the `R` and the `P` equations.
+#[derive(Clone, Debug, Default)]
+pub struct Transfer {
+    r_offsets: Vec<u32>,
+    r_entries: Vec<(u32, f64)>,
+    p_offsets: Vec<u32>,
+    p_entries: Vec<(u32, f64)>,
+}
+
+impl Transfer {
+    /// The restriction from `fine` (a refined level, with its parents) to its coarser level,
+    /// whose vertices are the first `coarse_count` of `fine`.
+    pub fn new(fine: &LevelTopology, coarse_count: usize) -> Transfer {
+        let n = fine.vertex_count();
+        let build = |kind: &dyn Fn(usize) -> u8| {
+            let mut counts = vec![0u32; coarse_count + 1];
+            let parents =
+                |v: usize| &fine.parents[fine.parent_offsets[v] as usize..fine.parent_offsets[v + 1] as usize];
+            for v in 0..n {
+                for &c in parents(v) {
+                    if kind(v) == kind(c as usize) {
+                        counts[c as usize + 1] += 1;
+                    }
+                }
+            }
+            for c in 0..coarse_count {
+                counts[c + 1] += counts[c];
+            }
+            let mut fill = counts.clone();
+            let mut entries = vec![(0u32, 0.0f64); counts[coarse_count] as usize];
+            for v in 0..n {
+                let ps = parents(v);
+                let w = 1.0 / ps.len() as f64;
+                for &c in ps {
+                    if kind(v) == kind(c as usize) {
+                        entries[fill[c as usize] as usize] = (v as u32, w);
+                        fill[c as usize] += 1;
+                    }
+                }
+            }
+            for c in 0..coarse_count {
+                let row = &mut entries[counts[c] as usize..counts[c + 1] as usize];
+                let sum: f64 = row.iter().map(|e| e.1).sum();
+                row.iter_mut().for_each(|e| e.1 /= sum);
+            }
+            (counts, entries)
+        };
+        let (r_offsets, r_entries) = build(&|v| kind_r(fine, v));
+        let (p_offsets, p_entries) = build(&|v| kind_p(fine, v));
+        Transfer { r_offsets, r_entries, p_offsets, p_entries }
+    }
+
+    /// `coarse = restricted fine − coarse` on moving coarse vertices (the FAS right-hand side
+    /// from the fine residual and `coarse`, which holds `−N_c(x_c⁰)`); zero elsewhere.
+    fn right_hand_side(&self, fine: &Forcing, coarse_role: &[Role], coarse: &mut Forcing) {
+        let gather = |offsets: &[u32], entries: &[(u32, f64)], values: &[DVec3], c: usize| {
+            let mut sum = DVec3::ZERO;
+            for &(v, w) in &entries[offsets[c] as usize..offsets[c + 1] as usize] {
+                sum += w * values[v as usize];
+            }
+            sum
+        };
+        let Forcing { r, p } = coarse;
+        r.par_iter_mut().zip(p.par_iter_mut()).with_min_len(4096).enumerate().for_each(|(c, (rc, pc))| {
+            if coarse_role[c] == Role::Moving {
+                *rc = gather(&self.r_offsets, &self.r_entries, &fine.r, c) - *rc;
+                *pc = gather(&self.p_offsets, &self.p_entries, &fine.p, c) - *pc;
+            } else {
+                *rc = DVec3::ZERO;
+                *pc = DVec3::ZERO;
+            }
+        });
+    }
+}
+
+/// A level's scratch for its role as a coarse grid: its iterate, the state it started from, and
+/// its right-hand side.
+#[derive(Clone, Debug, Default)]
+pub struct Work {
+    pub state: State,
+    pub start_p: Vec<DVec3>,
+    pub start_r: Vec<DVec3>,
+    pub forcing: Forcing,
+}
+
+impl Work {
+    pub fn new(n: usize) -> Work {
+        Work {
+            state: State::new(vec![DVec3::ZERO; n], vec![DVec3::ZERO; n]),
+            start_p: vec![DVec3::ZERO; n],
+            start_r: vec![DVec3::ZERO; n],
+            forcing: Forcing::zeros(n),
+        }
+    }
+}
+
+/// One step of a cycle.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Op {
+    /// One smoothing sweep of a level with the given λ (before the divergence fallback's
+    /// scaling).
+    Smooth(usize, f64),
+    /// Residual of a level, restricted to the next coarser one, which starts from the injected
+    /// iterate.
+    Restrict(usize),
+    /// One sweep of the coarsest grid; repeated until its step has fallen enough.
+    Coarse(usize),
+    /// The coarse correction added to a level.
+    Correct(usize),
+}
+
+/// The operations of one cycle whose top is level `top` and coarsest grid `coarsest` (below
+/// `top`): the smoothing schedule before each restriction, and in reverse order after each
+/// correction; below the top each coarse problem gets `gamma` cycles (1: a V-cycle, 2: a
+/// W-cycle).
+pub fn cycle(top: usize, coarsest: usize, gamma: usize) -> Vec<Op> {
+    fn visit(k: usize, coarsest: usize, gamma: usize, schedule: &[f64], ops: &mut Vec<Op>) {
+        if k == coarsest {
+            ops.push(Op::Coarse(k));
+            return;
+        }
+        ops.extend(schedule.iter().map(|&l| Op::Smooth(k, l)));
+        ops.push(Op::Restrict(k));
+        let repeats = if k - 1 == coarsest { 1 } else { gamma };
+        for _ in 0..repeats {
+            visit(k - 1, coarsest, gamma, schedule, ops);
+        }
+        ops.push(Op::Correct(k));
+        ops.extend(schedule.iter().rev().map(|&l| Op::Smooth(k, l)));
+    }
+    let mut ops = Vec::new();
+    visit(top, coarsest, gamma, &smoothing_schedule(), &mut ops);
+    ops
+}
+
+/// What a level offers a cycle: its connectivity and operator, the iterate it works on (its own
+/// solution at the top, its coarse-grid scratch below), and a residual buffer.
+#[derive(Debug)]
+pub struct Grid<'a> {
+    pub topology: &'a LevelTopology,
+    pub operator: &'a Operator,
+    pub transfer: Option<&'a Transfer>,
+    /// The level's own state: the iterate when the level is the cycle's top.
+    pub state: &'a mut State,
+    /// The coarse-grid scratch: present below the top.
+    pub work: Option<&'a mut Work>,
+    pub residual: &'a mut Forcing,
+}
+
+impl Grid<'_> {
+    fn iterate_and_forcing(&mut self) -> (&mut State, Option<&Forcing>) {
+        match &mut self.work {
+            Some(work) => (&mut work.state, Some(&work.forcing)),
+            None => (&mut *self.state, None),
+        }
+    }
+}
+
+/// One smoothing sweep of `grid` (the plain iteration at the top, forced below).
+pub fn smooth(grid: &mut Grid<'_>, lambda: f64) -> kernel::Sweep {
+    let (operator, mesh) = (grid.operator, &grid.topology.mesh);
+    let (state, forcing) = grid.iterate_and_forcing();
+    kernel::iterate_forced(operator, mesh, state, lambda, forcing)
+}
+
+/// The fine residual restricted to `coarse`, which starts from the injected fine iterate.
+pub fn restrict(fine: &mut Grid<'_>, coarse: &mut Grid<'_>) {
+    let (operator, mesh, transfer) = (fine.operator, &fine.topology.mesh, fine.transfer);
+    let Grid { state, work, residual, .. } = fine;
+    let (source, forcing) = match work {
+        Some(work) => (&mut work.state, Some(&work.forcing)),
+        None => (&mut **state, None),
+    };
+    kernel::residual(operator, mesh, source, forcing, residual);
+    let n = coarse.topology.vertex_count();
+    let target = coarse.work.as_deref_mut().expect("a coarse grid has scratch");
+    target.state.p.copy_from_slice(&source.p[..n]);
+    target.state.r.copy_from_slice(&source.r[..n]);
+    kernel::residual(coarse.operator, &coarse.topology.mesh, &mut target.state, None, &mut target.forcing);
+    target.start_p.copy_from_slice(&target.state.p);
+    target.start_r.copy_from_slice(&target.state.r);
+    let transfer = transfer.expect("a level above the coarsest has a transfer");
+    transfer.right_hand_side(residual, &coarse.operator.role, &mut target.forcing);
+}
+
+/// Adds the prolonged coarse correction `x_c − x_c⁰` to the fine iterate.
+pub fn correct(coarse: &mut Grid<'_>, fine: &mut Grid<'_>) {
+    let work = coarse.work.as_deref_mut().expect("a coarse grid has scratch");
+    // The coarse residual buffer is free now: it holds the correction.
+    let Forcing { r: dr, p: dp } = &mut *coarse.residual;
+    dp.par_iter_mut().zip(&work.state.p).zip(&work.start_p).for_each(|((d, a), b)| *d = *a - *b);
+    dr.par_iter_mut().zip(&work.state.r).zip(&work.start_r).for_each(|((d, a), b)| *d = *a - *b);
+    let topology = fine.topology;
+    let (target, _) = fine.iterate_and_forcing();
+    topology.prolong_add(dp, &mut target.p);
+    topology.prolong_add(dr, &mut target.r);
+}
+
+/// Largest change of a moving vertex between `before` and `after`.
+pub fn largest_change(operator: &Operator, before: &[DVec3], after: &[DVec3]) -> f64 {
+    before
+        .par_iter()
+        .zip(after)
+        .zip(&operator.role)
+        .with_min_len(4096)
+        .map(|((a, b), role)| if *role == Role::Moving { (*b - *a).length() } else { 0.0 })
+        .reduce(|| 0.0, |a, b| if a.is_nan() || b.is_nan() { f64::NAN } else { a.max(b) })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::level::Level;
+    use super::*;
+    use crate::mesh::PolyMesh;
+    use crate::nusd::surface::operator::Controls;
+
+    /// An open 3 × 2 patch of quads plus a triangle fan and a pentagon: every kind of vertex.
+    fn mixed() -> PolyMesh {
+        let mut p = Vec::new();
+        for j in 0..3 {
+            for i in 0..4 {
+                p.push(DVec3::new(i as f64, j as f64, 0.2 * (i * j) as f64 - 0.1 * (i * i) as f64));
+            }
+        }
+        p.push(DVec3::new(1.5, 2.8, 0.6)); // 12: apex of a fan over the top row
+        p.push(DVec3::new(4.0, 1.0, 0.3)); // 13, 14: a pentagon on the right
+        p.push(DVec3::new(4.5, 2.0, 0.1));
+        let mut faces: Vec<Vec<u32>> = vec![];
+        for j in 0..2u32 {
+            for i in 0..3u32 {
+                let v = j * 4 + i;
+                faces.push(vec![v, v + 1, v + 5, v + 4]);
+            }
+        }
+        faces.push(vec![8, 9, 12]);
+        faces.push(vec![9, 10, 12]);
+        faces.push(vec![3, 13, 14, 11, 7]);
+        PolyMesh::from_polygons(p, &faces).unwrap()
+    }
+
+    fn levels(cage: &PolyMesh, fixed: &[bool], tension: f64, count: usize) -> Vec<Level> {
+        let mut vt = vec![0.0; cage.vertex_count()];
+        vt[5] = tension;
+        let et = vec![0.0; cage.edge_count()];
+        let controls = Controls { fixed, vertex_tension: &vt, edge_tension: &et, spacing: Default::default() };
+        let mut out = vec![Level::cage(cage, &controls)];
+        for _ in 0..count {
+            let finer = out.last().unwrap().refine(cage, &controls).unwrap();
+            out.push(finer);
+        }
+        out
+    }
+
+    #[test]
+    fn restriction_is_normalised_full_weighting_within_each_kind_of_equation() {
+        let cage = mixed();
+        let fixed = vec![true; cage.vertex_count()];
+        let ls = levels(&cage, &fixed, 0.0, 2);
+        let (coarse, fine) = (&ls[1], &ls[2]);
+        let transfer = fine.transfer.as_ref().unwrap();
+        let n = coarse.vertex_count();
+        assert_eq!(transfer.r_offsets.len(), n + 1);
+        for (offsets, entries, kind) in [
+            (&transfer.r_offsets, &transfer.r_entries, &kind_r as &dyn Fn(&LevelTopology, usize) -> u8),
+            (&transfer.p_offsets, &transfer.p_entries, &kind_p),
+        ] {
+            for c in 0..n {
+                let row = &entries[offsets[c] as usize..offsets[c + 1] as usize];
+                // The vertex itself is always in its row, with the largest weight.
+                assert!(row.iter().any(|&(v, _)| v as usize == c));
+                assert!((row.iter().map(|e| e.1).sum::<f64>() - 1.0).abs() < 1e-14);
+                assert!(row.iter().all(|&(v, _)| kind(&fine.topology, v as usize) == kind(&fine.topology, c)));
+            }
+        }
+        // An interior quad-grid vertex gets the classic 1/4, 1/8, 1/16 stencil.
+        let c = 5; // cage vertex 5 is inside the patch, on four cage edges: its R row is 1-D
+        let row = &transfer.p_entries[transfer.p_offsets[c] as usize..transfer.p_offsets[c + 1] as usize];
+        let mut weights: Vec<f64> = row.iter().map(|e| e.1).collect();
+        weights.sort_by(f64::total_cmp);
+        assert_eq!(weights.len(), 9);
+        assert!((weights[8] - 0.25).abs() < 1e-14 && (weights[0] - 1.0 / 16.0).abs() < 1e-14, "{weights:?}");
+    }
+
+    /// Runs whole cycles on the top level by hand.
+    fn run_cycles(ls: &mut [Level], count: usize) -> f64 {
+        let top = ls.len() - 1;
+        let mut change = 0.0;
+        for _ in 0..count {
+            let before = ls[top].state.p.clone();
+            for op in cycle(top, 1, GAMMA) {
+                match op {
+                    Op::Smooth(k, l) => {
+                        smooth(&mut ls[k].grid(k == top), l);
+                    }
+                    Op::Restrict(k) => {
+                        let (c, f) = ls.split_at_mut(k);
+                        restrict(&mut f[0].grid(k == top), &mut c[k - 1].grid(false));
+                    }
+                    Op::Coarse(c) => {
+                        for _ in 0..COARSE_SWEEPS {
+                            smooth(&mut ls[c].grid(false), 0.6);
+                        }
+                    }
+                    Op::Correct(k) => {
+                        let (c, f) = ls.split_at_mut(k);
+                        correct(&mut c[k - 1].grid(false), &mut f[0].grid(k == top));
+                    }
+                }
+            }
+            change = largest_change(&ls[top].operator, &before, &ls[top].state.p);
+        }
+        change
+    }
+
+    #[test]
+    fn the_fixed_point_is_left_alone_and_other_states_are_drawn_to_it() {
+        let cage = mixed();
+        let mut fixed = vec![true; cage.vertex_count()];
+        fixed[6] = false;
+        for tension in [0.0, 2.0] {
+            let mut ls = levels(&cage, &fixed, tension, 3);
+            let top = 3;
+            let start = ls[top].state.clone();
+            for _ in 0..200_000 {
+                let l = &mut ls[top];
+                if kernel::iterate(&l.operator, &l.topology.mesh, &mut l.state, 0.6).step < 1e-14 {
+                    break;
+                }
+            }
+            let exact = ls[top].state.p.clone();
+            // A cycle from the plain iteration's fixed point stays there (to the precision the
+            // plain iteration reached): the coarse levels only add a correction of the fine
+            // residual, which is zero.
+            let change = run_cycles(&mut ls, 1);
+            assert!(change < 1e-10, "τ {tension}: a cycle moved the fixed point by {change:e}");
+            // From the prolonged start, cycles contract the error by at least 0.4 each, and after
+            // as many sweeps of the top level the plain iteration is far behind.
+            ls[top].state = start.clone();
+            run_cycles(&mut ls, 4);
+            let after4 = largest_change(&ls[top].operator, &exact, &ls[top].state.p);
+            run_cycles(&mut ls, 4);
+            let after8 = largest_change(&ls[top].operator, &exact, &ls[top].state.p);
+            assert!(after8 < 0.4f64.powi(4) * after4, "τ {tension}: {after4:e} → {after8:e} in 4 cycles");
+            ls[top].state = start;
+            for _ in 0..8 * (2 * SWEEPS + 1) {
+                let l = &mut ls[top];
+                kernel::iterate(&l.operator, &l.topology.mesh, &mut l.state, 0.6);
+            }
+            let plain = largest_change(&ls[top].operator, &exact, &ls[top].state.p);
+            assert!(after8 < 0.01 * plain, "τ {tension}: multigrid {after8:e}, plain {plain:e}");
+        }
+    }
+}
