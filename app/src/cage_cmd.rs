@@ -78,7 +78,8 @@ pub fn run(args: &CageArgs) -> Result<(), String> {
     };
     let started = Instant::now();
     let bar = spinner("import");
-    let (positions, triangles, import_report) = io::import_triangles(&args.input, &args.files.import_options()).map_err(|e| e.to_string())?;
+    let (positions, triangles, import_report) =
+        io::import_triangles(&args.input, &args.files.import_options()).map_err(|e| e.to_string())?;
     let import_seconds = started.elapsed().as_secs_f64();
     bar.finish_and_clear();
     if !import_report.is_clean() {

@@ -4,8 +4,8 @@
 //! `taut SUBCOMMAND …` runs one command-line tool. `main` only parses the arguments and hands
 //! them on; every failure is one line on stderr with a non-zero exit status.
 
-mod cli;
 mod cage_cmd;
+mod cli;
 mod curve_cmd;
 mod editor;
 mod render_cmd;

@@ -199,7 +199,15 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
     }
     // The colours are chosen in f64: curvatures of a tiny model would overflow f32.
     let values = taut_render::colormap::normalize(&values, min, max);
-    draw(args, &drawn, &overlays, data, SurfaceMode::Curvature { map, min: 0.0, max: 1.0 }, Some(&values), (width, height))
+    draw(
+        args,
+        &drawn,
+        &overlays,
+        data,
+        SurfaceMode::Curvature { map, min: 0.0, max: 1.0 },
+        Some(&values),
+        (width, height),
+    )
 }
 
 fn draw(

@@ -39,15 +39,18 @@ pub fn run(args: &SubdivideArgs) -> Result<(), String> {
     let mut doc = load_document(&args.input, &args.files)?;
     let scheme = match args.scheme {
         Some(SchemeKind::Nusd) => {
-            return Err("--scheme nusd: subdivide makes catmull-clark or loop surfaces; use taut smooth for NUSD".into());
+            return Err(
+                "--scheme nusd: subdivide makes catmull-clark or loop surfaces; use taut smooth for NUSD".into()
+            );
         }
         Some(s) => s,
         None if doc.scheme.is_subdivision() => doc.scheme,
         None => SchemeKind::CatmullClark,
     };
     if args.triangulate {
-        let edited = taut_core::mesh::edit::triangulate(&doc.cage, None, taut_core::mesh::edit::Triangulation::ShortestDiagonal)
-            .map_err(|e| format!("--triangulate: {e}"))?;
+        let edited =
+            taut_core::mesh::edit::triangulate(&doc.cage, None, taut_core::mesh::edit::Triangulation::ShortestDiagonal)
+                .map_err(|e| format!("--triangulate: {e}"))?;
         let before = doc.cage.face_count();
         doc = doc.with_edited_cage(edited).map_err(|e| format!("--triangulate: {e}"))?;
         note(format!("triangulated {before} faces into {}", doc.cage.face_count()));

@@ -7,7 +7,7 @@ use clap::Args;
 use std::path::Path;
 use taut_core::nusd::Spacing;
 use taut_core::surface::{self, SchemeKind, SurfaceScheme};
-use taut_core::{Document, Edit, EdgeId, VertexId, io};
+use taut_core::{Document, EdgeId, Edit, VertexId, io};
 
 /// The flags that set a document's scheme and its controls.
 #[derive(Debug, Args, Default)]
@@ -60,7 +60,9 @@ impl SurfaceFlags {
     /// Applies the flags to `doc` as edits, each checked by the core's validator; the scheme is
     /// set first, so `--levels` reaches the right settings.
     pub fn apply(&self, doc: &mut Document, scheme: Option<SchemeKind>) -> Result<(), String> {
-        let edit = |doc: &mut Document, edit: Edit, flag: &str| doc.apply(edit).map(|_| ()).map_err(|e| format!("{flag}: {e}"));
+        let edit = |doc: &mut Document, edit: Edit, flag: &str| {
+            doc.apply(edit).map(|_| ()).map_err(|e| format!("{flag}: {e}"))
+        };
         if let Some(scheme) = scheme {
             edit(doc, Edit::SetScheme(scheme), &format!("--scheme {}", scheme.cli_name()))?;
         }
@@ -69,7 +71,11 @@ impl SurfaceFlags {
                 let subdiv = taut_core::surface::SubdivSettings { levels, ..doc.subdiv };
                 edit(doc, Edit::SetSubdivSettings(subdiv), &format!("--levels {levels}"))?;
             } else {
-                edit(doc, Edit::SetSettings(taut_core::nusd::SolverSettings { levels, ..doc.settings }), &format!("--levels {levels}"))?;
+                edit(
+                    doc,
+                    Edit::SetSettings(taut_core::nusd::SolverSettings { levels, ..doc.settings }),
+                    &format!("--levels {levels}"),
+                )?;
             }
         }
         let mut settings = doc.settings;

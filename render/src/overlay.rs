@@ -120,7 +120,13 @@ pub const CREASE: [f32; 4] = [0.0, 0.58, 0.79, 1.0];
 
 /// Crease sharpness mapped to `[0, 1]`: 0 smooth, 1 at [`CREASE_SATURATION`] or sharp.
 pub fn crease_level(s: f64) -> f32 {
-    if s == f64::INFINITY { 1.0 } else if s.is_finite() && s > 0.0 { (s / CREASE_SATURATION).min(1.0) as f32 } else { 0.0 }
+    if s == f64::INFINITY {
+        1.0
+    } else if s.is_finite() && s > 0.0 {
+        (s / CREASE_SATURATION).min(1.0) as f32
+    } else {
+        0.0
+    }
 }
 
 /// Tension mapped to `[0, 1]`, saturating at [`TENSION_SATURATION`]; non-finite or negative
@@ -387,11 +393,9 @@ mod tests {
 
     #[test]
     fn crease_edges_are_drawn_apart_and_grow_with_sharpness() {
-        let cage = PolyMesh::from_polygons(
-            vec![DVec3::ZERO, DVec3::X, DVec3::new(1.0, 1.0, 0.0), DVec3::Y],
-            &[[0, 1, 2, 3]],
-        )
-        .unwrap();
+        let cage =
+            PolyMesh::from_polygons(vec![DVec3::ZERO, DVec3::X, DVec3::new(1.0, 1.0, 0.0), DVec3::Y], &[[0, 1, 2, 3]])
+                .unwrap();
         let sharpness = [0.0, 1.0, 2.5, f64::INFINITY];
         let (lines, points) = cage_overlay(
             &cage,
@@ -404,7 +408,6 @@ mod tests {
         assert!(lines[1].width_px < lines[2].width_px && lines[2].width_px < lines[3].width_px);
         assert!(points.iter().all(|p| p.style == PointStyle::Ring), "subdivision cage vertices are rings");
     }
-
 
     fn cube() -> PolyMesh {
         let p = (0..8).map(|i| DVec3::new((i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64)).collect();

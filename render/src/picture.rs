@@ -51,7 +51,11 @@ impl Picture<'_> {
     /// centred there, from the view's direction; or at the view's distance.
     pub fn camera(&self, margin: u32) -> Result<Camera, RenderError> {
         let frame = self.frame();
-        let mut camera = Camera { azimuth: self.view.azimuth, elevation: self.view.elevation.clamp(-90.0, 90.0), ..Camera::default() };
+        let mut camera = Camera {
+            azimuth: self.view.azimuth,
+            elevation: self.view.elevation.clamp(-90.0, 90.0),
+            ..Camera::default()
+        };
         // A regular sample sees the same silhouette as a million vertices, to within a pixel.
         let step = (self.mesh.vertex_count() / 20_000).max(1);
         let points: Vec<glam::Vec3> = self.mesh.positions().iter().step_by(step).map(|&p| frame.point(p)).collect();
@@ -72,7 +76,12 @@ impl Picture<'_> {
     }
 
     /// Draws the picture with `overlays` (built in [`frame`](Self::frame)'s coordinates).
-    pub fn render(&self, gpu: &Gpu, renderer: &mut Renderer, overlays: &OverlayData) -> Result<image::RgbaImage, RenderError> {
+    pub fn render(
+        &self,
+        gpu: &Gpu,
+        renderer: &mut Renderer,
+        overlays: &OverlayData,
+    ) -> Result<image::RgbaImage, RenderError> {
         let mut buffers = SurfaceBuffers::default();
         buffers.update_with(self.mesh, self.normals, &self.frame());
         if let Some(values) = self.values {

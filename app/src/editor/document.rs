@@ -17,8 +17,8 @@
 use std::collections::VecDeque;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
-use taut_core::io::{self, ImportReport, UpAxis};
 pub use taut_core::Edit;
+use taut_core::io::{self, ImportReport, UpAxis};
 use taut_core::{Document, PolyMesh};
 
 /// Most undo steps kept; older ones are forgotten first.

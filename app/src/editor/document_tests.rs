@@ -3,8 +3,8 @@
 use super::*;
 use taut_core::io::UpAxis;
 use taut_core::nusd::SolverSettings;
-use taut_core::{DVec3, EdgeId, VertexId};
 use taut_core::nusd::Spacing;
+use taut_core::{DVec3, EdgeId, VertexId};
 
 /// A unique, empty folder under the system's temp folder.
 pub(in crate::editor) fn temp_dir(name: &str) -> PathBuf {

@@ -179,9 +179,10 @@ impl EditorState {
         let Some(view) = &self.surface else { return };
         let due = view.values_at.is_none_or(|t| t.elapsed() > Duration::from_millis(150));
         let comparison_moved = by == ColourBy::Distance
-            && self.comparison.as_ref().is_some_and(|c| {
-                c.measured_at != Some((view.scheme.progress().work, c.scheme.progress().work))
-            });
+            && self
+                .comparison
+                .as_ref()
+                .is_some_and(|c| c.measured_at != Some((view.scheme.progress().work, c.scheme.progress().work)));
         if !((view.values_stale || comparison_moved) && (done || due)) {
             return;
         }

@@ -3,9 +3,9 @@
 //! tooltip; a control over a multi-selection shows mixed values as mixed and sets all of them.
 
 use super::document::Edit;
+use super::live::CompareMode;
 use super::state::{DisplayMode, EditorState};
 use super::ui::UiState;
-use super::live::CompareMode;
 use taut_core::curvature::CurvatureQuantity;
 use taut_core::nusd::Spacing;
 use taut_core::surface::{ColourBy, SchemeKind, fields_of};
@@ -208,14 +208,16 @@ impl EditorState {
         let (mut s, sharp) = match values {
             Mixed::None => (0.0, false),
             Mixed::All(s) => (if s.is_finite() { s } else { CREASE_SLIDER_MAX }, s == f64::INFINITY),
-            Mixed::Range(lo, hi) => {
-                (if hi.is_finite() { hi } else { CREASE_SLIDER_MAX }, lo == f64::INFINITY)
-            }
+            Mixed::Range(lo, hi) => (if hi.is_finite() { hi } else { CREASE_SLIDER_MAX }, lo == f64::INFINITY),
         };
         let name = ui.label("crease sharpness s");
         let response = ui
             .push_id("crease", |ui| {
-                ui.add(egui::Slider::new(&mut s, 0.0..=CREASE_SLIDER_MAX).clamping(egui::SliderClamping::Never).max_decimals(2))
+                ui.add(
+                    egui::Slider::new(&mut s, 0.0..=CREASE_SLIDER_MAX)
+                        .clamping(egui::SliderClamping::Never)
+                        .max_decimals(2),
+                )
             })
             .inner
             .labelled_by(name.id)
@@ -333,7 +335,10 @@ impl EditorState {
             .selected_text(scheme.display_name())
             .show_ui(ui, |ui| {
                 for (k, help) in [
-                    (SchemeKind::Nusd, "Nonuniform spline diffusion: passes through the fixed cage points, with tension"),
+                    (
+                        SchemeKind::Nusd,
+                        "Nonuniform spline diffusion: passes through the fixed cage points, with tension",
+                    ),
                     (SchemeKind::CatmullClark, "Catmull–Clark subdivision, as Blender's: any polygons, with creases"),
                     (SchemeKind::Loop, "Loop subdivision: triangle cages, with creases"),
                 ] {
@@ -453,7 +458,8 @@ impl EditorState {
                     .on_hover_text("The fraction of each stripe pair that is black");
             }
             DisplayMode::Curvature => {
-                let mut choices: Vec<ColourBy> = CurvatureQuantity::ALL.iter().map(|&q| ColourBy::Curvature(q)).collect();
+                let mut choices: Vec<ColourBy> =
+                    CurvatureQuantity::ALL.iter().map(|&q| ColourBy::Curvature(q)).collect();
                 choices.extend(fields_of(scheme).iter().map(|&f| ColourBy::Field(f)));
                 if !choices.contains(&d.colour_by) {
                     d.colour_by = choices[0];

@@ -315,7 +315,8 @@ impl EditorState {
             && let Some(mesh) = self.surface_mesh()
         {
             let curves = self.surface_curves();
-            let style = comb_style(&curves, mesh.bounding_diagonal(), self.display.comb_length, self.display.comb_density);
+            let style =
+                comb_style(&curves, mesh.bounding_diagonal(), self.display.comb_length, self.display.comb_density);
             for c in &curves {
                 data.surface_lines.extend(overlay::polyline_with_comb(c, false, &style, frame));
             }
@@ -330,7 +331,11 @@ impl EditorState {
             let controls = if doc.scheme.is_subdivision() {
                 CageControls::Creases { sharpness: &doc.crease }
             } else {
-                CageControls::Nusd { fixed: &doc.fixed, vertex_tension: &doc.vertex_tension, edge_tension: &doc.edge_tension }
+                CageControls::Nusd {
+                    fixed: &doc.fixed,
+                    vertex_tension: &doc.vertex_tension,
+                    edge_tension: &doc.edge_tension,
+                }
             };
             let (lines, points) = overlay::cage_overlay(&doc.cage, controls, &selection, frame);
             data.on_top_lines = lines;

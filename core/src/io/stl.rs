@@ -61,8 +61,7 @@ pub(crate) fn parse_stl(bytes: &[u8], origin: &Path) -> Result<Soup> {
 }
 
 fn parse_binary(bytes: &[u8], count: usize, size: usize, origin: &Path) -> Result<Soup> {
-    let mut soup =
-        Soup { positions: Vec::with_capacity(3 * count), ..Soup::default() };
+    let mut soup = Soup { positions: Vec::with_capacity(3 * count), ..Soup::default() };
     let f32_at = |k: usize| f32::from_le_bytes([bytes[k], bytes[k + 1], bytes[k + 2], bytes[k + 3]]);
     for t in 0..count {
         let record = HEADER + t * RECORD;

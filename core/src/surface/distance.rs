@@ -25,7 +25,12 @@ mod tests {
     #[test]
     fn distances_to_a_plane_are_the_heights() {
         let plane = PolyMesh::from_polygons(
-            vec![DVec3::new(-5.0, -5.0, 0.0), DVec3::new(5.0, -5.0, 0.0), DVec3::new(5.0, 5.0, 0.0), DVec3::new(-5.0, 5.0, 0.0)],
+            vec![
+                DVec3::new(-5.0, -5.0, 0.0),
+                DVec3::new(5.0, -5.0, 0.0),
+                DVec3::new(5.0, 5.0, 0.0),
+                DVec3::new(-5.0, 5.0, 0.0),
+            ],
             &[[0, 1, 2, 3]],
         )
         .unwrap();
