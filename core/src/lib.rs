@@ -5,7 +5,9 @@
 //! level, and the smoothed [`PolyMesh`](mesh::PolyMesh) is written out or drawn. Nothing here
 //! touches a GPU or a window.
 
+pub mod aesthetic;
 pub mod curvature;
+pub mod curve;
 pub mod document;
 pub mod error;
 pub mod io;
