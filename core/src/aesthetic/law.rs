@@ -14,19 +14,27 @@
 /// `ρ^α` (α ≠ 0) or `log ρ` (α = 0): the quantity that is linear in arc length.
 #[inline]
 pub fn law_value(radius: f64, alpha: f64) -> f64 {
-    if alpha == 0.0 { radius.ln() } else { radius.powf(alpha) }
+    // The common slopes without `powf`, which dominates a filter pass otherwise.
+    match alpha {
+        0.0 => radius.ln(),
+        1.0 => radius,
+        -1.0 => 1.0 / radius,
+        2.0 => radius * radius,
+        _ => radius.powf(alpha),
+    }
 }
 
 /// The radius whose [`law_value`] is `y`; `None` when no positive finite radius has it (`y ≤ 0`
 /// for α ≠ 0).
 #[inline]
 pub fn radius_from_law(y: f64, alpha: f64) -> Option<f64> {
-    let r = if alpha == 0.0 {
-        y.exp()
-    } else if y > 0.0 {
-        y.powf(1.0 / alpha)
-    } else {
-        return None;
+    let r = match alpha {
+        0.0 => y.exp(),
+        _ if y <= 0.0 || y.is_nan() => return None,
+        1.0 => y,
+        -1.0 => 1.0 / y,
+        2.0 => y.sqrt(),
+        _ => y.powf(1.0 / alpha),
     };
     (r.is_finite() && r > 0.0).then_some(r)
 }
