@@ -564,20 +564,25 @@ impl CurveFilter {
 }
 
 /// The root of `a x² + b x + c = 0` of smaller magnitude, stably; `None` without a real root.
-fn smaller_root(a: f64, b: f64, c: f64) -> Option<f64> {
+pub(crate) fn smaller_root(a: f64, b: f64, c: f64) -> Option<f64> {
+    nearest_root(a, b, c, 0.0)
+}
+
+/// The real root of `a x² + b x + c = 0` nearest `near`, computed stably; `None` without one.
+pub(crate) fn nearest_root(a: f64, b: f64, c: f64, near: f64) -> Option<f64> {
     if a == 0.0 {
         return (b != 0.0).then(|| -c / b);
     }
     let disc = b * b - 4.0 * a * c;
-    if disc < 0.0 {
+    if !(disc >= 0.0) {
         return None;
     }
-    let q = -0.5 * (b + b.signum() * disc.sqrt());
+    let q = -0.5 * (b + if b < 0.0 { -disc.sqrt() } else { disc.sqrt() });
     if q == 0.0 {
         return Some(0.0);
     }
     let (r1, r2) = (c / q, q / a);
-    Some(if r1.abs() <= r2.abs() { r1 } else { r2 })
+    Some(if (r1 - near).abs() <= (r2 - near).abs() { r1 } else { r2 })
 }
 
 /// A window of consecutive samples: `len` of them from `start` (mod `n`); `at` is the arc
