@@ -4,8 +4,13 @@
 //! `taut SUBCOMMAND …` runs one command-line tool. `main` only parses the arguments and hands
 //! them on; every failure is one line on stderr with a non-zero exit status.
 
+mod aesthetic_curve_cmd;
+mod coons_cmd;
 mod curve_cmd;
 mod editor;
+mod fair_cmd;
+mod fair_surface_cmd;
+mod lcg_cmd;
 mod render_cmd;
 mod smooth_cmd;
 
@@ -33,6 +38,16 @@ enum Command {
     SmoothCurve(curve_cmd::SmoothCurveArgs),
     /// Draw a surface shaded, as zebra stripes or in curvature colour into a PNG.
     Render(render_cmd::RenderArgs),
+    /// Fair a sketched or digitised curve towards a log-aesthetic curve.
+    Fair(fair_cmd::FairArgs),
+    /// A log-aesthetic curve segment from three control points and α.
+    AestheticCurve(aesthetic_curve_cmd::AestheticCurveArgs),
+    /// A Coons patch from four boundary curves (polylines or aesthetic segments).
+    Coons(coons_cmd::CoonsArgs),
+    /// Drive a grid surface towards constant Gaussian curvature.
+    FairSurface(fair_surface_cmd::FairSurfaceArgs),
+    /// Plot a curve's curvature and its logarithmic curvature graph into a PNG.
+    Lcg(lcg_cmd::LcgArgs),
 }
 
 fn main() -> ExitCode {
@@ -51,6 +66,11 @@ fn main() -> ExitCode {
         Some(Command::Smooth(args)) => smooth_cmd::run(args),
         Some(Command::SmoothCurve(args)) => curve_cmd::run(args),
         Some(Command::Render(args)) => render_cmd::run(args),
+        Some(Command::Fair(args)) => fair_cmd::run(args),
+        Some(Command::AestheticCurve(args)) => aesthetic_curve_cmd::run(args),
+        Some(Command::Coons(args)) => coons_cmd::run(args),
+        Some(Command::FairSurface(args)) => fair_surface_cmd::run(args),
+        Some(Command::Lcg(args)) => lcg_cmd::run(args),
         None => match cli.view.as_str() {
             "shaded" | "zebra" | "curvature" => {
                 editor::window::run(editor::window::Startup { file: cli.file.clone(), view: cli.view.clone() })

@@ -9,7 +9,10 @@
 //!    the B-spline and its exact derivatives directly, which is the same curve.)
 //! 3. Sample each piece's logarithmic curvature graph from the spline's exact derivatives,
 //!    `x = −log|κ|`, `y = log(|κ| / |dκ/ds|)`, and fit a line: its slope is α for the piece, its
-//!    RMS distance the residual.
+//!    RMS distance the residual. κ comes from the spline's exact derivatives; dκ/ds is the
+//!    difference of κ over one knot span on either side, because the exact one jumps at every
+//!    knot (it involves the piecewise constant third derivative) and on a curve that turns much
+//!    per span the jumps flip its sign, splitting the curve at every knot.
 //!
 //! Where it is weak: the spline is a polynomial, and its curvature derivative (a third
 //! derivative) carries the fit's error amplified, so α is only as good as the fit: on exact
@@ -139,12 +142,24 @@ pub fn estimate_alpha(
     // Dense samples of curvature, its derivative and arc length.
     let count = (controls * settings.samples_per_control.max(4)).max(64);
     let ts: Vec<f64> = (0..=count).map(|k| k as f64 / count as f64).collect();
-    let values: Vec<(f64, f64)> = ts.iter().map(|&t| curvature_and_derivative(&derivatives, t, normal)).collect();
+    let exact: Vec<(f64, f64)> = ts.iter().map(|&t| curvature_and_derivative(&derivatives, t, normal)).collect();
     let mut length = vec![0.0; ts.len()];
     for k in 1..ts.len() {
         length[k] = length[k - 1] + spline.point(ts[k]).distance(spline.point(ts[k - 1]));
     }
     let spline_length = length[count];
+    // dκ/ds of a cubic spline jumps at every knot (it involves the third derivative, piecewise
+    // constant), and on a curve that turns a lot per knot span the jumps flip its sign at the
+    // knots. Differencing κ over one knot span either side averages the jumps out.
+    let span = settings.samples_per_control.max(4);
+    let values: Vec<(f64, f64)> = (0..ts.len())
+        .map(|k| {
+            let (a, b) = (k.saturating_sub(span), (k + span).min(count));
+            let ds = length[b] - length[a];
+            let derivative = if ds > 0.0 { (exact[b].0 - exact[a].0) / ds } else { exact[k].1 };
+            (exact[k].0, derivative)
+        })
+        .collect();
 
     // Runs of constant sign of κ and of dκ/ds.
     let sign = |v: f64| {

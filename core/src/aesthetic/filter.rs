@@ -26,10 +26,10 @@
 //!   the thread count and of the direction of travel, as a sequential sweep would not.
 //! - Near an inflection the signed curvature changes sign inside the window and ρ^α has no
 //!   meaning there. The paper leaves such points where they are ([`InflectionRule::Hold`]);
-//!   on noisy input the noise itself flips the sign in most windows, so by default
-//!   ([`InflectionRule::Clothoid`]) we fit the signed curvature κ = c s + d instead, which is the
-//!   log-aesthetic law with α = −1 (the clothoid, the one log-aesthetic curve that passes through
-//!   an inflection with finite curvature variation).
+//!   on noisy input the noise itself flips the sign in most windows, so nothing would move. By
+//!   default ([`InflectionRule::Clothoid`]) we fit the signed curvature κ = c s + d instead, which
+//!   is the law with α = −1: the clothoid, the log-aesthetic curve that passes through an
+//!   inflection.
 //! - A move is capped so the point stays within the half chord of its neighbours (a target that
 //!   asks for more would fold the curve); the number of capped moves is reported.
 //!
@@ -455,9 +455,10 @@ impl CurveFilter {
     }
 
     /// The target of a log-aesthetic law `value^exponent = c s + d` (value = a radius, 1/|x|)
-    /// fitted over a window of signed samples `x`, at point `i`; `None` where the window
-    /// holds an inflection (handled per [`InflectionRule`] for curvature only) or the law gives no
-    /// positive radius. `law`, when given, holds the law values of `1/|x|` precomputed.
+    /// fitted over a window of signed samples `x`, at point `i`. Where the samples change sign
+    /// (an inflection, or ρ → ∞) the target is `None`, or with `clothoid` the value of the
+    /// least-squares line of `x` itself (α = −1). `None` also where the law gives no positive
+    /// radius. `law`, when given, holds the law values of `1/|x|` precomputed.
     fn law_target(
         &self,
         g: &Geometry,

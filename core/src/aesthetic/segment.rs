@@ -160,6 +160,27 @@ impl AestheticSegment {
         Ok(Some(AestheticSegment { form, origin: p0, axis_x, axis_y, scale }))
     }
 
+    /// The log-aesthetic curve that starts at the origin along +x with radius of curvature
+    /// `start_radius`, turns towards +y by `turning` radians (any amount, several turns too) and
+    /// ends with radius `start_radius · e^{log_radius_ratio}`. `None` for non-finite or
+    /// non-positive values, |α| > 100 or `|log_radius_ratio|` beyond [`MAX_LOG_RADIUS_RATIO`].
+    pub fn in_standard_position(alpha: f64, turning: f64, log_radius_ratio: f64, start_radius: f64) -> Option<Self> {
+        let ok = alpha.is_finite()
+            && alpha.abs() <= 100.0
+            && turning.is_finite()
+            && turning > 0.0
+            && log_radius_ratio.abs() <= MAX_LOG_RADIUS_RATIO
+            && start_radius.is_finite()
+            && start_radius > 0.0;
+        ok.then(|| AestheticSegment {
+            form: StandardForm { alpha, turning, log_ratio: log_radius_ratio },
+            origin: DVec3::ZERO,
+            axis_x: start_radius * DVec3::X,
+            axis_y: start_radius * DVec3::Y,
+            scale: start_radius,
+        })
+    }
+
     /// The range of start angles a0 (between the start tangent and the chord, radians) for which
     /// a segment with this α and total turning exists (within [`MAX_LOG_RADIUS_RATIO`]). It is
     /// all of `(0, turning)` in the limit for 0 ≤ α ≤ 1, a narrower band otherwise.

@@ -4,11 +4,13 @@
 //! identical positions and repairs what welding collapses ([`weld()`]), then builds the cage;
 //! the [`ImportReport`] says what changed. [`export_mesh`] writes a surface keeping its vertex
 //! order, so a refined surface's file starts with the cage's vertices in input order. `.taut`
-//! documents are read and written by [`Document`](crate::Document).
+//! documents are read and written by [`Document`](crate::Document); [`points`] reads and writes
+//! the JSON and CSV point files of the curve commands.
 
 pub mod glb;
 pub mod gltf;
 pub mod obj;
+pub mod points;
 pub mod weld;
 
 pub use glb::export_glb;
