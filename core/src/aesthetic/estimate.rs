@@ -20,11 +20,16 @@
 //! noisy points it is rough. Near the ends of a piece `dκ/ds → 0` or `κ → 0` and the graph runs
 //! off to infinity, so the first and last [`EstimateSettings::trim`] of every piece are left out
 //! of the fit; pieces shorter than [`EstimateSettings::min_piece`] of the length (spline wiggles)
-//! are not fitted and their points take the α of the nearest fitted piece.
+//! and pieces whose curvature changes by less than [`MIN_CURVATURE_RATIO`] (nearly circular arcs,
+//! on which every α fits) are not fitted, and their points take the α of the nearest fitted piece.
 
 use super::law::fit_line;
 use crate::curve::{BSpline, PointSequence};
 use crate::{DVec3, Error, Result};
+
+/// Pieces whose curvature changes by less than this factor are not fitted: they are nearly
+/// circular arcs, on which any α fits.
+pub const MIN_CURVATURE_RATIO: f64 = 1.1;
 
 /// Settings of α estimation.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -190,7 +195,11 @@ pub fn estimate_alpha(
                     (x.is_finite() && y.is_finite()).then_some((x, y))
                 })
                 .unzip();
-            if let Some(fit) = fit_line(&x, &y) {
+            // x = −log|κ|: a piece whose curvature varies by less than MIN_CURVATURE_RATIO is
+            // nearly a circular arc, whose LCG is a vertical smear with no meaningful slope.
+            let (x_lo, x_hi) = x.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| (a.min(*v), b.max(*v)));
+            let varies = x_hi - x_lo >= MIN_CURVATURE_RATIO.ln();
+            if let Some(fit) = fit_line(&x, &y).filter(|_| varies) {
                 pieces.push(AlphaPiece {
                     start: ts[first],
                     end: ts[last],
@@ -205,8 +214,8 @@ pub fn estimate_alpha(
     }
     if pieces.is_empty() {
         return Err(Error::Input(
-            "no piece of the curve has a monotone curvature long enough to read α from (a circle or a straight \
-             line has no α); give α instead"
+            "no piece of the curve has a curvature that changes enough, monotonically and over long enough, to \
+             read α from (a circle or a straight line has no α); give α instead"
                 .into(),
         ));
     }
