@@ -1,9 +1,10 @@
-//! Taut's geometry core: polygon cages, their files, and NUSD smoothing.
+//! Taut's geometry core: polygon cages, their files, NUSD smoothing, and log-aesthetic curves.
 //!
 //! Data flows one way: a file is read into a [`Document`](document::Document) (a cage with fixed
 //! flags, tensions and solver settings), the [`nusd`] solver refines and smooths it level by
-//! level, and the smoothed [`PolyMesh`](mesh::PolyMesh) is written out or drawn. Nothing here
-//! touches a GPU or a window.
+//! level, and the smoothed [`PolyMesh`](mesh::PolyMesh) is written out or drawn. Curves are point
+//! sequences ([`curve`]); [`aesthetic`] fairs them towards log-aesthetic curves and builds
+//! segments and Coons patches from them. Nothing here touches a GPU or a window.
 
 pub mod aesthetic;
 pub mod curvature;

@@ -1,7 +1,7 @@
 //! Log-aesthetic curves, filters and patches: properties against independent references
 //! (issue 11, "Tests"). Every bound is stated where it is checked, with what was measured.
 
-use std::f64::consts::{PI, TAU};
+use std::f64::consts::PI;
 use taut_core::DVec3;
 use taut_core::aesthetic::{
     AestheticSegment, Alpha, BoundaryCurve, CurveFilter, EstimateSettings, FilterSettings, Grid, InflectionRule,

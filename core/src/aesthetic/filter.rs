@@ -22,8 +22,8 @@
 //!   half steps about 45 % (in twice as many passes); ω > 1 diverges.
 //! - Passes are red–black (even points from the current state, then odd points from the
 //!   updated one). Moving every point at once (Jacobi) leaves a zigzag of the points undamped:
-//!   each point jumps to the mirror image of its offset. Red–black keeps the result independent of
-//!   the thread count and of the direction of travel, as a sequential sweep would not.
+//!   each point jumps to the mirror image of its offset. Red–black, unlike a sequential sweep,
+//!   lets the points of a colour move on several threads with the same result for any count.
 //! - Near an inflection the signed curvature changes sign inside the window and ρ^α has no
 //!   meaning there. The paper leaves such points where they are ([`InflectionRule::Hold`]);
 //!   on noisy input the noise itself flips the sign in most windows, so nothing would move. By
@@ -53,9 +53,16 @@
 //!
 //! Where it is weak: the discrete curvature on chord parameters is biased by about `κ² h²/4`
 //! relative, so an exactly sampled log-aesthetic curve is a fixed point only up to the change of
-//! that bias across a window; the ends of an open curve are fixed and their neighbours are fitted
-//! with one-sided windows; torsion is a third derivative and far noisier than curvature, so the
-//! spatial filter needs many more passes for the binormal offsets to settle.
+//! that bias across a window (the tests measure moves of 3e-5 of the length on 20 points, 2e-6 on
+//! 40); the ends of an open curve are fixed and their neighbours are fitted with one-sided
+//! windows. A curve far from log-aesthetic with the chosen α is reshaped, not just smoothed: the
+//! line fit across a curvature extremum flattens it a little every pass (a sine wave faired with
+//! α = 1 ends far from the sine), which is the filter's purpose but means a designer should stop
+//! early or estimate α per piece. Torsion is a third derivative: near a helix it hardly depends on
+//! the binormal offset (the third derivative has no normal part), so the quadratic for ψ is
+//! ill-conditioned and its smaller root wanders; the spatial filter evens the torsion but brings
+//! noisy points no nearer the true curve. Dense noisy curves (hundreds of points) keep a scattered
+//! discrete LCG however long they are filtered, because the LCG differentiates the curvature again.
 
 use super::law::{LineSums, law_value, radius_from_law};
 use crate::curve::derivatives::{first_derivative, second_derivative, third_derivative};
@@ -326,7 +333,7 @@ impl CurveFilter {
         for (a, b) in before.iter().zip(&self.points) {
             let d = a.distance(*b);
             // Not f64::max: a NaN must be seen.
-            if !(d <= largest) {
+            if d > largest || d.is_nan() {
                 largest = d;
             }
         }
@@ -334,7 +341,7 @@ impl CurveFilter {
         let shortest = gaps.iter().copied().fold(f64::INFINITY, f64::min);
         let failure = if !largest.is_finite() {
             Some("a point became non-finite")
-        } else if !(shortest > 1e-9 * mean_gap) {
+        } else if shortest.is_nan() || shortest <= 1e-9 * mean_gap {
             Some("two points merged (the curve folded)")
         } else {
             None
@@ -575,7 +582,7 @@ pub(crate) fn nearest_root(a: f64, b: f64, c: f64, near: f64) -> Option<f64> {
         return (b != 0.0).then(|| -c / b);
     }
     let disc = b * b - 4.0 * a * c;
-    if !(disc >= 0.0) {
+    if disc.is_nan() || disc < 0.0 {
         return None;
     }
     let q = -0.5 * (b + if b < 0.0 { -disc.sqrt() } else { disc.sqrt() });

@@ -90,7 +90,7 @@ impl LineSums {
     #[inline]
     pub fn line(&self) -> Option<(f64, f64)> {
         let det = self.n * self.sxx - self.sx * self.sx;
-        if !(det > 1e-14 * self.n * self.sxx) {
+        if det.is_nan() || det <= 1e-14 * self.n * self.sxx {
             return None;
         }
         let slope = (self.n * self.sxy - self.sx * self.sy) / det;

@@ -153,7 +153,7 @@ fn local(grid: &Grid, i: usize, j: usize) -> Option<Local> {
     let sv = 0.5 * (q(0, 1) - q(0, -1));
     let suv = 0.25 * (q(1, 1) - q(1, -1) - q(-1, 1) + q(-1, -1));
     let det = su.length_squared() * sv.length_squared() - su.dot(sv).powi(2);
-    if !(det > 0.0) {
+    if det.is_nan() || det <= 0.0 {
         return None;
     }
     let (suu, svv) = (q(1, 0) + q(-1, 0) - 2.0 * p, q(0, 1) + q(0, -1) - 2.0 * p);

@@ -70,7 +70,11 @@ impl BSpline {
             )));
         }
         let (t0, t1) = (params[0], params[params.len() - 1]);
-        if !(t0 < t1) || params.windows(2).any(|w| !(w[0] <= w[1])) {
+        if t0.is_nan()
+            || t1.is_nan()
+            || t0 >= t1
+            || params.windows(2).any(|w| w[0].is_nan() || w[1].is_nan() || w[0] > w[1])
+        {
             return Err(Error::Input("the parameters of a B-spline fit must increase along the points".into()));
         }
         let knots = Self::uniform_knots(degree, controls, t0, t1);
@@ -105,7 +109,7 @@ impl BSpline {
                     }
                 }
                 if d == 0 {
-                    if !(sum > 1e-12 * scale) {
+                    if sum.is_nan() || sum <= 1e-12 * scale {
                         return Err(Error::Solver(format!(
                             "the least-squares B-spline is underdetermined near control point {r}: too little data \
                              there for {controls} control points; use fewer"

@@ -59,7 +59,7 @@ impl Plane {
         let mut order = [0, 1, 2];
         order.sort_by(|&a, &b| values[b].total_cmp(&values[a]));
         let (big, mid) = (values[order[0]], values[order[1]]);
-        if !(big > 0.0) || mid <= 1e-14 * big {
+        if big.is_nan() || big <= 0.0 || mid <= 1e-14 * big {
             return None; // all points on a line (or one point)
         }
         let axis_u = vectors[order[0]];
