@@ -4,11 +4,17 @@
 //! `taut SUBCOMMAND …` runs one command-line tool. `main` only parses the arguments and hands
 //! them on; every failure is one line on stderr with a non-zero exit status.
 
+mod aesthetic_curve_cmd;
 mod cage_cmd;
 mod cli;
+mod coons_cmd;
 mod curve_cmd;
 mod editor;
+mod fair_cmd;
+mod fair_surface_cmd;
+mod lcg_cmd;
 mod render_cmd;
+mod runtime;
 mod smooth_cmd;
 mod subdivide_cmd;
 mod surface_cmd;
@@ -41,44 +47,16 @@ enum Command {
     Render(render_cmd::RenderArgs),
     /// Make a light Loop control cage from a dense mesh (a scan or a heavy export).
     Cage(cage_cmd::CageArgs),
-}
-
-mod runtime {
-    //! A private `XDG_RUNTIME_DIR` for sessions that have none (CI shells, `env -i`, cron): Mesa's
-    //! Vulkan window-system code prints "XDG_RUNTIME_DIR is invalid or not set" twice otherwise,
-    //! on stderr, which must hold only the one line of an error.
-
-    use std::path::PathBuf;
-
-    /// Removes the folder when the command ends.
-    #[derive(Debug)]
-    pub struct RuntimeDir(PathBuf);
-
-    impl Drop for RuntimeDir {
-        fn drop(&mut self) {
-            let _ = std::fs::remove_dir_all(&self.0);
-        }
-    }
-
-    /// Makes and announces a private runtime folder unless the session has a usable one.
-    #[allow(unsafe_code)]
-    pub fn ensure_runtime_dir() -> Option<RuntimeDir> {
-        if std::env::var_os("XDG_RUNTIME_DIR").is_some_and(|d| std::path::Path::new(&d).is_dir()) {
-            return None;
-        }
-        let nanos = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0, |d| d.as_nanos());
-        let dir = std::env::temp_dir().join(format!("taut-runtime-{}-{nanos}", std::process::id()));
-        let mut builder = std::fs::DirBuilder::new();
-        #[cfg(unix)]
-        std::os::unix::fs::DirBuilderExt::mode(&mut builder, 0o700);
-        builder.create(&dir).ok()?;
-        // SAFETY: `set_var` is unsound only while another thread reads or writes the
-        // environment. This runs in `main` right after the arguments are parsed, before the
-        // command starts: no thread other than the main one exists yet (rayon's pool, wgpu and
-        // winit are all started later by the command itself).
-        unsafe { std::env::set_var("XDG_RUNTIME_DIR", &dir) };
-        Some(RuntimeDir(dir))
-    }
+    /// Fair a sketched or digitised curve towards a log-aesthetic curve.
+    Fair(fair_cmd::FairArgs),
+    /// A log-aesthetic curve segment from three control points and α.
+    AestheticCurve(aesthetic_curve_cmd::AestheticCurveArgs),
+    /// A Coons patch from four boundary curves (polylines or aesthetic segments).
+    Coons(coons_cmd::CoonsArgs),
+    /// Drive a grid surface towards constant Gaussian curvature.
+    FairSurface(fair_surface_cmd::FairSurfaceArgs),
+    /// Plot a curve's curvature and its logarithmic curvature graph into a PNG.
+    Lcg(lcg_cmd::LcgArgs),
 }
 
 fn main() -> ExitCode {
@@ -118,6 +96,11 @@ fn main() -> ExitCode {
         Some(Command::SmoothCurve(args)) => curve_cmd::run(args),
         Some(Command::Render(args)) => render_cmd::run(args),
         Some(Command::Cage(args)) => cage_cmd::run(args),
+        Some(Command::Fair(args)) => fair_cmd::run(args),
+        Some(Command::AestheticCurve(args)) => aesthetic_curve_cmd::run(args),
+        Some(Command::Coons(args)) => coons_cmd::run(args),
+        Some(Command::FairSurface(args)) => fair_surface_cmd::run(args),
+        Some(Command::Lcg(args)) => lcg_cmd::run(args),
         None => match cli.view.as_str() {
             "shaded" | "zebra" | "curvature" => {
                 editor::window::run(editor::window::Startup { file: cli.file.clone(), view: cli.view.clone() })

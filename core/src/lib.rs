@@ -5,10 +5,13 @@
 //! scheme, fixed flags, tensions, creases and settings), changed only through [`Edit`]s, handed
 //! to the document's [`surface`] scheme ([`nusd`] smoothing, [`subdiv`]ision), and the surface's
 //! [`PolyMesh`](mesh::PolyMesh) with its normals is written out or drawn. Nothing here touches a
-//! GPU or a window.
+//! GPU or a window. Curves are point sequences ([`curve`]); [`aesthetic`] fairs them towards
+//! log-aesthetic curves and builds segments and Coons patches from them.
 
+pub mod aesthetic;
 pub mod cage_fit;
 pub mod curvature;
+pub mod curve;
 pub mod document;
 pub mod edit;
 pub mod error;

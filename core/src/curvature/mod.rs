@@ -25,15 +25,14 @@
 //! smoothed over. Faces of zero area are skipped; a vertex left with no usable face gets zeros and
 //! `estimated[v] == false`, never NaN.
 //!
-//! [`polyline_curvature`] gives the discrete curvature of a polyline from the circle through each
-//! point and its two neighbours.
+//! [`polyline_curvature`] (from [`crate::curve::menger`]) gives the discrete curvature of a
+//! polyline from the circle through each point and its two neighbours.
 
 mod normals;
-mod polyline;
 mod tensor;
 
+pub use crate::curve::menger::{PolylineCurvature, polyline_curvature};
 pub use normals::VertexNormals;
-pub use polyline::{PolylineCurvature, polyline_curvature};
 
 use crate::mesh::{FaceId, PolyMesh, VertexId};
 use crate::{DVec3, Error, Result};

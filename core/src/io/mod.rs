@@ -19,6 +19,7 @@ pub mod glb;
 pub mod gltf;
 pub mod obj;
 pub mod ply;
+pub mod points;
 pub mod soup;
 pub mod stl;
 pub mod weld;

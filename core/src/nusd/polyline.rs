@@ -72,11 +72,7 @@ impl Polyline {
 
     /// Number of segments: one per consecutive pair, plus the closing one of a closed curve.
     pub fn segment_count(&self) -> usize {
-        match self.points.len() {
-            0 => 0,
-            n if self.closed => n,
-            n => n - 1,
-        }
+        crate::curve::sequence::segment_count(self.points.len(), self.closed)
     }
 
     /// Index of control point `k` in the polyline made by [`Polyline::with_inserted`]`(insert)`.
@@ -324,11 +320,9 @@ fn smooth_in_range(control: &Polyline, settings: &CurveSettings) -> Result<Curve
     }
 }
 
-/// Corners of the axis-aligned bounding box.
+/// Corners of the axis-aligned bounding box (of a validated, non-empty polyline).
 fn bounding_box(points: &[DVec3]) -> (DVec3, DVec3) {
-    let lo = points.iter().fold(DVec3::INFINITY, |a, p| a.min(*p));
-    let hi = points.iter().fold(DVec3::NEG_INFINITY, |a, p| a.max(*p));
-    (lo, hi)
+    crate::mesh::bounding_box(points).unwrap_or((DVec3::INFINITY, DVec3::NEG_INFINITY))
 }
 
 /// A moving point's stencil: eqs. 1–3.
@@ -380,10 +374,9 @@ impl System {
     fn new(curve: &Polyline, insert: usize, spacing: Spacing, diagonal: f64) -> System {
         let n = curve.points.len();
         let min_s = spacing.min_spacing(diagonal);
-        let edges = curve.segment_count();
         // s[e] is the spacing of the edge from point e to point e + 1 (mod n).
-        let s: Vec<f64> =
-            (0..edges).map(|e| spacing.of_chord(curve.points[e].distance(curve.points[(e + 1) % n]), min_s)).collect();
+        let chords = crate::curve::sequence::chord_lengths(&curve.points, curve.closed);
+        let s: Vec<f64> = chords.iter().map(|c| spacing.of_chord(*c, min_s)).collect();
         // ℓ of a control segment: its parameter length, the sum of the spacings of its edges.
         let segment_length = |first_edge: usize| s[first_edge..first_edge + insert + 1].iter().sum::<f64>();
         let mut moving = Vec::new();

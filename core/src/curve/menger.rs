@@ -68,14 +68,8 @@ impl PolylineCurvature {
 /// curvature everywhere.
 pub fn polyline_curvature(points: &[DVec3], closed: bool) -> PolylineCurvature {
     let n = points.len();
-    let mut arc_length = Vec::with_capacity(n);
-    let mut length = 0.0;
-    for i in 0..n {
-        if i > 0 {
-            length += (points[i] - points[i - 1]).length();
-        }
-        arc_length.push(length);
-    }
+    let arc_length = super::sequence::arc_lengths(points);
+    let mut length = arc_length.last().copied().unwrap_or(0.0);
     if closed && n > 1 {
         length += (points[0] - points[n - 1]).length();
     }

@@ -1,0 +1,32 @@
+//! Log-aesthetic curves (Miura, Yoshida and Saito, "Discrete log-aesthetic filter", seed
+//! `003_0c1161d9995b9b01`; our reading is `shared/spec/log-aesthetic.md`).
+//!
+//! A log-aesthetic curve has a radius of curvature with `ρ^α = c s + d` in arc length (clothoid
+//! α = −1, logarithmic spiral α = 1, circle involute α = 2), so its logarithmic curvature graph
+//! is a straight line of slope α.
+//!
+//! - [`law`]: the law and the least-squares lines fitted to it.
+//! - [`filter`]: the planar and spatial curve filters, run pass by pass ([`CurveFilter::run`]
+//!   takes a number of passes and reports [`FilterStatus`]: passes, last move, residual,
+//!   converged), so an editor can run a few passes a frame and stop or continue.
+//! - [`estimate`]: α per piece of monotone curvature from a least-squares B-spline.
+//! - [`lcg`]: the curvature graph and LCG of any point sequence with the fitted line, for plots.
+//! - [`segment`]: Yoshida–Saito segments from three control points and α.
+//! - [`surface`]: the constant-Gaussian-curvature filter on regular grids.
+//! - [`coons`]: bilinearly blended Coons patches from four boundary curves.
+
+pub mod coons;
+pub mod estimate;
+pub mod filter;
+pub mod law;
+pub mod lcg;
+pub mod segment;
+pub mod surface;
+
+pub use coons::{BoundaryCurve, coons_patch, grid_mesh};
+pub use estimate::{AlphaEstimate, AlphaPiece, EstimateSettings, estimate_alpha};
+pub use filter::{Alpha, CurveFilter, FilterSettings, FilterStatus, InflectionRule, fair};
+pub use law::{LineFit, fit_line};
+pub use lcg::{CurvatureGraph, LcgPoint, curvature_graph};
+pub use segment::AestheticSegment;
+pub use surface::{Grid, SurfaceFilter, SurfaceSettings, SurfaceStatus, gaussian_curvature};
