@@ -3,7 +3,7 @@
 // `taut_render::passes::surface::SurfaceStyle`.
 
 struct SurfaceStyle {
-    // 0 shaded, 1 zebra, 2 curvature colour.
+    // 0 shaded, 1 zebra, 2 curvature colour, 3 ghost (shaded base colour with its alpha).
     mode: u32,
     // Black/white stripe pairs across a half turn of reflected directions.
     stripes: f32,
@@ -95,6 +95,9 @@ fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) ve
         let coord = vec2<f32>(0.5 / 256.0 + u * (255.0 / 256.0), 0.5);
         let c = textureSampleLevel(colormap, colormap_sampler, coord, 0.0).rgb;
         return vec4<f32>(c * (0.55 + 0.45 * min(shade, 1.2)), 1.0);
+    }
+    if (style.mode == 3u) {
+        return vec4<f32>(style.base_color.rgb * min(shade, 1.2), style.base_color.a);
     }
     return vec4<f32>(style.base_color.rgb * shade, 1.0);
 }

@@ -174,7 +174,8 @@ pub fn run(args: &CageArgs) -> Result<(), String> {
 /// The evaluation as a small table, QEM only against fitted.
 fn print_table(qem: Evaluation, fitted: Option<Evaluation>) {
     let cell = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.3e}"));
-    let rows: [(&str, fn(&Evaluation) -> Option<f64>); 4] = [
+    type Row = (&'static str, fn(&Evaluation) -> Option<f64>);
+    let rows: [Row; 4] = [
         ("volume change, 1 Loop step", |e| e.volume_change),
         ("Hausdorff / diagonal", |e| Some(e.hausdorff)),
         ("mean distance / diagonal", |e| Some(e.mean)),

@@ -68,7 +68,7 @@ impl SurfaceFlags {
         }
         if let Some(levels) = self.levels {
             if doc.scheme.is_subdivision() {
-                let subdiv = taut_core::surface::SubdivSettings { levels, ..doc.subdiv };
+                let subdiv = taut_core::surface::SubdivSettings { levels };
                 edit(doc, Edit::SetSubdivSettings(subdiv), &format!("--levels {levels}"))?;
             } else {
                 edit(

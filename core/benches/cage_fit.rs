@@ -67,7 +67,7 @@ fn pipeline(label: &str, n: u32) {
     let path = std::env::temp_dir().join(format!("taut-bench-cage-{}-{label}.stl", std::process::id()));
     std::fs::write(&path, binary_stl(&p, &t)).unwrap();
     let mut imported = None;
-    let import = seconds(|| imported = Some(import_triangles(&path).unwrap()));
+    let import = seconds(|| imported = Some(import_triangles(&path, &Default::default()).unwrap()));
     let _ = std::fs::remove_file(&path);
     let (positions, triangles, _) = imported.unwrap();
     let mut dense = None;

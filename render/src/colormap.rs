@@ -67,6 +67,20 @@ impl ColorMap {
     }
 }
 
+/// Values mapped to the colour range `[min, max]` as `[0, 1]` (clamped), in f64 before the
+/// conversion to f32, so curvatures of any magnitude (1e300 on a tiny cage) colour correctly;
+/// draw them with the range `0..1`. Non-finite values map to 0.5.
+pub fn normalize(values: &[f64], min: f64, max: f64) -> Vec<f32> {
+    let span = max - min;
+    values
+        .iter()
+        .map(|&v| {
+            let t = if span > 0.0 && span.is_finite() { (v - min) / span } else { 0.5 };
+            if t.is_finite() { t.clamp(0.0, 1.0) as f32 } else { 0.5 }
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -89,18 +103,4 @@ mod tests {
         assert!(table.windows(2).all(|w| luma(w[1]) >= luma(w[0]) - 0.5));
         assert_eq!(table.len(), SIZE);
     }
-}
-
-/// Values mapped to the colour range `[min, max]` as `[0, 1]` (clamped), in f64 before the
-/// conversion to f32, so curvatures of any magnitude (1e300 on a tiny cage) colour correctly;
-/// draw them with the range `0..1`. Non-finite values map to 0.5.
-pub fn normalize(values: &[f64], min: f64, max: f64) -> Vec<f32> {
-    let span = max - min;
-    values
-        .iter()
-        .map(|&v| {
-            let t = if span > 0.0 && span.is_finite() { (v - min) / span } else { 0.5 };
-            if t.is_finite() { t.clamp(0.0, 1.0) as f32 } else { 0.5 }
-        })
-        .collect()
 }

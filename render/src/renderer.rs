@@ -23,12 +23,22 @@ pub struct Scene<'a> {
     /// The part of the target to draw into, `[x, y, width, height]` in pixels (the editor's
     /// viewport between its panels); the whole target when `None`.
     pub viewport: Option<[u32; 4]>,
+    /// A second surface drawn as a translucent ghost of this colour (linear RGBA).
+    pub ghost: Option<(&'a GpuSurface, [f32; 4])>,
 }
 
 impl<'a> Scene<'a> {
     /// A scene with the default background and no overlays.
     pub fn new(camera: Camera, surface: Option<&'a GpuSurface>, mode: SurfaceMode) -> Self {
-        Scene { camera, surface, mode, background: [0.16, 0.17, 0.19, 1.0], overlays: None, viewport: None }
+        Scene {
+            camera,
+            surface,
+            mode,
+            background: [0.16, 0.17, 0.19, 1.0],
+            overlays: None,
+            viewport: None,
+            ghost: None,
+        }
     }
 
     /// The same scene with overlays.
@@ -113,6 +123,9 @@ impl Renderer {
         };
         self.frame.update(queue, &FrameUniform::new(&scene.camera, width, height));
         self.surface.set_mode(queue, scene.mode);
+        if let Some((_, color)) = scene.ghost {
+            self.surface.set_ghost(queue, color);
+        }
         let none = OverlayData::default();
         let overlays = scene.overlays.unwrap_or(&none);
         self.lines.prepare(device, queue, &overlays.surface_lines, &overlays.on_top_lines);
@@ -150,6 +163,9 @@ impl Renderer {
         }
         let frame = &self.frame.bind_group;
         self.lines.draw_surface_lines(&mut pass, frame);
+        if let Some((ghost, _)) = scene.ghost {
+            self.surface.draw_ghost(&mut pass, frame, ghost);
+        }
         self.lines.draw_on_top_lines(&mut pass, frame);
         self.points.draw(&mut pass, frame);
         self.overlay2d.draw(&mut pass, frame);
@@ -221,6 +237,46 @@ mod tests {
 
     fn save(image: &image::RgbaImage, name: &str) {
         let _ = save_png(image, &std::env::temp_dir().join(name));
+    }
+
+    /// A smaller square in front of the big one (nearer the camera by `offset`).
+    fn square_at(gpu: &Gpu, size: f64, offset: f64) -> GpuSurface {
+        let p = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
+            .map(|(x, z)| DVec3::new(size * x, -offset, size * z))
+            .to_vec();
+        let mesh = PolyMesh::from_polygons(p, &[[0, 1, 2, 3]]).unwrap();
+        let mut buffers = SurfaceBuffers::default();
+        buffers.update(&mesh);
+        GpuSurface::new(&gpu.device, &buffers)
+    }
+
+    /// A ghost in front of the surface tints it and lets it show through; behind it, the surface
+    /// hides the ghost (it tests depth without writing it).
+    #[test]
+    fn a_ghost_is_seen_through_and_hidden_behind() {
+        use crate::passes::surface::GHOST;
+        let gpu = gpu();
+        let targets = TargetFormats::for_adapter(&gpu.adapter, wgpu::TextureFormat::Rgba8UnormSrgb);
+        let mut renderer = Renderer::new(&gpu, targets);
+        let surface = square(&gpu);
+        let camera = front_camera();
+        let plain =
+            render_image(&gpu, &mut renderer, &Scene::new(camera, Some(&surface), SurfaceMode::Shaded), W, H).unwrap();
+        let centre = project(&camera, Vec3::ZERO);
+        let base = pixel(&plain, centre);
+        let front = square_at(&gpu, 0.5, 0.5);
+        let scene = Scene { ghost: Some((&front, GHOST)), ..Scene::new(camera, Some(&surface), SurfaceMode::Shaded) };
+        let tinted = pixel(&render_image(&gpu, &mut renderer, &scene, W, H).unwrap(), centre);
+        // Amber over grey: more red, less blue, still not the ghost's own colour.
+        assert!(tinted[0] > base[0] + 10 && tinted[2] + 10 < base[2], "{tinted:?} over {base:?}");
+        let beside = project(&camera, Vec3::new(0.8, 0.0, 0.8));
+        let plain_beside = pixel(&plain, beside);
+        let tinted_image = render_image(&gpu, &mut renderer, &scene, W, H).unwrap();
+        assert!(close(pixel(&tinted_image, beside), plain_beside, 2), "outside the ghost nothing changes");
+        let behind = square_at(&gpu, 0.5, -0.5);
+        let scene = Scene { ghost: Some((&behind, GHOST)), ..Scene::new(camera, Some(&surface), SurfaceMode::Shaded) };
+        let hidden = pixel(&render_image(&gpu, &mut renderer, &scene, W, H).unwrap(), centre);
+        assert!(close(hidden, base, 2), "a ghost behind the surface shows: {hidden:?} vs {base:?}");
     }
 
     #[test]

@@ -23,13 +23,13 @@ fn text_of(node: &egui_kittest::Node<'_>) -> Option<String> {
 fn modifiers(command: bool, shift: bool, alt: bool) -> Modifiers {
     let mut m = Modifiers::NONE;
     if command {
-        m = m | Modifiers::COMMAND;
+        m |= Modifiers::COMMAND;
     }
     if shift {
-        m = m | Modifiers::SHIFT;
+        m |= Modifiers::SHIFT;
     }
     if alt {
-        m = m | Modifiers::ALT;
+        m |= Modifiers::ALT;
     }
     m
 }

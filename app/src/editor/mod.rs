@@ -14,6 +14,8 @@ pub mod menus;
 mod panel_tests;
 mod panels;
 pub mod primitives;
+#[cfg(test)]
+mod scheme_tests;
 pub mod shortcuts;
 pub mod state;
 pub mod ui;

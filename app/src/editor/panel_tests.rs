@@ -37,8 +37,7 @@ pub(super) fn cube_editor() -> Harness<'static, App> {
 /// An editor on `doc` (opened, not edited: the history is empty), with vertex 7 selected.
 pub(super) fn editor_on(doc: taut_core::Document) -> Harness<'static, App> {
     let editor = EditorState::new(EditorDocument::new(doc, None), RecentFiles::in_folder(&temp_dir("panels")), None);
-    let mut ui = UiState::default();
-    ui.no_native_dialogs = true;
+    let ui = UiState { no_native_dialogs: true, ..Default::default() };
     let mut harness = Harness::builder()
         .with_size(egui::vec2(1280.0, 800.0))
         // Several input widgets of the panels have no accessible name (the sliders and number

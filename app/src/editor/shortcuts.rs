@@ -27,6 +27,8 @@ pub enum Action {
     ViewTop,
     ViewPerspective,
     ShowShortcuts,
+    /// Subdivision schemes: drag the crease sharpness of the selected edges with the mouse.
+    Crease,
 }
 
 /// A key with the exact modifiers it needs.
@@ -45,6 +47,10 @@ const fn plain(key: Key, action: Action) -> Shortcut {
 
 const fn ctrl(key: Key, action: Action) -> Shortcut {
     Shortcut { key, command: true, shift: false, alt: false, action }
+}
+
+const fn shift(key: Key, action: Action) -> Shortcut {
+    Shortcut { key, command: false, shift: true, alt: false, action }
 }
 
 const fn ctrl_shift(key: Key, action: Action) -> Shortcut {
@@ -71,6 +77,7 @@ pub const SHORTCUTS: &[Shortcut] = &[
     plain(Key::Num7, Action::ViewTop),
     plain(Key::Num5, Action::ViewPerspective),
     plain(Key::F1, Action::ShowShortcuts),
+    shift(Key::E, Action::Crease),
 ];
 
 impl Shortcut {
@@ -135,6 +142,7 @@ pub fn describe(action: Action) -> &'static str {
         Action::ViewTop => "Top view",
         Action::ViewPerspective => "Perspective view",
         Action::ShowShortcuts => "Keyboard shortcuts",
+        Action::Crease => "Crease the selected edges (move the mouse, click or Enter to set, Esc cancels)",
     }
 }
 

@@ -106,6 +106,26 @@ pub struct UiState {
     pub(super) focus_path_field: bool,
     /// The actions run by shortcuts and menus, newest last (the last 64; for tests and support).
     pub action_log: Vec<Action>,
+    /// Shift+E: the crease sharpness follows the mouse until a click or Enter.
+    pub(super) crease_drag: Option<CreaseDrag>,
+    /// The pointer's last position over the viewport, in points.
+    pub(super) pointer: Option<glam::Vec2>,
+}
+
+/// A crease being set with the mouse (Shift+E, as in Blender).
+#[derive(Clone, Debug)]
+pub(super) struct CreaseDrag {
+    pub(super) edges: Vec<taut_core::EdgeId>,
+    /// The sharpness of each edge when it began (Esc puts them back).
+    pub(super) start: Vec<f64>,
+    /// Where the mouse was when it began (x, in points); `None` until the pointer is seen.
+    pub(super) mouse_start: Option<f32>,
+    /// The sharpness now.
+    pub(super) value: f64,
+}
+
+fn ctx_pointer_x(ui_state: &UiState) -> Option<f32> {
+    ui_state.pointer.map(|p| p.x)
 }
 
 impl EditorState {
@@ -142,6 +162,17 @@ impl EditorState {
             || ui_state.pending.is_some()
             || ui_state.recovery.is_some()
         {
+            return;
+        }
+        if ui_state.crease_drag.is_some() {
+            // While creasing, Enter sets and Esc cancels; nothing else runs.
+            let (enter, escape) =
+                ctx.input_mut(|i| (shortcuts::take_plain(i, Key::Enter), shortcuts::take_plain(i, Key::Escape)));
+            if enter {
+                self.finish_crease_drag(ui_state, true);
+            } else if escape {
+                self.finish_crease_drag(ui_state, false);
+            }
             return;
         }
         if let Some(drag) = &mut ui_state.drag {
@@ -205,6 +236,7 @@ impl EditorState {
             Action::ViewTop => self.camera.set_view(StandardView::Top),
             Action::ViewPerspective => self.camera.set_view(StandardView::Perspective),
             Action::ShowShortcuts => ui_state.show_shortcuts = true,
+            Action::Crease => self.start_crease_drag(ctx_pointer_x(ui_state), ui_state),
         }
     }
 

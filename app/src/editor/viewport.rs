@@ -11,7 +11,12 @@
 use super::document::Edit;
 use super::interaction::{self, ViewportRect};
 use super::state::{DisplayMode, EditorState};
-use super::ui::{BoxSelect, UiState, VertexDrag};
+use super::ui::{BoxSelect, CreaseDrag, UiState, VertexDrag};
+
+/// Shift+E: points of mouse travel per unit of sharpness.
+const CREASE_POINTS_PER_LEVEL: f64 = 100.0;
+/// Shift+E: the largest sharpness the mouse sets (larger ones are typed or "infinitely sharp").
+const CREASE_DRAG_MAX: f64 = 10.0;
 use egui::{PointerButton, Sense};
 use taut_core::{DVec3, PolyMesh, VertexId};
 use taut_render::passes::overlay2d::legend_margin;
@@ -40,7 +45,32 @@ impl EditorState {
         let (shift, scroll, pointer) =
             ui.ctx().input(|i| (i.modifiers.shift, i.smooth_scroll_delta.y, i.pointer.hover_pos()));
         let mouse = pointer.map(|p| glam::Vec2::new(p.x, p.y));
+        if mouse.is_some() {
+            ui_state.pointer = mouse;
+        }
         let cage = self.display_cage();
+        if ui_state.crease_drag.is_some() {
+            // Shift+E: the mouse sets the crease; a click sets it, a right click cancels.
+            if let Some(m) = mouse {
+                self.move_crease_drag(m.x, ui_state);
+            }
+            if response.clicked_by(PointerButton::Primary) {
+                self.finish_crease_drag(ui_state, true);
+            } else if response.clicked_by(PointerButton::Secondary) {
+                self.finish_crease_drag(ui_state, false);
+            }
+            if let Some(cd) = &ui_state.crease_drag {
+                let value = if cd.value == f64::INFINITY { "sharp".to_string() } else { format!("{:.2}", cd.value) };
+                ui.painter_at(rect).text(
+                    rect.left_top() + egui::vec2(8.0, 8.0),
+                    egui::Align2::LEFT_TOP,
+                    format!("crease s = {value}: move the mouse, click or Enter to set, Esc cancels"),
+                    egui::FontId::proportional(14.0),
+                    egui::Color32::WHITE,
+                );
+            }
+            return;
+        }
 
         // Hover.
         if ui_state.drag.is_none() {
@@ -155,6 +185,49 @@ impl EditorState {
         if self.busy() {
             ui.ctx().request_repaint();
         }
+    }
+
+    /// Starts setting the crease of the selection with the mouse (Shift+E).
+    pub(super) fn start_crease_drag(&mut self, mouse_x: Option<f32>, ui_state: &mut UiState) {
+        if !self.document.doc().scheme.is_subdivision() {
+            self.notify("creases belong to the subdivision schemes: choose Catmull–Clark or Loop first", true);
+            return;
+        }
+        let edges = self.crease_targets();
+        if edges.is_empty() {
+            self.notify("select the cage edges to crease first (or two vertices of an edge)", true);
+            return;
+        }
+        let crease = &self.document.doc().crease;
+        let start: Vec<f64> = edges.iter().map(|e| crease[e.index()]).collect();
+        let value = start.iter().copied().filter(|s| s.is_finite()).fold(0.0, f64::max);
+        self.document.begin_gesture();
+        ui_state.crease_drag = Some(CreaseDrag { edges, start, mouse_start: mouse_x, value });
+    }
+
+    /// The mouse at `x`: 100 points to the right add one to the sharpness it began with.
+    pub(super) fn move_crease_drag(&mut self, x: f32, ui_state: &mut UiState) {
+        let Some(cd) = &mut ui_state.crease_drag else { return };
+        let start = *cd.mouse_start.get_or_insert(x);
+        let base = cd.start.iter().copied().filter(|s| s.is_finite()).fold(0.0, f64::max);
+        let value = (base + f64::from(x - start) / CREASE_POINTS_PER_LEVEL).clamp(0.0, CREASE_DRAG_MAX);
+        let value = (value * 20.0).round() / 20.0;
+        if value != cd.value {
+            cd.value = value;
+            let edges = cd.edges.clone();
+            self.edit(Edit::SetCrease(edges, value));
+        }
+    }
+
+    /// Ends Shift+E: keeps the crease (`keep`) or puts every edge back as it was.
+    pub(super) fn finish_crease_drag(&mut self, ui_state: &mut UiState, keep: bool) {
+        let Some(cd) = ui_state.crease_drag.take() else { return };
+        if !keep {
+            for (e, s) in cd.edges.iter().zip(&cd.start) {
+                self.edit(Edit::SetCrease(vec![*e], *s));
+            }
+        }
+        self.document.end_gesture();
     }
 
     /// The cage in display coordinates, for picking.

@@ -3,11 +3,13 @@
 
 use super::document::EditorDocument;
 use super::files::{Autosave, RecentFiles};
+use super::live::CompareMode;
 use super::state::{EditorState, SOLVER_BUDGET};
 use super::ui::{Pending, UiState};
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::time::Instant;
+use taut_render::passes::surface::GHOST;
 use taut_render::renderer::Attachments;
 use taut_render::{AdapterPreference, Gpu, GpuSurface, Renderer, Scene, SurfaceBuffers, TargetFormats, offscreen};
 use winit::application::ApplicationHandler;
@@ -58,6 +60,8 @@ struct Running {
     ui: UiState,
     buffers: SurfaceBuffers,
     gpu_surface: Option<GpuSurface>,
+    /// The other scheme's surface of the compare view, drawn as a ghost.
+    ghost: Ghost,
     drawn_generation: Option<(u64, u64)>,
     drawn_values: Option<*const f32>,
     drawn_frame: Option<taut_render::DisplayFrame>,
@@ -193,8 +197,7 @@ impl Running {
         if let Some(text) = notice {
             editor.notify(text, true);
         }
-        let mut ui = UiState::default();
-        ui.recovery = recovery;
+        let ui = UiState { recovery, ..Default::default() };
         let title = format!("Taut — {}", editor.document.title());
         window.set_title(&title);
         Ok(Running {
@@ -210,6 +213,7 @@ impl Running {
             ui,
             buffers: SurfaceBuffers::default(),
             gpu_surface: None,
+            ghost: Ghost::default(),
             drawn_generation: None,
             drawn_values: None,
             drawn_frame: None,
@@ -249,10 +253,12 @@ impl Running {
         }
         // Render.
         self.upload_surface();
+        self.ghost.upload(&self.gpu, &self.editor);
         let overlays = self.editor.overlays();
         let scene = Scene {
             overlays: Some(&overlays),
             viewport: self.ui.viewport_px,
+            ghost: self.ghost.shown(&self.editor),
             ..Scene::new(self.editor.camera, self.gpu_surface.as_ref(), self.editor.surface_mode())
         };
         // egui's texture changes are applied whether or not this frame reaches the screen.
@@ -373,6 +379,40 @@ impl Running {
             Ok(()) => self.editor.notify(format!("saved the screenshot {}", path.display()), false),
             Err(e) => self.editor.notify(format!("could not save the screenshot: {e}"), true),
         }
+    }
+}
+
+/// A second surface drawn translucent over the first: the compare view's other scheme.
+#[derive(Debug, Default)]
+struct Ghost {
+    buffers: SurfaceBuffers,
+    gpu: Option<GpuSurface>,
+    drawn: Option<(u64, u64, taut_render::DisplayFrame)>,
+}
+
+impl Ghost {
+    /// Uploads the comparison surface when it changed; drops it when the compare view is off.
+    fn upload(&mut self, gpu: &taut_render::Gpu, editor: &super::state::EditorState) {
+        let Some(other) = editor.comparison.as_ref().filter(|_| editor.display.compare == CompareMode::Ghost) else {
+            self.gpu = None;
+            self.drawn = None;
+            return;
+        };
+        let mesh = other.scheme.mesh();
+        let key = (mesh.topology_generation(), mesh.generation(), editor.display_frame);
+        if self.drawn == Some(key) && self.gpu.is_some() {
+            return;
+        }
+        let changes = self.buffers.update_with(mesh, other.scheme.normals(), &editor.display_frame);
+        match &mut self.gpu {
+            Some(g) => g.upload(&gpu.device, &gpu.queue, &self.buffers, changes),
+            None => self.gpu = Some(GpuSurface::new(&gpu.device, &self.buffers)),
+        }
+        self.drawn = Some(key);
+    }
+
+    fn shown(&self, editor: &super::state::EditorState) -> Option<(&GpuSurface, [f32; 4])> {
+        (editor.display.compare == CompareMode::Ghost).then_some(self.gpu.as_ref()).flatten().map(|g| (g, GHOST))
     }
 }
 

@@ -5,6 +5,10 @@ use crate::{SurfaceVertex, shader_source};
 use bytemuck::{Pod, Zeroable};
 use wgpu::util::DeviceExt;
 
+/// The ghost's default colour: a translucent amber (linear), apart from the clay grey, the
+/// stripes and both colour maps.
+pub const GHOST: [f32; 4] = [0.95, 0.45, 0.08, 0.38];
+
 /// What the surface shows.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum SurfaceMode {
@@ -64,13 +68,23 @@ impl SurfaceStyle {
     }
 }
 
-/// Pipeline, style uniform and colour-map textures of the surface pass.
+/// Pipeline, style uniform and colour-map textures of the surface pass, and its ghost: a second
+/// surface drawn translucent over the first (the editor's compare view, the original mesh under
+/// a fitted cage), blended and depth-tested without writing depth.
 #[derive(Debug)]
 pub struct SurfacePass {
     pipeline: wgpu::RenderPipeline,
     style_buffer: wgpu::Buffer,
     bind_groups: [wgpu::BindGroup; 2],
     map: ColorMap,
+    ghost_pipeline: wgpu::RenderPipeline,
+    ghost_style_buffer: wgpu::Buffer,
+    ghost_bind_group: wgpu::BindGroup,
+}
+
+/// The style of a ghost of colour `color` (linear RGBA; alpha is its opacity).
+fn ghost_style(color: [f32; 4]) -> SurfaceStyle {
+    SurfaceStyle { mode: 3, base_color: color, ..SurfaceStyle::new(SurfaceMode::Shaded) }
 }
 
 impl SurfacePass {
@@ -120,38 +134,51 @@ impl SurfacePass {
             bind_group_layouts: &[Some(frame_layout), Some(&layout)],
             immediate_size: 0,
         });
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("surface"),
-            layout: Some(&pipeline_layout),
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("vs_main"),
-                compilation_options: Default::default(),
-                buffers: &[Some(wgpu::VertexBufferLayout {
-                    array_stride: std::mem::size_of::<SurfaceVertex>() as u64,
-                    step_mode: wgpu::VertexStepMode::Vertex,
-                    attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32],
-                })],
-            },
-            primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: targets.depth,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Less),
-                stencil: Default::default(),
-                // Push the surface back a little so lines drawn on it win the depth test.
-                bias: wgpu::DepthBiasState { constant: 2, slope_scale: 1.0, clamp: 0.0 },
-            }),
-            multisample: wgpu::MultisampleState { count: targets.samples, ..Default::default() },
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("fs_main"),
-                compilation_options: Default::default(),
-                targets: &[Some(targets.color.into())],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
+        let pipeline_for = |ghost: bool| {
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some(if ghost { "surface ghost" } else { "surface" }),
+                layout: Some(&pipeline_layout),
+                vertex: wgpu::VertexState {
+                    module: &module,
+                    entry_point: Some("vs_main"),
+                    compilation_options: Default::default(),
+                    buffers: &[Some(wgpu::VertexBufferLayout {
+                        array_stride: std::mem::size_of::<SurfaceVertex>() as u64,
+                        step_mode: wgpu::VertexStepMode::Vertex,
+                        attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32],
+                    })],
+                },
+                primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
+                depth_stencil: Some(wgpu::DepthStencilState {
+                    format: targets.depth,
+                    // A ghost is seen through: it tests against the surface but hides nothing.
+                    depth_write_enabled: Some(!ghost),
+                    depth_compare: Some(if ghost {
+                        wgpu::CompareFunction::LessEqual
+                    } else {
+                        wgpu::CompareFunction::Less
+                    }),
+                    stencil: Default::default(),
+                    // Push the surface back a little so lines drawn on it win the depth test.
+                    bias: wgpu::DepthBiasState { constant: 2, slope_scale: 1.0, clamp: 0.0 },
+                }),
+                multisample: wgpu::MultisampleState { count: targets.samples, ..Default::default() },
+                fragment: Some(wgpu::FragmentState {
+                    module: &module,
+                    entry_point: Some("fs_main"),
+                    compilation_options: Default::default(),
+                    targets: &[Some(wgpu::ColorTargetState {
+                        format: targets.color,
+                        blend: ghost.then_some(wgpu::BlendState::ALPHA_BLENDING),
+                        write_mask: wgpu::ColorWrites::ALL,
+                    })],
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
+        };
+        let pipeline = pipeline_for(false);
+        let ghost_pipeline = pipeline_for(true);
         let style_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("surface style"),
             contents: bytemuck::bytes_of(&SurfaceStyle::new(SurfaceMode::Shaded)),
@@ -163,19 +190,52 @@ impl SurfacePass {
             min_filter: wgpu::FilterMode::Linear,
             ..Default::default()
         });
-        let bind_groups = [ColorMap::Diverging, ColorMap::Sequential].map(|map| {
+        let group = |buffer: &wgpu::Buffer, map: ColorMap| {
             let view = colormap_texture(device, queue, map).create_view(&Default::default());
             device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("surface style"),
                 layout: &layout,
                 entries: &[
-                    wgpu::BindGroupEntry { binding: 0, resource: style_buffer.as_entire_binding() },
+                    wgpu::BindGroupEntry { binding: 0, resource: buffer.as_entire_binding() },
                     wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(&view) },
                     wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::Sampler(&sampler) },
                 ],
             })
+        };
+        let bind_groups = [ColorMap::Diverging, ColorMap::Sequential].map(|map| group(&style_buffer, map));
+        let ghost_style_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("surface ghost style"),
+            contents: bytemuck::bytes_of(&ghost_style(GHOST)),
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
         });
-        SurfacePass { pipeline, style_buffer, bind_groups, map: ColorMap::Diverging }
+        let ghost_bind_group = group(&ghost_style_buffer, ColorMap::Sequential);
+        SurfacePass {
+            pipeline,
+            style_buffer,
+            bind_groups,
+            map: ColorMap::Diverging,
+            ghost_pipeline,
+            ghost_style_buffer,
+            ghost_bind_group,
+        }
+    }
+
+    /// Sets the colour of the ghost (linear RGBA, alpha its opacity).
+    pub fn set_ghost(&mut self, queue: &wgpu::Queue, color: [f32; 4]) {
+        queue.write_buffer(&self.ghost_style_buffer, 0, bytemuck::bytes_of(&ghost_style(color)));
+    }
+
+    /// Draws a second surface as a translucent ghost over what is drawn.
+    pub fn draw_ghost(&self, pass: &mut wgpu::RenderPass<'_>, frame: &wgpu::BindGroup, mesh: &crate::GpuSurface) {
+        if mesh.index_count == 0 {
+            return;
+        }
+        pass.set_pipeline(&self.ghost_pipeline);
+        pass.set_bind_group(0, frame, &[]);
+        pass.set_bind_group(1, &self.ghost_bind_group, &[]);
+        pass.set_vertex_buffer(0, mesh.vertices.slice(..));
+        pass.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
+        pass.draw_indexed(0..mesh.index_count, 0, 0..1);
     }
 
     /// Sets what the next draws show.
