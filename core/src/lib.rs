@@ -8,6 +8,7 @@
 pub mod curvature;
 pub mod document;
 pub mod error;
+pub mod gregory;
 pub mod io;
 pub mod mesh;
 pub mod nusd;
