@@ -2,12 +2,32 @@
 //! exact limit positions and normals (`shared/spec/curve-mesh-gregory.md` §1–2 for
 //! Catmull–Clark, `shared/spec/control-cage.md` for Loop).
 //!
+//! - [`topology`]: one topological split for every scheme (quads, triangles or NUSD's mix), with
+//!   stable numbering and the origin of every child element.
+//! - [`crease`]: per-edge sharpness, vertex rules and uniform semi-sharp creasing (OpenSubdiv's
+//!   semantics), boundaries as infinitely sharp edges.
+//! - [`rules`]: the Catmull–Clark and Loop rules as stencils from one level to the next.
+//! - [`limit`]: limit positions and normals as stencils over a level.
+//! - [`refinement`]: [`Refinement`], built once per cage topology and re-evaluated per drag.
+//! - [`triangulate`](mod@triangulate): cages made of triangles for Loop.
 //! - [`sparse`]: the sparse row matrices the stencils and limit masks are stored in.
-//! - [`loop_limit`]: the limit-position matrix of a Loop cage, `p∞ = M p`, which the control
-//!   cage fitter solves with.
+//! - [`loop_limit`]: the limit-position matrix of a smooth Loop cage, `p∞ = M p`, which the
+//!   control cage fitter solves with.
 
+pub mod crease;
+pub mod limit;
 pub mod loop_limit;
+pub mod refinement;
+pub mod rules;
 pub mod sparse;
+pub mod topology;
+pub mod triangulate;
 
+pub use crease::{Rule, sharpness_from_pairs};
+pub use limit::{LimitStencils, catmull_clark_limit};
 pub use loop_limit::loop_limit_matrix;
+pub use refinement::{MAX_LEVELS, MAX_REFINED_FACES, RefinedPositions, Refinement};
+pub use rules::Scheme;
 pub use sparse::SparseRows;
+pub use topology::{SplitRule, SplitTopology, VertexOrigin};
+pub use triangulate::{Triangulation, triangulate};

@@ -2,7 +2,10 @@
 //!
 //! Stencils and limit masks are all of this shape: output point `i` is `Σ_k w_k · p[c_k]` over the
 //! entries of row `i`. Applying a matrix computes every row on its own from the input alone, so
-//! the result is bit-identical for any number of threads.
+//! the result is bit-identical for any number of threads. Matrices are built row by row with a
+//! [`RowBuilder`] (which merges repeated columns in a fixed order), in parallel chunks whose
+//! results are joined in row order ([`SparseRows::build_parallel`]), so the built matrix does not
+//! depend on the thread count either.
 
 use crate::DVec3;
 use rayon::prelude::*;
@@ -97,5 +100,122 @@ impl SparseRows {
     /// The sum of each row's weights (1 for every row of an affine stencil).
     pub fn row_sums(&self) -> Vec<f64> {
         (0..self.row_count()).map(|i| self.row(i).map(|(_, w)| w).sum()).collect()
+    }
+
+    /// Appends the rows of `other` (over the same columns) after these.
+    pub fn append(&mut self, other: &SparseRows) {
+        debug_assert_eq!(self.column_count, other.column_count);
+        let base = self.columns.len() as u32;
+        self.columns.extend_from_slice(&other.columns);
+        self.weights.extend_from_slice(&other.weights);
+        self.offsets.extend(other.offsets[1..].iter().map(|&o| o + base));
+    }
+
+    /// A matrix of `row_count` rows over `column_count` columns whose row `i` is made by
+    /// `fill(i, builder)`; rows are made in parallel chunks and joined in order.
+    pub fn build_parallel<F>(column_count: usize, row_count: usize, fill: F) -> SparseRows
+    where
+        F: Fn(usize, &mut RowBuilder) + Sync,
+    {
+        const CHUNK: usize = 4096;
+        let chunks: Vec<SparseRows> = (0..row_count.div_ceil(CHUNK))
+            .into_par_iter()
+            .map(|c| {
+                let mut rows = SparseRows::with_columns(column_count);
+                let mut builder = RowBuilder::default();
+                for i in c * CHUNK..((c + 1) * CHUNK).min(row_count) {
+                    fill(i, &mut builder);
+                    builder.push_into(&mut rows);
+                }
+                rows
+            })
+            .collect();
+        let mut out = SparseRows::with_columns(column_count);
+        for chunk in &chunks {
+            out.append(chunk);
+        }
+        out
+    }
+
+    /// The product `self · inner`: row `i` maps the columns of `inner` to what row `i` of `self`
+    /// gives from the rows of `inner` (so applying the product equals applying `inner`, then
+    /// `self`). Used to flatten level-by-level stencils into stencils on the cage.
+    pub fn compose(&self, inner: &SparseRows) -> SparseRows {
+        assert_eq!(self.column_count, inner.row_count(), "composing matrices of mismatched sizes");
+        SparseRows::build_parallel(inner.column_count, self.row_count(), |i, builder| {
+            for (k, w) in self.row(i) {
+                for (c, v) in inner.row(k as usize) {
+                    builder.add(c, w * v);
+                }
+            }
+        })
+    }
+}
+
+/// The entries of one row being built: repeated columns are merged when the row is pushed.
+#[derive(Clone, Debug, Default)]
+pub struct RowBuilder {
+    entries: Vec<(u32, f64)>,
+}
+
+impl RowBuilder {
+    /// Adds `weight` to `column`.
+    #[inline]
+    pub fn add(&mut self, column: u32, weight: f64) {
+        self.entries.push((column, weight));
+    }
+
+    /// True when nothing was added since the last push.
+    pub fn is_empty(&self) -> bool {
+        self.entries.is_empty()
+    }
+
+    /// Pushes the row to `rows` (columns ascending, repeated ones summed in the order they were
+    /// added) and clears the builder.
+    pub fn push_into(&mut self, rows: &mut SparseRows) {
+        // A stable sort keeps the summation order of a repeated column fixed.
+        self.entries.sort_by_key(|&(c, _)| c);
+        let mut k = 0;
+        while k < self.entries.len() {
+            let (c, mut w) = self.entries[k];
+            k += 1;
+            while k < self.entries.len() && self.entries[k].0 == c {
+                w += self.entries[k].1;
+                k += 1;
+            }
+            debug_assert!((c as usize) < rows.column_count, "column {c} out of range");
+            rows.columns.push(c);
+            rows.weights.push(w);
+        }
+        rows.offsets.push(rows.columns.len() as u32);
+        self.entries.clear();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn builder_merges_and_compose_equals_applying_twice() {
+        let mut a = SparseRows::with_columns(3);
+        let mut b = RowBuilder::default();
+        b.add(2, 0.25);
+        b.add(0, 0.5);
+        b.add(2, 0.25);
+        b.push_into(&mut a);
+        a.push_row([(1, 1.0)]);
+        assert_eq!(a.row(0).collect::<Vec<_>>(), vec![(0, 0.5), (2, 0.5)]);
+        let outer = SparseRows::build_parallel(2, 3, |i, b| {
+            b.add(0, i as f64);
+            b.add(1, 1.0 - i as f64);
+        });
+        let p = [DVec3::X, DVec3::new(0.0, 2.0, 1.0), DVec3::new(-1.0, 0.5, 3.0)];
+        let composed = outer.compose(&a);
+        assert_eq!(composed.row_count(), 3);
+        let twice = outer.apply(&a.apply(&p));
+        for (x, y) in composed.apply(&p).iter().zip(&twice) {
+            assert!((*x - *y).length() < 1e-15);
+        }
     }
 }

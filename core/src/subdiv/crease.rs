@@ -1,0 +1,171 @@
+//! Creases as Blender and OpenSubdiv users know them: a sharpness `s ≥ 0` per cage edge.
+//!
+//! `0` is smooth, `f64::INFINITY` infinitely sharp. Semi-sharp values follow OpenSubdiv's default
+//! *uniform* creasing (`Sdc::Options::CREASE_UNIFORM`, DeRose, Kass and Truong 1998): an edge's
+//! halves get `s − 1` at the next level (0 once `s ≤ 1`), so the crease rules apply for `⌊s⌋`
+//! levels and the fraction blends crease and smooth rules at the level where it runs out.
+//! (OpenSubdiv's alternative, Chaikin creasing, is not implemented.)
+//!
+//! The rule of a vertex comes from the number of sharp (`s > 0`) edges at it: none is
+//! [`Rule::Smooth`], one a [`Rule::Dart`] (refined like a smooth vertex), two a [`Rule::Crease`],
+//! three or more a [`Rule::Corner`]. When the rule of a vertex changes between a level and the
+//! next (sharpness running out), its new position blends the parent rule's mask and the child
+//! rule's by the *fractional weight*: the mean sharpness of the edges that go from sharp to
+//! smooth, clamped to 1 (`Sdc::Crease::ComputeFractionalWeightAtVertex`). Per-vertex (corner)
+//! sharpness is not offered.
+//!
+//! Boundaries are interpolated "edge only" (OpenSubdiv's `VTX_BOUNDARY_EDGE_ONLY`, the spec's
+//! rules): a boundary edge is infinitely sharp, so a boundary vertex is a crease along its two
+//! boundary edges (also a valence-2 corner of a single face, which is therefore *not* pinned),
+//! and a corner when another sharp edge ends on it. A sharpness given to a boundary edge is
+//! ignored.
+
+use crate::mesh::{EdgeId, PolyMesh, VertexId};
+use crate::{Error, Result};
+
+/// The rule of a vertex, from the sharp edges at it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Rule {
+    /// No sharp edge.
+    Smooth,
+    /// One sharp edge: refined with the smooth rule.
+    Dart,
+    /// Two sharp edges (every boundary vertex).
+    Crease,
+    /// Three or more sharp edges: the vertex stays where it is.
+    Corner,
+}
+
+impl Rule {
+    /// The rule of a vertex with `sharp_edges` sharp edges.
+    pub fn from_sharp_edges(sharp_edges: usize) -> Self {
+        match sharp_edges {
+            0 => Rule::Smooth,
+            1 => Rule::Dart,
+            2 => Rule::Crease,
+            _ => Rule::Corner,
+        }
+    }
+}
+
+/// The sharpness of an edge's halves one level down (uniform creasing).
+#[inline]
+pub fn child_sharpness(s: f64) -> f64 {
+    if s > 1.0 { s - 1.0 } else { 0.0 }
+}
+
+/// Checks designer sharpness values (one per cage edge, or none for a smooth cage) and returns
+/// the effective sharpness of every cage edge: boundary edges infinitely sharp.
+pub fn effective_sharpness(cage: &PolyMesh, sharpness: &[f64]) -> Result<Vec<f64>> {
+    if !sharpness.is_empty() && sharpness.len() != cage.edge_count() {
+        return Err(Error::Input(format!(
+            "{} crease sharpness values for a cage of {} edges; give one per cage edge (or none)",
+            sharpness.len(),
+            cage.edge_count()
+        )));
+    }
+    let mut out = Vec::with_capacity(cage.edge_count());
+    for e in cage.edges() {
+        let s = sharpness.get(e.index()).copied().unwrap_or(0.0);
+        if s.is_nan() || s < 0.0 {
+            let (a, b) = cage.edge_vertices(e);
+            return Err(Error::Input(format!(
+                "the crease on the edge between vertices {} and {} has sharpness {s}; use a number ≥ 0 (∞ for a sharp crease)",
+                a.0, b.0
+            )));
+        }
+        out.push(if cage.is_boundary_edge(e) { f64::INFINITY } else { s });
+    }
+    Ok(out)
+}
+
+/// Per-edge sharpness from `(a, b, s)` creases given by vertex pairs (the command line's
+/// `--crease A-B=S`): an error names a pair that is not a cage edge or a bad value. Later entries
+/// for the same edge replace earlier ones; unnamed edges are smooth.
+pub fn sharpness_from_pairs(cage: &PolyMesh, creases: &[(VertexId, VertexId, f64)]) -> Result<Vec<f64>> {
+    let mut out = vec![0.0; cage.edge_count()];
+    for &(a, b, s) in creases {
+        let n = cage.vertex_count();
+        if a.index() >= n || b.index() >= n {
+            return Err(Error::Input(format!(
+                "a crease names vertices {} and {}, but the cage has {n} vertices",
+                a.0, b.0
+            )));
+        }
+        let Some(h) = cage.find_halfedge(a, b) else {
+            return Err(Error::Input(format!(
+                "there is no cage edge between vertices {} and {}; a crease must lie on a cage edge",
+                a.0, b.0
+            )));
+        };
+        if s.is_nan() || s < 0.0 {
+            return Err(Error::Input(format!(
+                "the crease between vertices {} and {} has sharpness {s}; use a number ≥ 0 (∞ for a sharp crease)",
+                a.0, b.0
+            )));
+        }
+        out[h.edge().index()] = s;
+    }
+    Ok(out)
+}
+
+/// The fractional weight of a vertex whose incident edges have sharpness `parent`: the mean
+/// sharpness of those that become smooth one level down, clamped to 1 (0 when none does).
+pub(crate) fn fractional_weight(parent: impl Iterator<Item = f64>) -> f64 {
+    let (mut sum, mut count) = (0.0, 0usize);
+    for s in parent {
+        if s > 0.0 && child_sharpness(s) <= 0.0 {
+            sum += s;
+            count += 1;
+        }
+    }
+    if count == 0 { 0.0 } else { (sum / count as f64).min(1.0) }
+}
+
+/// The sharpness of `e` in `sharp`, a per-edge table of a level.
+#[inline]
+pub(crate) fn sharp(sharpness: &[f64], e: EdgeId) -> f64 {
+    sharpness[e.index()]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::DVec3;
+
+    #[test]
+    fn uniform_creasing_decrements_and_blends() {
+        assert_eq!(child_sharpness(2.5), 1.5);
+        assert_eq!(child_sharpness(1.0), 0.0);
+        assert_eq!(child_sharpness(0.3), 0.0);
+        assert_eq!(child_sharpness(f64::INFINITY), f64::INFINITY);
+        // Two edges running out (0.5 and 1.0) and one staying sharp: weight (0.5 + 1)/2.
+        assert_eq!(fractional_weight([0.5, 1.0, 3.0, 0.0].into_iter()), 0.75);
+        assert_eq!(fractional_weight([3.0, f64::INFINITY].into_iter()), 0.0);
+        assert_eq!(Rule::from_sharp_edges(1), Rule::Dart);
+        assert_eq!(Rule::from_sharp_edges(4), Rule::Corner);
+    }
+
+    #[test]
+    fn bad_sharpness_is_refused_and_boundaries_are_sharp() {
+        let p = vec![DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::ONE];
+        let m = PolyMesh::from_polygons(p, &[[0, 1, 2], [1, 3, 2]]).unwrap();
+        let diagonal = m.find_halfedge(VertexId(1), VertexId(2)).unwrap().edge();
+        let mut s = vec![0.0; m.edge_count()];
+        s[diagonal.index()] = 1.5;
+        let eff = effective_sharpness(&m, &s).unwrap();
+        for e in m.edges() {
+            assert_eq!(eff[e.index()], if e == diagonal { 1.5 } else { f64::INFINITY });
+        }
+        s[diagonal.index()] = f64::NAN;
+        let err = effective_sharpness(&m, &s).unwrap_err().to_string();
+        assert!(err.contains("between vertices 1 and 2") && err.contains("≥ 0"), "{err}");
+        assert!(effective_sharpness(&m, &[1.0]).unwrap_err().to_string().contains("one per cage edge"));
+        let err = sharpness_from_pairs(&m, &[(VertexId(0), VertexId(3), 1.0)]).unwrap_err().to_string();
+        assert!(err.contains("no cage edge between vertices 0 and 3"), "{err}");
+        let err = sharpness_from_pairs(&m, &[(VertexId(1), VertexId(2), -1.0)]).unwrap_err().to_string();
+        assert!(err.contains("sharpness -1"), "{err}");
+        let pairs = sharpness_from_pairs(&m, &[(VertexId(2), VertexId(1), 2.0)]).unwrap();
+        assert_eq!(pairs[diagonal.index()], 2.0);
+    }
+}

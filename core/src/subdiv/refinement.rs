@@ -1,0 +1,268 @@
+//! [`Refinement`]: a cage refined by Catmull–Clark or Loop to a number of levels, topology and
+//! stencils built once, positions re-evaluated through the stencils after every drag.
+//!
+//! [`Refinement::new`] splits the cage level by level ([`SplitTopology`]), carries the crease
+//! sharpness down (uniform creasing, [`super::crease`]), builds one stencil matrix per level
+//! ([`super::rules`]: level `l` from level `l − 1`) and the limit stencils of the finest level
+//! ([`LimitStencils`]). [`Refinement::evaluate`] then only applies those matrices to new cage
+//! positions, writing into reusable buffers.
+//!
+//! Level-by-level stencils were chosen over stencils flattened onto the cage: a flattened
+//! level-3 Catmull–Clark row touches about 25 cage vertices against about 6 entries per row at
+//! each level, so the flattened matrix is several times larger and slower to apply
+//! (`benches/subdiv.rs` measures both).
+//!
+//! Sizes: each level multiplies the face count by about 4. [`MAX_LEVELS`] levels at most, and the
+//! finest level may have at most [`MAX_REFINED_FACES`] faces (topology, stencils and positions take
+//! roughly 1 KB per finest face, so the bound keeps a refinement under about 2 GB).
+
+use super::crease::{child_sharpness, effective_sharpness};
+use super::limit::LimitStencils;
+use super::rules::{Scheme, level_stencils};
+use super::sparse::SparseRows;
+use super::topology::{SplitRule, SplitTopology};
+use crate::mesh::{EdgeId, PolyMesh, VertexId};
+use crate::{DVec3, Error, Result};
+
+/// The most levels a refinement may have.
+pub const MAX_LEVELS: u32 = 10;
+/// The most faces the finest level may have.
+pub const MAX_REFINED_FACES: usize = 1 << 21;
+
+/// One level below the cage.
+#[derive(Clone, Debug)]
+struct Level {
+    split: SplitTopology,
+    /// Effective sharpness of this level's edges.
+    sharpness: Vec<f64>,
+    /// This level's positions from the previous level's.
+    stencils: SparseRows,
+}
+
+/// A cage refined by a subdivision scheme.
+#[derive(Clone, Debug)]
+pub struct Refinement {
+    scheme: Scheme,
+    cage: PolyMesh,
+    cage_sharpness: Vec<f64>,
+    levels: Vec<Level>,
+    limit: LimitStencils,
+}
+
+/// The positions of every level, the limit positions and limit normals of the finest level.
+#[derive(Clone, Debug, Default)]
+pub struct RefinedPositions {
+    /// `levels[l]`: the positions of level `l` (`levels[0]` is the cage).
+    pub levels: Vec<Vec<DVec3>>,
+    /// The limit position of every vertex of the finest level.
+    pub limit: Vec<DVec3>,
+    /// The unit limit normal of every vertex of the finest level (zero where undefined).
+    pub normals: Vec<DVec3>,
+}
+
+impl RefinedPositions {
+    /// The positions of the finest level.
+    pub fn finest(&self) -> &[DVec3] {
+        self.levels.last().map_or(&[], |l| l)
+    }
+}
+
+impl Refinement {
+    /// Refines `cage` by `scheme` to `levels` levels. `sharpness` holds one crease sharpness per
+    /// cage edge (`0` smooth, `f64::INFINITY` sharp), or nothing for a smooth cage.
+    ///
+    /// Errors: Loop on a cage with faces other than triangles (triangulate first:
+    /// [`super::triangulate`]), Catmull–Clark with 0 levels on a cage that is not all quads (no
+    /// limit stencils there), a negative or NaN sharpness or one value per edge missing, more than
+    /// [`MAX_LEVELS`] levels or more than [`MAX_REFINED_FACES`] faces at the finest level.
+    /// Isolated vertices are kept in place at every level; degenerate (zero-area) faces and
+    /// valence-2 vertices are refined by the same rules (their normals may be zero, see
+    /// [`LimitStencils`]).
+    pub fn new(cage: &PolyMesh, scheme: Scheme, sharpness: &[f64], levels: u32) -> Result<Self> {
+        let cage_sharpness = effective_sharpness(cage, sharpness)?;
+        if levels > MAX_LEVELS {
+            return Err(Error::Input(format!(
+                "{levels} subdivision levels asked for; at most {MAX_LEVELS} are possible"
+            )));
+        }
+        let rule = match scheme {
+            Scheme::CatmullClark => SplitRule::Quads,
+            Scheme::Loop => SplitRule::Triangles,
+        };
+        let faces = refined_face_count(cage, rule, levels);
+        if faces > MAX_REFINED_FACES as f64 {
+            return Err(Error::Input(format!(
+                "{levels} levels of this {}-face cage would make about {faces:.0} faces, more than the {MAX_REFINED_FACES} \
+                 Taut refines (about 2 GB of memory); use fewer levels",
+                cage.face_count()
+            )));
+        }
+        let mut out =
+            Refinement { scheme, cage: cage.clone(), cage_sharpness, levels: Vec::new(), limit: Default::default() };
+        for _ in 0..levels {
+            let (parent, parent_sharpness) = out.finest_topology();
+            let split = SplitTopology::split(parent, rule)?;
+            let stencils = level_stencils(scheme, parent, parent_sharpness, &split);
+            let sharpness = split
+                .mesh
+                .edges()
+                .map(|c| match split.edge_parent(c) {
+                    Some(e) => child_sharpness(parent_sharpness[e.index()]),
+                    None => 0.0,
+                })
+                .collect();
+            out.levels.push(Level { split, sharpness, stencils });
+        }
+        let (finest, finest_sharpness) = out.finest_topology();
+        out.limit = LimitStencils::new(scheme, finest, finest_sharpness)?;
+        Ok(out)
+    }
+
+    fn finest_topology(&self) -> (&PolyMesh, &[f64]) {
+        match self.levels.last() {
+            Some(l) => (&l.split.mesh, &l.sharpness),
+            None => (&self.cage, &self.cage_sharpness),
+        }
+    }
+
+    /// The scheme.
+    pub fn scheme(&self) -> Scheme {
+        self.scheme
+    }
+
+    /// Number of levels below the cage.
+    pub fn level_count(&self) -> u32 {
+        self.levels.len() as u32
+    }
+
+    /// The mesh of `level` (0 is the cage); its positions are the linear prolongation of the cage,
+    /// not the subdivided ones (those come from [`Refinement::evaluate`]).
+    pub fn mesh(&self, level: u32) -> &PolyMesh {
+        match level {
+            0 => &self.cage,
+            l => &self.levels[l as usize - 1].split.mesh,
+        }
+    }
+
+    /// How `level ≥ 1` was split from the level above.
+    pub fn split(&self, level: u32) -> &SplitTopology {
+        &self.levels[level as usize - 1].split
+    }
+
+    /// The effective sharpness of every edge of `level` (boundary edges infinite).
+    pub fn sharpness(&self, level: u32) -> &[f64] {
+        match level {
+            0 => &self.cage_sharpness,
+            l => &self.levels[l as usize - 1].sharpness,
+        }
+    }
+
+    /// The stencils making `level ≥ 1` from the level above.
+    pub fn stencils(&self, level: u32) -> &SparseRows {
+        &self.levels[level as usize - 1].stencils
+    }
+
+    /// The limit stencils of the finest level.
+    pub fn limit_stencils(&self) -> &LimitStencils {
+        &self.limit
+    }
+
+    /// Limit stencils of another level (built on request; Catmull–Clark needs `level ≥ 1` unless
+    /// the cage is all quads).
+    pub fn limit_stencils_at(&self, level: u32) -> Result<LimitStencils> {
+        if level > self.level_count() {
+            return Err(Error::Input(format!(
+                "level {level} asked for, but the refinement has {}",
+                self.level_count()
+            )));
+        }
+        LimitStencils::new(self.scheme, self.mesh(level), self.sharpness(level))
+    }
+
+    /// Every level's positions and the finest level's limit positions and normals from new cage
+    /// positions, into `out` (whose buffers are reused).
+    pub fn evaluate(&self, cage_positions: &[DVec3], out: &mut RefinedPositions) -> Result<()> {
+        self.evaluate_levels(cage_positions, out)?;
+        let finest = out.levels.last().expect("level 0 is always there");
+        self.limit.evaluate(finest, &mut out.limit, &mut out.normals);
+        Ok(())
+    }
+
+    /// Like [`Refinement::evaluate`], without the limit positions and normals.
+    pub fn evaluate_levels(&self, cage_positions: &[DVec3], out: &mut RefinedPositions) -> Result<()> {
+        if cage_positions.len() != self.cage.vertex_count() {
+            return Err(Error::Input(format!(
+                "{} cage positions given for a cage of {} vertices",
+                cage_positions.len(),
+                self.cage.vertex_count()
+            )));
+        }
+        if let Some(v) = cage_positions.iter().position(|p| !p.is_finite()) {
+            return Err(Error::Input(format!(
+                "cage vertex {v} has a non-finite coordinate; every coordinate must be finite"
+            )));
+        }
+        out.levels.resize_with(self.levels.len() + 1, Vec::new);
+        out.levels[0].clear();
+        out.levels[0].extend_from_slice(cage_positions);
+        for (l, level) in self.levels.iter().enumerate() {
+            let (coarse, fine) = out.levels.split_at_mut(l + 1);
+            level.stencils.apply_into(&coarse[l], &mut fine[0]);
+        }
+        Ok(())
+    }
+
+    /// The finest level's mesh with positions `positions` (for example
+    /// [`RefinedPositions::limit`]).
+    pub fn surface(&self, positions: &[DVec3]) -> PolyMesh {
+        let mut mesh = self.mesh(self.level_count()).clone();
+        mesh.positions_mut().copy_from_slice(positions);
+        mesh
+    }
+
+    /// The vertices of `level` along cage edge `e`, from its first end vertex
+    /// (`cage.edge_vertices(e).0`) to its second: `2^level + 1` of them.
+    pub fn cage_edge_chain(&self, e: EdgeId, level: u32) -> Result<Vec<VertexId>> {
+        if e.index() >= self.cage.edge_count() || level > self.level_count() {
+            return Err(Error::Input(format!(
+                "edge {} at level {level} asked for, but the cage has {} edges and {} levels",
+                e.0,
+                self.cage.edge_count(),
+                self.level_count()
+            )));
+        }
+        let (a, b) = self.cage.edge_vertices(e);
+        // Directed edges along the chain: (edge, from, to).
+        let mut chain = vec![(e, a, b)];
+        for l in 1..=level {
+            let split = self.split(l);
+            let parent = self.mesh(l - 1);
+            chain = chain
+                .iter()
+                .flat_map(|&(e, from, to)| {
+                    let m = split.edge_point(e);
+                    let halves = split.edge_children(e);
+                    let at_from = usize::from(parent.edge_vertices(e).0 != from);
+                    [(halves[at_from], from, m), (halves[1 - at_from], m, to)]
+                })
+                .collect();
+        }
+        Ok(std::iter::once(a).chain(chain.iter().map(|&(_, _, to)| to)).collect())
+    }
+}
+
+/// The face count of `levels` levels of `cage` by `rule` (as a float: it may overflow).
+fn refined_face_count(cage: &PolyMesh, rule: SplitRule, levels: u32) -> f64 {
+    if levels == 0 {
+        return cage.face_count() as f64;
+    }
+    let first: usize = cage
+        .faces()
+        .map(|f| match (rule, cage.face_valence(f)) {
+            (SplitRule::Quads, n) => n,
+            (_, 3) => 4,
+            (_, n) => n,
+        })
+        .sum();
+    first as f64 * 4f64.powi(levels as i32 - 1)
+}

@@ -1,0 +1,186 @@
+//! The refinement rules of Catmull–Clark and Loop with creases, as stencils from one level to the
+//! next (one [`SparseRows`] row per child vertex, in the child numbering of [`SplitTopology`]).
+//!
+//! Catmull–Clark (Catmull and Clark 1978; `shared/spec/curve-mesh-gregory.md` §1, OpenSubdiv's
+//! Catmark rules): face point = centroid; smooth edge point = `(a + b + F0 + F1)/4` with `F` the
+//! new face points; smooth vertex point `((n−2)/n) v + (1/n²) Σ e_j + (1/n²) Σ F_j`.
+//! Loop (Loop 1987): smooth edge point `3/8 (a + b) + 1/8 (c + d)` with `c, d` the opposite
+//! corners, smooth vertex point `(1 − nβ_n) v + β_n Σ e_j` ([`loop_beta`]).
+//! Both: a sharp edge (and every boundary edge) gets its midpoint, a crease vertex
+//! `(e_a + 6v + e_b)/8` along its two sharp edges (the boundary rule), a corner stays; a
+//! semi-sharp edge with `0 < s < 1` blends `s · midpoint + (1 − s) · smooth`, a vertex whose rule
+//! changes blends its parent and child masks by the fractional weight ([`super::crease`]).
+//!
+//! The face points inside the Catmull–Clark edge and vertex rules are expanded into the parent
+//! vertices, so one level is one matrix applied to the previous level's positions. These are the
+//! plain rules: the valence-dependent weights have no special cases for triangles (OpenSubdiv's
+//! `TRI_SUB_SMOOTH`) or for boundary vertices with many faces (the Biermann et al. modifications),
+//! so, as in OpenSubdiv's defaults, triangles in a Catmull–Clark cage leave visible flat spots.
+
+use super::crease::{Rule, child_sharpness, fractional_weight, sharp};
+use super::loop_limit::loop_beta;
+use super::sparse::{RowBuilder, SparseRows};
+use super::topology::{SplitTopology, VertexOrigin};
+use crate::mesh::{EdgeId, FaceId, PolyMesh, VertexId};
+
+/// The subdivision scheme.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Scheme {
+    /// Catmull–Clark: any polygons, quads after one level.
+    CatmullClark,
+    /// Loop: triangle meshes.
+    Loop,
+}
+
+/// The stencils making the child level `split` from `parent` with edge sharpness `sharpness`
+/// (effective values of the parent level: boundary edges infinite).
+pub(crate) fn level_stencils(
+    scheme: Scheme,
+    parent: &PolyMesh,
+    sharpness: &[f64],
+    split: &SplitTopology,
+) -> SparseRows {
+    let rows = split.mesh.vertex_count();
+    SparseRows::build_parallel(parent.vertex_count(), rows, |i, b| match split.origin(VertexId(i as u32)) {
+        VertexOrigin::Vertex(v) => vertex_point(scheme, parent, sharpness, v, b),
+        VertexOrigin::Edge(e) => edge_point(scheme, parent, sharpness, e, b),
+        VertexOrigin::Face(f) => centroid(parent, f, 1.0, b),
+    })
+}
+
+fn centroid(mesh: &PolyMesh, f: FaceId, scale: f64, b: &mut RowBuilder) {
+    let w = scale / mesh.face_valence(f) as f64;
+    for v in mesh.face_vertices(f) {
+        b.add(v.0, w);
+    }
+}
+
+fn edge_point(scheme: Scheme, mesh: &PolyMesh, sharpness: &[f64], e: EdgeId, b: &mut RowBuilder) {
+    let (p, q) = mesh.edge_vertices(e);
+    let crease = sharp(sharpness, e).min(1.0);
+    if crease >= 1.0 || mesh.is_boundary_edge(e) {
+        b.add(p.0, 0.5);
+        b.add(q.0, 0.5);
+        return;
+    }
+    let smooth = 1.0 - crease;
+    let (h0, h1) = (e.halfedge(0), e.halfedge(1));
+    match scheme {
+        Scheme::CatmullClark => {
+            let end = 0.5 * crease + 0.25 * smooth;
+            b.add(p.0, end);
+            b.add(q.0, end);
+            centroid(mesh, mesh.face(h0), 0.25 * smooth, b);
+            centroid(mesh, mesh.face(h1), 0.25 * smooth, b);
+        }
+        Scheme::Loop => {
+            let end = 0.5 * crease + 0.375 * smooth;
+            b.add(p.0, end);
+            b.add(q.0, end);
+            b.add(mesh.to_vertex(mesh.next(h0)).0, 0.125 * smooth);
+            b.add(mesh.to_vertex(mesh.next(h1)).0, 0.125 * smooth);
+        }
+    }
+}
+
+fn vertex_point(scheme: Scheme, mesh: &PolyMesh, sharpness: &[f64], v: VertexId, b: &mut RowBuilder) {
+    if mesh.is_isolated(v) {
+        b.add(v.0, 1.0);
+        return;
+    }
+    let edge_sharpness = || mesh.outgoing(v).map(|h| sharp(sharpness, h.edge()));
+    let parent_rule = Rule::from_sharp_edges(edge_sharpness().filter(|&s| s > 0.0).count());
+    if matches!(parent_rule, Rule::Smooth | Rule::Dart) {
+        smooth_vertex(scheme, mesh, v, 1.0, b);
+        return;
+    }
+    let child_rule = Rule::from_sharp_edges(edge_sharpness().filter(|&s| child_sharpness(s) > 0.0).count());
+    if child_rule == parent_rule {
+        rule_mask(scheme, mesh, v, parent_rule, |s| s > 0.0, sharpness, 1.0, b);
+        return;
+    }
+    let w = fractional_weight(edge_sharpness());
+    rule_mask(scheme, mesh, v, parent_rule, |s| s > 0.0, sharpness, w, b);
+    rule_mask(scheme, mesh, v, child_rule, |s| child_sharpness(s) > 0.0, sharpness, 1.0 - w, b);
+}
+
+/// The mask of `rule` at `v`, scaled; `is_sharp` picks the crease edges at the level the rule
+/// belongs to (parent or child).
+fn rule_mask(
+    scheme: Scheme,
+    mesh: &PolyMesh,
+    v: VertexId,
+    rule: Rule,
+    is_sharp: impl Fn(f64) -> bool,
+    sharpness: &[f64],
+    scale: f64,
+    b: &mut RowBuilder,
+) {
+    match rule {
+        Rule::Smooth | Rule::Dart => smooth_vertex(scheme, mesh, v, scale, b),
+        Rule::Crease => {
+            b.add(v.0, 0.75 * scale);
+            for h in mesh.outgoing(v).filter(|h| is_sharp(sharp(sharpness, h.edge()))) {
+                b.add(mesh.to_vertex(h).0, 0.125 * scale);
+            }
+        }
+        Rule::Corner => b.add(v.0, scale),
+    }
+}
+
+fn smooth_vertex(scheme: Scheme, mesh: &PolyMesh, v: VertexId, scale: f64, b: &mut RowBuilder) {
+    let n = mesh.valence(v);
+    match scheme {
+        Scheme::CatmullClark => {
+            let w = scale / (n * n) as f64;
+            let faces = mesh.outgoing(v).filter(|&h| !mesh.is_boundary_halfedge(h)).count();
+            b.add(v.0, scale - (n + faces) as f64 * w);
+            for h in mesh.outgoing(v) {
+                b.add(mesh.to_vertex(h).0, w);
+                let f = mesh.face(h);
+                if f.is_valid() {
+                    centroid(mesh, f, w, b);
+                }
+            }
+        }
+        Scheme::Loop => {
+            let beta = loop_beta(n);
+            b.add(v.0, scale * (1.0 - n as f64 * beta));
+            for u in mesh.vertex_neighbors(v) {
+                b.add(u.0, scale * beta);
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::DVec3;
+    use crate::subdiv::crease::effective_sharpness;
+    use crate::subdiv::topology::SplitRule;
+
+    fn cube() -> PolyMesh {
+        let p = (0..8).map(|i| DVec3::new((i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64)).collect();
+        let faces = [[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]];
+        PolyMesh::from_polygons(p, &faces).unwrap()
+    }
+
+    #[test]
+    fn every_row_is_affine() {
+        let cage = cube();
+        let mut s = vec![0.0; cage.edge_count()];
+        s[0] = 0.5;
+        s[3] = 2.5;
+        s[5] = f64::INFINITY;
+        let eff = effective_sharpness(&cage, &s).unwrap();
+        for (scheme, rule) in [(Scheme::CatmullClark, SplitRule::Quads)] {
+            let split = SplitTopology::split(&cage, rule).unwrap();
+            let rows = level_stencils(scheme, &cage, &eff, &split);
+            assert_eq!(rows.row_count(), split.mesh.vertex_count());
+            for sum in rows.row_sums() {
+                assert!((sum - 1.0).abs() < 1e-15);
+            }
+        }
+    }
+}
