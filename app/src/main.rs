@@ -5,6 +5,7 @@
 //! them on; every failure is one line on stderr with a non-zero exit status.
 
 mod curve_cmd;
+mod curve_mesh_cmd;
 mod editor;
 mod render_cmd;
 mod smooth_cmd;
@@ -31,6 +32,9 @@ enum Command {
     Smooth(smooth_cmd::SmoothArgs),
     /// Smooth a polyline given as JSON, inserting points between the input points.
     SmoothCurve(curve_cmd::SmoothCurveArgs),
+    /// Build a cage's curve mesh on its Catmull–Clark limit surface, fill it with G1 Gregory
+    /// patches and write them (.obj or .glb).
+    CurveMesh(curve_mesh_cmd::CurveMeshArgs),
     /// Draw a surface shaded, as zebra stripes or in curvature colour into a PNG.
     Render(render_cmd::RenderArgs),
 }
@@ -51,6 +55,7 @@ fn main() -> ExitCode {
         Some(Command::Smooth(args)) => smooth_cmd::run(args),
         Some(Command::SmoothCurve(args)) => curve_cmd::run(args),
         Some(Command::Render(args)) => render_cmd::run(args),
+        Some(Command::CurveMesh(args)) => curve_mesh_cmd::run(args),
         None => match cli.view.as_str() {
             "shaded" | "zebra" | "curvature" => {
                 editor::window::run(editor::window::Startup { file: cli.file.clone(), view: cli.view.clone() })

@@ -11,18 +11,26 @@
 //! - [`bezier`]: cubic Bézier curves and the two least-squares fits (limit points, Hoschek).
 //! - [`patch`]: the bicubic Gregory patch, its exact evaluation and normal.
 //! - [`chiyokura_kimura`]: the inner points from boundary curves and corner normals.
+//! - [`build`]: from a cage to a curve mesh on its Catmull–Clark limit surface, with the fit's
+//!   figures.
+//! - [`closeness`]: distances from the limit surface to the patches.
 //! - [`curve_mesh`]: the editable curve mesh, its edits and their serialisable state.
 //! - [`tessellate`]: crack-free `K × K` sampling into one polygon mesh with analytic normals.
+//! - [`export`]: OBJ and GLB of the tessellated patches, JSON of the curves and control points.
 //! - [`continuity`]: G1 angles and G2 jumps along shared boundaries of any patch network.
 
 pub mod bezier;
+pub mod build;
 pub mod chiyokura_kimura;
+pub mod closeness;
 pub mod continuity;
 pub mod curve_mesh;
+pub mod export;
 pub mod patch;
 pub mod tessellate;
 
 pub use bezier::CubicBezier;
+pub use build::{BuildReport, FitReport, fit_edge_curves};
 pub use chiyokura_kimura::{PatchBoundary, gregory_patch};
 pub use continuity::{ContinuityReport, SharedBoundary, continuity_report};
 pub use curve_mesh::{Changed, CurveMesh, CurveMeshEdits};

@@ -18,6 +18,15 @@ use std::path::Path;
 /// The mesh as GLB bytes: one node, one mesh, one triangle primitive; vertex *i* of the file is
 /// vertex *i* of the mesh.
 pub fn glb_bytes(mesh: &PolyMesh) -> Result<Vec<u8>> {
+    glb_bytes_with_normals(mesh, &mesh.vertex_normals())
+}
+
+/// Like [`glb_bytes`], with the given unit normal per vertex (for example exact normals of the
+/// surface the mesh samples) instead of area-weighted ones.
+pub fn glb_bytes_with_normals(mesh: &PolyMesh, normals: &[DVec3]) -> Result<Vec<u8>> {
+    if normals.len() != mesh.vertex_count() {
+        return Err(Error::Input(format!("{} normals given for {} vertices", normals.len(), mesh.vertex_count())));
+    }
     if mesh.face_count() == 0 {
         return Err(Error::Input("the mesh has no faces; there is nothing to export".into()));
     }
@@ -29,11 +38,8 @@ pub fn glb_bytes(mesh: &PolyMesh) -> Result<Vec<u8>> {
         )));
     }
     // The spec wants unit normals; isolated or degenerate vertices get +Z.
-    let normals: Vec<[f32; 3]> = mesh
-        .vertex_normals()
-        .iter()
-        .map(|n| if *n == DVec3::ZERO { [0.0, 0.0, 1.0] } else { n.as_vec3().to_array() })
-        .collect();
+    let normals: Vec<[f32; 3]> =
+        normals.iter().map(|n| if *n == DVec3::ZERO { [0.0, 0.0, 1.0] } else { n.as_vec3().to_array() }).collect();
     let indices: Vec<u32> = mesh.triangles().into_iter().flatten().collect();
     let mut bin = Vec::with_capacity(24 * positions.len() + 4 * indices.len());
     bin.extend(positions.iter().flatten().flat_map(|c| c.to_le_bytes()));
