@@ -39,6 +39,9 @@ pub fn run(args: &CurveMeshArgs) -> Result<(), String> {
     if !(1..=MAX_SAMPLES).contains(&args.samples) {
         return Err(format!("--samples {}: use 1 to {MAX_SAMPLES}", args.samples));
     }
+    if let Some(path) = args.curves.as_ref().filter(|p| extension(p) != "json") {
+        return Err(format!("--curves {}: the curves are written as JSON; use a .json file name", path.display()));
+    }
     let doc = load_document(&args.input)?;
     let cage = &doc.cage;
     let started = std::time::Instant::now();
@@ -63,9 +66,6 @@ pub fn run(args: &CurveMeshArgs) -> Result<(), String> {
         args.samples
     );
     if let Some(path) = &args.curves {
-        if extension(path) != "json" {
-            return Err(format!("--curves {}: the curves are written as JSON; use a .json file name", path.display()));
-        }
         export::export_curves_json(&curves, path).map_err(|e| e.to_string())?;
         println!("wrote the curves and control points to {}", path.display());
     }

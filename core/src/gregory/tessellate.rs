@@ -28,8 +28,8 @@ use std::ops::Range;
 pub const DEFAULT_SAMPLES: usize = 16;
 /// The largest number of samples per patch side.
 pub const MAX_SAMPLES: usize = 256;
-/// The most quads a tessellation may have (about 2.4 GB of mesh at this size).
-pub const MAX_QUADS: usize = 1 << 25;
+/// The most quads a tessellation may have (about 2 GB of mesh, normals and build buffers).
+pub const MAX_QUADS: usize = 1 << 24;
 
 /// The tessellated patches of a curve mesh: one polygon mesh and one unit normal per vertex.
 #[derive(Clone, Debug)]
