@@ -530,12 +530,22 @@ fn the_tessellation_shares_boundary_vertices_and_updates_exactly() {
     // After an edit, updating gives exactly a fresh tessellation.
     let changed =
         mesh.move_vertex(VertexId(6), mesh.vertex_position(VertexId(6)) + DVec3::new(2.0, 1.0, -1.5)).unwrap();
-    let stale = tess.mesh().positions().to_vec();
-    tess.update(&mesh, &changed).unwrap();
+    let (stale, stale_normals) = (tess.mesh().positions().to_vec(), tess.normals().to_vec());
+    let ranges = tess.update(&mesh, &changed).unwrap();
     let again = Tessellation::new(&mesh, k).unwrap();
     assert_eq!(tess.mesh().positions(), again.mesh().positions());
     assert_eq!(tess.normals(), again.normals());
     assert_ne!(stale, tess.mesh().positions());
+    // Every vertex that changed is in a returned range (what an editor re-uploads), and the
+    // ranges cover only the changed patches' vertices.
+    let inside = |i: usize| ranges.iter().any(|r| r.contains(&i));
+    for i in 0..stale.len() {
+        if stale[i] != tess.mesh().positions()[i] || stale_normals[i] != tess.normals()[i] {
+            assert!(inside(i), "vertex {i} changed outside the returned ranges");
+        }
+    }
+    let covered: usize = ranges.iter().map(|r| r.len()).sum();
+    assert!(covered <= changed.patches.len() * (k + 1) * (k + 1), "{covered}");
 }
 
 #[test]

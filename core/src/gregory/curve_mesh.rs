@@ -201,6 +201,11 @@ impl CurveMesh {
             (self.topology.position(self.topology.from_vertex(h)), self.topology.position(self.topology.to_vertex(h)));
         if h == h.edge().halfedge(0) { CubicBezier::new(a, p1, p2, b) } else { CubicBezier::new(a, p2, p1, b) }
     }
+    /// The inner control point of curve `e` next to its end vertex `end` (`None` when `end` is
+    /// not an end of `e`).
+    pub fn inner_point(&self, e: EdgeId, end: VertexId) -> Option<DVec3> {
+        self.end_index(e, end).map(|k| self.inner[e.index()][k])
+    }
     /// The Gregory patch of a face.
     pub fn patch(&self, f: FaceId) -> &GregoryPatch {
         &self.patches[f.index()]
@@ -370,6 +375,7 @@ impl CurveMesh {
         vertices.sort();
         let mut curves = curves.to_vec();
         curves.sort();
+        curves.dedup();
         Changed { vertices, curves, patches: faces.into_iter().collect() }
     }
 
@@ -495,6 +501,10 @@ impl CurveMesh {
                 self.inner[c as usize] = inner;
                 curves.push(EdgeId(c));
             }
+        }
+        // A moved vertex moves the ends of its curves too.
+        for &v in &vertices {
+            curves.extend(self.topology.outgoing(v).map(|h| h.edge()));
         }
         self.edited_vertices = new_vertices;
         self.edited_curves = new_curves;

@@ -127,10 +127,11 @@ impl GregoryPatch {
     /// Position only (cheaper than [`SurfacePatch::evaluate`]).
     pub fn point(&self, u: f64, v: f64) -> DVec3 {
         let (bu, bv) = (bernstein3(u), bernstein3(v));
+        let q = self.net(u, v);
         let mut s = DVec3::ZERO;
         for i in 0..4 {
             for j in 0..4 {
-                s += (bu[i] * bv[j]) * self.net_point(i, j, u, v);
+                s += (bu[i] * bv[j]) * q[i][j];
             }
         }
         s
@@ -140,56 +141,90 @@ impl GregoryPatch {
     pub fn first_derivatives(&self, u: f64, v: f64) -> (DVec3, DVec3, DVec3) {
         let (bu, bv) = (bernstein3(u), bernstein3(v));
         let (du, dv) = (bernstein3_d1(u), bernstein3_d1(v));
+        self.first_derivatives_with(u, v, [&bu, &du], [&bv, &dv])
+    }
+
+    /// [`GregoryPatch::first_derivatives`] with the Bernstein values and first derivatives at
+    /// `u` and at `v` given (a grid reuses them along its rows and columns).
+    pub(crate) fn first_derivatives_with(
+        &self,
+        u: f64,
+        v: f64,
+        at_u: [&[f64; 4]; 2],
+        at_v: [&[f64; 4]; 2],
+    ) -> (DVec3, DVec3, DVec3) {
+        let ([bu, du], [bv, dv]) = (at_u, at_v);
+        let mut q = self.rim;
+        let mut dq = [[(DVec3::ZERO, DVec3::ZERO); 2]; 2];
+        for i in 0..2 {
+            for j in 0..2 {
+                let (p, pu, pv) = self.blend(i, j, u, v);
+                q[i + 1][j + 1] = p;
+                dq[i][j] = (pu, pv);
+            }
+        }
         let (mut s, mut su, mut sv) = (DVec3::ZERO, DVec3::ZERO, DVec3::ZERO);
         for i in 0..4 {
             for j in 0..4 {
-                let q = self.net_point(i, j, u, v);
-                s += (bu[i] * bv[j]) * q;
-                su += (du[i] * bv[j]) * q;
-                sv += (bu[i] * dv[j]) * q;
+                s += (bu[i] * bv[j]) * q[i][j];
+                su += (du[i] * bv[j]) * q[i][j];
+                sv += (bu[i] * dv[j]) * q[i][j];
             }
         }
         for i in 0..2 {
             for j in 0..2 {
-                let w = self.weight(i, j, u, v);
                 let b = bu[i + 1] * bv[j + 1];
-                su += b * w.qu;
-                sv += b * w.qv;
+                su += b * dq[i][j].0;
+                sv += b * dq[i][j].1;
             }
         }
         (s, su, sv)
     }
 
-    /// `Qᵢⱼ(u, v)`: the rim point, or the blend of an inner pair.
+    /// The 16 points `Qᵢⱼ(u, v)`: the rim with the four inner blends in the middle.
     #[inline]
-    fn net_point(&self, i: usize, j: usize, u: f64, v: f64) -> DVec3 {
-        if (1..3).contains(&i) && (1..3).contains(&j) { self.weight(i - 1, j - 1, u, v).q } else { self.rim[i][j] }
+    fn net(&self, u: f64, v: f64) -> [[DVec3; 4]; 4] {
+        let mut q = self.rim;
+        for i in 0..2 {
+            for j in 0..2 {
+                q[i + 1][j + 1] = self.blend(i, j, u, v).0;
+            }
+        }
+        q
     }
 
-    /// The blend `Q = (α A + β B)/(α + β)` of inner pair `(i, j)` and its derivatives, with
-    /// `α = u` or `1 − u` and `β = v` or `1 − v` (so `α_u = ±1`, `β_v = ±1`).
+    /// The blend `Q = (α A + β B)/(α + β)` of inner pair `(i, j)` and its first derivatives,
+    /// with `α = u` or `1 − u` and `β = v` or `1 − v` (so `α_u = ±1`, `β_v = ±1`).
     #[inline]
-    fn weight(&self, i: usize, j: usize, u: f64, v: f64) -> InnerBlend {
+    fn blend(&self, i: usize, j: usize, u: f64, v: f64) -> (DVec3, DVec3, DVec3) {
         let [a, b] = self.inner[i][j];
         let (alpha, au) = if i == 0 { (u, 1.0) } else { (1.0 - u, -1.0) };
         let (beta, bv) = if j == 0 { (v, 1.0) } else { (1.0 - v, -1.0) };
         let s = alpha + beta;
         if s < CORNER {
-            return InnerBlend {
-                q: a,
-                qu: DVec3::ZERO,
-                qv: DVec3::ZERO,
-                quu: DVec3::ZERO,
-                quv: DVec3::ZERO,
-                qvv: DVec3::ZERO,
-            };
+            return (a, DVec3::ZERO, DVec3::ZERO);
         }
         let d = a - b;
-        let (s2, s3) = (s * s, s * s * s);
+        let inv = 1.0 / s;
+        let inv2 = inv * inv;
+        (b + (alpha * inv) * d, (au * beta * inv2) * d, (-alpha * bv * inv2) * d)
+    }
+
+    /// [`GregoryPatch::blend`]'s derivatives with the second derivatives too.
+    fn weight(&self, i: usize, j: usize, u: f64, v: f64) -> InnerBlend {
+        let (_, qu, qv) = self.blend(i, j, u, v);
+        let [a, b] = self.inner[i][j];
+        let (alpha, au) = if i == 0 { (u, 1.0) } else { (1.0 - u, -1.0) };
+        let (beta, bv) = if j == 0 { (v, 1.0) } else { (1.0 - v, -1.0) };
+        let s = alpha + beta;
+        if s < CORNER {
+            return InnerBlend { qu, qv, quu: DVec3::ZERO, quv: DVec3::ZERO, qvv: DVec3::ZERO };
+        }
+        let d = a - b;
+        let s3 = s * s * s;
         InnerBlend {
-            q: b + (alpha / s) * d,
-            qu: (au * beta / s2) * d,
-            qv: (-alpha * bv / s2) * d,
+            qu,
+            qv,
             quu: (-2.0 * beta / s3) * d,
             quv: (au * bv * (alpha - beta) / s3) * d,
             qvv: (2.0 * alpha / s3) * d,
@@ -197,9 +232,8 @@ impl GregoryPatch {
     }
 }
 
-/// An inner blend `Q` and its partial derivatives.
+/// The partial derivatives of an inner blend `Q`.
 struct InnerBlend {
-    q: DVec3,
     qu: DVec3,
     qv: DVec3,
     quu: DVec3,
@@ -220,9 +254,10 @@ impl SurfacePatch for GregoryPatch {
             duv: DVec3::ZERO,
             dvv: DVec3::ZERO,
         };
+        let net = self.net(u, v);
         for i in 0..4 {
             for j in 0..4 {
-                let q = self.net_point(i, j, u, v);
+                let q = net[i][j];
                 out.position += (bu[i] * bv[j]) * q;
                 out.du += (du[i] * bv[j]) * q;
                 out.dv += (bu[i] * dv[j]) * q;

@@ -16,8 +16,9 @@
 //! function of the curve mesh around it, so [`Tessellation::update`] after an edit gives exactly
 //! the values of a fresh tessellation, and both are the same for any thread count.
 
+use super::bezier::{bernstein3, bernstein3_d1};
 use super::curve_mesh::{Changed, CurveMesh};
-use super::patch::SurfacePatch;
+use super::patch::{GregoryPatch, SurfacePatch};
 use crate::mesh::{EdgeId, FaceId, HalfedgeId, PolyMesh, VertexId};
 use crate::{DVec3, Error, Result};
 use rayon::prelude::*;
@@ -108,8 +109,9 @@ impl Tessellation {
 
     /// Re-evaluates the vertices of the changed patches (their corners, the samples on their
     /// curves, their interiors) after an edit of `curves`; the result equals a fresh
-    /// [`Tessellation::new`] bit for bit.
-    pub fn update(&mut self, curves: &CurveMesh, changed: &Changed) -> Result<()> {
+    /// [`Tessellation::new`] bit for bit. Returns the rewritten vertex index ranges, ascending
+    /// (what an editor re-uploads).
+    pub fn update(&mut self, curves: &CurveMesh, changed: &Changed) -> Result<Vec<Range<usize>>> {
         if self.sides.len() != curves.patch_count() || self.layout(curves).interior_start() > self.normals.len() {
             return Err(Error::Input("this tessellation belongs to another curve mesh; tessellate it anew".into()));
         }
@@ -124,19 +126,27 @@ impl Tessellation {
         vertices.extend(changed.vertices.iter().copied());
         let layout = self.layout(curves);
         let k = self.samples;
-        let mut updates: Vec<(usize, DVec3, DVec3)> = Vec::new();
-        for &v in &vertices {
-            let (p, n) = corner_sample(curves, v);
-            updates.push((v.index(), p, n));
-        }
-        for &e in &edges {
-            for s in 1..k {
+        let vertex_list: Vec<VertexId> = vertices.iter().copied().collect();
+        let edge_list: Vec<EdgeId> = edges.iter().copied().collect();
+        let mut updates: Vec<(usize, DVec3, DVec3)> = vertex_list
+            .par_iter()
+            .map(|&v| {
+                let (p, n) = corner_sample(curves, v);
+                (v.index(), p, n)
+            })
+            .collect();
+        updates.par_extend(edge_list.par_iter().flat_map_iter(|&e| {
+            (1..k).map(move |s| {
                 let (p, n) = curve_sample(curves, e, s, k);
-                updates.push((layout.curve_sample(e, s), p, n));
-            }
-        }
+                (layout.curve_sample(e, s), p, n)
+            })
+        }));
         let interiors: Vec<(FaceId, Vec<(DVec3, DVec3)>)> =
             changed.patches.par_iter().map(|&f| (f, interior_samples(curves, f, k))).collect();
+        let mut ranges: Vec<Range<usize>> = vertices.iter().map(|v| v.index()..v.index() + 1).collect();
+        ranges.extend(
+            edges.iter().filter(|_| k > 1).map(|&e| layout.curve_sample(e, 1)..layout.curve_sample(e, k - 1) + 1),
+        );
         let positions = self.mesh.positions_mut();
         for (index, p, n) in updates {
             positions[index] = p;
@@ -144,12 +154,15 @@ impl Tessellation {
         }
         for (f, samples) in interiors {
             let start = layout.interior_start() + f.index() * (k - 1) * (k - 1);
+            ranges.push(start..start + samples.len());
             for (offset, (p, n)) in samples.into_iter().enumerate() {
                 positions[start + offset] = p;
                 self.normals[start + offset] = n;
             }
         }
-        Ok(())
+        ranges.retain(|r| !r.is_empty());
+        ranges.sort_by_key(|r| r.start);
+        Ok(ranges)
     }
 
     fn evaluate_all(&mut self, curves: &CurveMesh) {
@@ -251,9 +264,7 @@ fn corner_sample(curves: &CurveMesh, v: VertexId) -> (DVec3, DVec3) {
         // Patch side k is the face's k-th halfedge from `face_halfedge(f)` and starts at corner k.
         let side = topology.face_halfedges(f).position(|x| x == h).expect("h is a halfedge of its face");
         let (u, w) = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)][side];
-        if let Some(m) = curves.patch(f).normal(u, w) {
-            sum += m;
-        }
+        sum += patch_normal(curves.patch(f), u, w);
     }
     (curves.vertex_position(v), if sum.dot(n) < 0.0 { -n } else { n })
 }
@@ -272,9 +283,7 @@ fn curve_sample(curves: &CurveMesh, e: EdgeId, s: usize, k: usize) -> (DVec3, DV
         let side = topology.face_halfedges(f).position(|x| x == h).expect("h is a halfedge of its face");
         let along = if side_of_edge == 0 { s } else { k - s };
         let (u, v) = side_parameter(side, along, k);
-        if let Some(m) = curves.patch(f).normal(u, v) {
-            sum += m;
-        }
+        sum += patch_normal(curves.patch(f), u, v);
     }
     (position, sum.normalize_or(DVec3::Z))
 }
@@ -282,20 +291,38 @@ fn curve_sample(curves: &CurveMesh, e: EdgeId, s: usize, k: usize) -> (DVec3, DV
 /// The `(K − 1)²` interior samples of patch `f`, row by row.
 fn interior_samples(curves: &CurveMesh, f: FaceId, k: usize) -> Vec<(DVec3, DVec3)> {
     let patch = curves.patch(f);
+    let basis: Vec<([f64; 4], [f64; 4])> = (0..=k)
+        .map(|i| {
+            let t = i as f64 / k as f64;
+            (bernstein3(t), bernstein3_d1(t))
+        })
+        .collect();
     let mut out = Vec::with_capacity((k - 1) * (k - 1));
     for j in 1..k {
         let v = j as f64 / k as f64;
         for i in 1..k {
             let u = i as f64 / k as f64;
-            let (p, su, sv) = patch.first_derivatives(u, v);
-            let n = su.cross(sv);
-            let n = if n.length() > 1e-12 * su.length() * sv.length() && n.length() > 0.0 {
-                n.normalize()
-            } else {
-                patch.normal(u, v).unwrap_or(DVec3::Z)
-            };
-            out.push((p, n));
+            let (p, su, sv) =
+                patch.first_derivatives_with(u, v, [&basis[i].0, &basis[i].1], [&basis[j].0, &basis[j].1]);
+            // A patch collapsed to a line or point has no normal at all: +Z keeps the file valid.
+            out.push((p, unit_normal(patch, u, v, su, sv).normalize_or(DVec3::Z)));
         }
     }
     out
+}
+
+/// `S_u × S_v` normalised, or the patch's limit normal where it vanishes.
+fn unit_normal(patch: &GregoryPatch, u: f64, v: f64, su: DVec3, sv: DVec3) -> DVec3 {
+    let n = su.cross(sv);
+    if n.length() > 1e-12 * su.length() * sv.length() && n.length() > 0.0 {
+        n.normalize()
+    } else {
+        patch.normal(u, v).unwrap_or(DVec3::ZERO)
+    }
+}
+
+/// The unit normal of a patch at `(u, v)` from its first derivatives.
+fn patch_normal(patch: &GregoryPatch, u: f64, v: f64) -> DVec3 {
+    let (_, su, sv) = patch.first_derivatives(u, v);
+    unit_normal(patch, u, v, su, sv)
 }
