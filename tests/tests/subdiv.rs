@@ -2,7 +2,10 @@
 //! reference: hand-computed values, uniform B-splines and box-spline masks evaluated here, many
 //! further subdivision steps, transformed copies, a second thread count.
 
-use taut_core::subdiv::{RefinedPositions, Refinement, Scheme, Triangulation, catmull_clark_limit, loop_limit_matrix, triangulate};
+use taut_core::subdiv::{
+    RefinedPositions, Refinement, Scheme, Triangulation, catmull_clark_limit, loop_limit_matrix, sharpness_from_pairs,
+    triangulate,
+};
 use taut_core::{DVec3, HalfedgeId, PolyMesh, VertexId};
 use taut_tests::{cube, grid, prism, transformed};
 
@@ -188,14 +191,53 @@ fn catmull_clark_reproduces_affine_maps_and_is_similarity_invariant() {
     }
     let rotation = glam::DQuat::from_axis_angle(DVec3::new(1.0, 2.0, -0.5).normalize(), 0.7);
     let similar = |p: DVec3| 3.0 * (rotation * p) + DVec3::new(0.2, -1.0, 4.0);
-    let (_, sim) = refine(&transformed(&cage, similar), Scheme::CatmullClark, &[], 2);
-    for (a, b) in out.normals.iter().zip(&sim.normals) {
-        assert!(((rotation * *a) - *b).length() < 1e-12);
+    let triangles = triangulate(&cage, Triangulation::ShortestDiagonal).unwrap();
+    for (scheme, cage) in [(Scheme::CatmullClark, &cage), (Scheme::Loop, &triangles)] {
+        let (_, base) = refine(cage, scheme, &[], 2);
+        let (_, sim) = refine(&transformed(cage, similar), scheme, &[], 2);
+        for ((a, b), (p, q)) in base.normals.iter().zip(&sim.normals).zip(base.limit.iter().zip(&sim.limit)) {
+            assert!(((rotation * *a) - *b).length() < 1e-12, "{scheme:?}");
+            assert!((similar(*p) - *q).length() < 1e-12, "{scheme:?}");
+        }
     }
     // Outward normals on a closed convex cage.
     let centre = cage.positions().iter().sum::<DVec3>() / cage.vertex_count() as f64;
     for (p, n) in out.limit.iter().zip(&out.normals) {
         assert!((*p - centre).dot(*n) > 0.0);
+    }
+}
+
+/// A limit point and normal do not depend on the level they are computed from: vertex `v` of
+/// level 1 is vertex `v` of level 3, and its limit from level 1 (through
+/// `limit_stencils_at(1)`) must equal its limit from level 3. This holds only if every mask,
+/// crease and boundary tangents included, is an exact left eigenvector of the subdivision.
+#[test]
+fn limits_do_not_depend_on_the_level_they_are_taken_at() {
+    let l = l_shape();
+    let c = cube();
+    let sharp = |m: &PolyMesh, pairs: &[(u32, u32)]| {
+        let p: Vec<_> = pairs.iter().map(|&(a, b)| (VertexId(a), VertexId(b), f64::INFINITY)).collect();
+        sharpness_from_pairs(m, &p).unwrap()
+    };
+    let t = triangulate(&prism(5, 1.0, 1.2), Triangulation::ShortestDiagonal).unwrap();
+    let cases = [
+        (Scheme::CatmullClark, prism(5, 1.0, 1.2), vec![]),
+        (Scheme::CatmullClark, l.clone(), vec![]),
+        (Scheme::CatmullClark, c.clone(), sharp(&c, &[(4, 5), (5, 7), (7, 6), (0, 1), (0, 2), (0, 4)])),
+        (Scheme::Loop, t.clone(), sharp(&t, &[(0, 1), (1, 2), (2, 3)])),
+        (Scheme::Loop, triangulate(&l, Triangulation::Fan).unwrap(), vec![]),
+    ];
+    for (scheme, cage, sharpness) in cases {
+        let (r, out) = refine(&cage, scheme, &sharpness, 3);
+        let at1 = r.limit_stencils_at(1).unwrap();
+        let (mut limit, mut normals) = (Vec::new(), Vec::new());
+        at1.evaluate(&out.levels[1], &mut limit, &mut normals);
+        for v in 0..r.mesh(1).vertex_count() {
+            let d = (limit[v] - out.limit[v]).length();
+            assert!(d < 1e-12, "{scheme:?} {} faces: vertex {v} limit {d:.2e} apart", cage.face_count());
+            let a = angle(normals[v], out.normals[v]);
+            assert!(a < 1e-9, "{scheme:?} {} faces: vertex {v} normal {a:.2e} rad apart", cage.face_count());
+        }
     }
 }
 
@@ -220,18 +262,63 @@ fn refinement_keeps_euler_characteristic_and_cage_numbering() {
 
 #[test]
 fn bit_identical_for_one_and_two_threads() {
-    let cage = bumpy_grid(16);
-    let mut sharpness = vec![0.0; cage.edge_count()];
-    sharpness[40] = 1.5;
-    sharpness[41] = f64::INFINITY;
-    let run = |threads: usize| {
-        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
-        pool.install(|| {
-            let (r, out) = refine(&cage, Scheme::CatmullClark, &sharpness, 3);
-            (r.stencils(3).clone(), r.limit_stencils().tangents.clone(), out.levels, out.limit, out.normals)
-        })
-    };
-    assert!(run(1) == run(2));
+    for (scheme, cage) in [(Scheme::CatmullClark, bumpy_grid(16)), (Scheme::Loop, triangle_grid(16))] {
+        let mut sharpness = vec![0.0; cage.edge_count()];
+        sharpness[40] = 1.5;
+        sharpness[41] = f64::INFINITY;
+        let run = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            pool.install(|| {
+                let (r, out) = refine(&cage, scheme, &sharpness, 3);
+                (r.stencils(3).clone(), r.limit_stencils().clone(), out.levels, out.limit, out.normals)
+            })
+        };
+        assert!(run(1) == run(2), "{scheme:?}");
+    }
+}
+
+#[test]
+fn a_drag_update_is_bit_identical_to_a_full_evaluation() {
+    for (scheme, cage) in [(Scheme::CatmullClark, bumpy_grid(12)), (Scheme::Loop, triangle_grid(12))] {
+        let mut sharpness = vec![0.0; cage.edge_count()];
+        sharpness[30] = 1.5;
+        sharpness[31] = f64::INFINITY;
+        let (r, mut dragged) = refine(&cage, scheme, &sharpness, 3);
+        let mut positions = cage.positions().to_vec();
+        let total = r.update(&positions, &mut dragged).unwrap();
+        assert_eq!(total, 0, "nothing moved");
+        for (step, v) in [40usize, 41, 0, 168].into_iter().enumerate() {
+            positions[v] += DVec3::new(0.01, -0.02, 0.03 * step as f64);
+            let recomputed = r.update(&positions, &mut dragged).unwrap();
+            let mut fresh = RefinedPositions::default();
+            r.evaluate(&positions, &mut fresh).unwrap();
+            assert!(dragged.levels == fresh.levels && dragged.limit == fresh.limit && dragged.normals == fresh.normals);
+            // A moved cage vertex reaches a small part of the surface only (about a 4 × 4 patch
+            // of the 12 × 12 cage's faces).
+            let rows: usize = (1..=3).map(|l| r.mesh(l).vertex_count()).sum::<usize>() + r.mesh(3).vertex_count();
+            assert!(recomputed > 0 && recomputed < rows / 8, "{recomputed} of {rows}");
+        }
+        // Moving everything falls back to a full evaluation, with the same result; so do
+        // positions whose limit was left behind or that another refinement filled.
+        for p in &mut positions {
+            *p = 2.0 * *p;
+        }
+        r.update(&positions, &mut dragged).unwrap();
+        let mut fresh = RefinedPositions::default();
+        r.evaluate(&positions, &mut fresh).unwrap();
+        assert!(dragged.levels == fresh.levels && dragged.limit == fresh.limit && dragged.normals == fresh.normals);
+        positions[7].x += 0.5;
+        r.evaluate_levels(&positions, &mut dragged).unwrap();
+        r.update(&positions, &mut dragged).unwrap();
+        let other = Refinement::new(&cage, scheme, &sharpness, 3).unwrap();
+        let mut foreign = RefinedPositions::default();
+        other.evaluate(cage.positions(), &mut foreign).unwrap();
+        r.update(&positions, &mut foreign).unwrap();
+        r.evaluate(&positions, &mut fresh).unwrap();
+        for out in [&dragged, &foreign] {
+            assert!(out.levels == fresh.levels && out.limit == fresh.limit && out.normals == fresh.normals);
+        }
+    }
 }
 
 #[test]
@@ -250,7 +337,12 @@ fn catmull_clark_limit_helper_agrees_with_the_refinement() {
 
 /// A regular tetrahedron centred at the origin, outward triangles.
 fn tetrahedron() -> PolyMesh {
-    let p = vec![DVec3::new(1.0, 1.0, 1.0), DVec3::new(1.0, -1.0, -1.0), DVec3::new(-1.0, 1.0, -1.0), DVec3::new(-1.0, -1.0, 1.0)];
+    let p = vec![
+        DVec3::new(1.0, 1.0, 1.0),
+        DVec3::new(1.0, -1.0, -1.0),
+        DVec3::new(-1.0, 1.0, -1.0),
+        DVec3::new(-1.0, -1.0, 1.0),
+    ];
     PolyMesh::from_polygons(p, &[[0, 1, 2], [0, 3, 1], [0, 2, 3], [1, 3, 2]]).unwrap()
 }
 
@@ -283,7 +375,7 @@ fn loop_regular_limit_mask_is_one_half_and_one_twelfth() {
     let cage = triangle_grid(6);
     let (r, _) = refine(&cage, Scheme::Loop, &[], 1);
     let level = r.mesh(1);
-    let rows = &r.limit_stencils().positions;
+    let rows = r.limit_stencils().position_rows();
     let mut regular = 0;
     for v in level.vertices().filter(|&v| !level.is_boundary_vertex(v) && level.valence(v) == 6) {
         for (c, w) in rows.row(v.index()) {
@@ -297,7 +389,8 @@ fn loop_regular_limit_mask_is_one_half_and_one_twelfth() {
 
 #[test]
 fn loop_limit_points_and_normals_match_deep_subdivision() {
-    let cages = [tetrahedron(), triangulate(&prism(5, 1.0, 1.5), Triangulation::ShortestDiagonal).unwrap(), triangle_grid(3)];
+    let cages =
+        [tetrahedron(), triangulate(&prism(5, 1.0, 1.5), Triangulation::ShortestDiagonal).unwrap(), triangle_grid(3)];
     for cage in &cages {
         let size = cage.bounding_diagonal();
         let (r, out) = refine(cage, Scheme::Loop, &[], 1);
@@ -312,7 +405,10 @@ fn loop_limit_points_and_normals_match_deep_subdivision() {
             }
         }
         let faces = cage.face_count();
-        assert!(distance < 1e-4 && 3.0 * distance < nearer, "{faces} faces: {distance:.2e} after 6, {nearer:.2e} after 4");
+        assert!(
+            distance < 1e-4 && 3.0 * distance < nearer,
+            "{faces} faces: {distance:.2e} after 6, {nearer:.2e} after 4"
+        );
         assert!(normal < 1e-4, "{faces} faces: normals {normal:.2e} rad from the deep mesh's");
     }
 }
@@ -363,4 +459,212 @@ fn loop_refuses_quads_with_a_hint_to_triangulate() {
         let err = Refinement::new(&cube(), Scheme::Loop, &[], levels).unwrap_err().to_string();
         assert!(err.contains("face 0 has 4 sides") && err.contains("triangulate"), "{err}");
     }
+}
+
+/// An L of three quads: its inner corner is a boundary vertex with three faces.
+fn l_shape() -> PolyMesh {
+    let g = grid(2, 2, 1.0, |x, y| 0.3 * x * x - 0.2 * x * y + 0.1 * y);
+    let polygons: Vec<Vec<u32>> = g.polygons().into_iter().take(3).collect();
+    PolyMesh::from_polygons(g.positions().to_vec(), &polygons).unwrap()
+}
+
+/// At every boundary cage vertex with an interior edge, the plane through its limit point and the
+/// limit points of its three neighbours at level `l` (along the boundary both ways, and into the
+/// surface along the interior edge) tends to the limit tangent plane as `l` grows: the angle to
+/// the limit normal must shrink geometrically.
+#[test]
+fn boundary_limit_normals_are_the_tangent_planes_of_deep_levels() {
+    let cases = [
+        (Scheme::CatmullClark, bumpy_grid(3)),
+        (Scheme::CatmullClark, l_shape()),
+        (Scheme::Loop, triangle_grid(3)),
+        (Scheme::Loop, triangulate(&l_shape(), Triangulation::Fan).unwrap()),
+    ];
+    for (scheme, cage) in cases {
+        let (_, base) = refine(&cage, scheme, &[], 0);
+        let deep: Vec<(Refinement, RefinedPositions)> = (3..=7).map(|l| refine(&cage, scheme, &[], l)).collect();
+        for v in cage.vertices().filter(|&v| cage.is_boundary_vertex(v)) {
+            let out = cage.vertex_halfedge(v);
+            let (next, prev) = (out.edge(), cage.prev(out).edge());
+            let Some(inner) = cage.outgoing(v).find(|h| !cage.is_boundary_edge(h.edge())) else { continue };
+            let angles: Vec<f64> = deep
+                .iter()
+                .map(|(r, o)| {
+                    let near = |e| {
+                        let c = r.cage_edge_chain(e, r.level_count()).unwrap();
+                        o.limit[if c[0] == v { c[1] } else { c[c.len() - 2] }.index()]
+                    };
+                    let plane = (near(prev) - near(next)).cross(near(inner.edge()) - o.limit[v.index()]);
+                    angle(plane, base.normals[v.index()])
+                })
+                .collect();
+            let faces = cage.valence(v) - 1;
+            for w in angles.windows(2) {
+                assert!(w[1] < 0.8 * w[0], "{scheme:?}, vertex {} with {faces} faces: angles {angles:?}", v.0);
+            }
+        }
+    }
+}
+
+/// The cube with the loop of edges around its top face creased with sharpness `s`.
+fn creased_cube(s: f64) -> (PolyMesh, Vec<f64>, Vec<u32>) {
+    let cage = cube();
+    let polygon = vec![4, 5, 7, 6];
+    let pairs: Vec<_> = (0..4).map(|k| (VertexId(polygon[k]), VertexId(polygon[(k + 1) % 4]), s)).collect();
+    let sharpness = sharpness_from_pairs(&cage, &pairs).unwrap();
+    (cage, sharpness, polygon)
+}
+
+#[test]
+fn a_sharp_edge_loop_is_the_cubic_bspline_of_its_polygon() {
+    for scheme in [Scheme::CatmullClark, Scheme::Loop] {
+        let (mut cage, sharpness, polygon) = creased_cube(f64::INFINITY);
+        let sharpness = if scheme == Scheme::Loop {
+            // Split the faces without cutting the creased edges (a fan keeps every cage edge).
+            cage = triangulate(&cage, Triangulation::Fan).unwrap();
+            let pairs: Vec<_> =
+                (0..4).map(|k| (VertexId(polygon[k]), VertexId(polygon[(k + 1) % 4]), f64::INFINITY)).collect();
+            sharpness_from_pairs(&cage, &pairs).unwrap()
+        } else {
+            sharpness
+        };
+        let levels = 3;
+        let (r, out) = refine(&cage, scheme, &sharpness, levels);
+        let points: Vec<DVec3> = polygon.iter().map(|&v| cage.position(VertexId(v))).collect();
+        for k in 0..4 {
+            let (a, b) = (VertexId(polygon[k]), VertexId(polygon[(k + 1) % 4]));
+            let e = cage.find_halfedge(a, b).unwrap().edge();
+            let mut chain = r.cage_edge_chain(e, levels).unwrap();
+            if chain[0] != a {
+                chain.reverse();
+            }
+            for (j, v) in chain.iter().enumerate() {
+                let expected = closed_bspline(&points, k, j as f64 / 8.0);
+                assert!((out.limit[v.index()] - expected).length() < 1e-12, "{scheme:?}: span {k}, point {j}");
+                // And the refined points themselves are the B-spline's control polygon refined:
+                // they converge to it, staying within the polygon's plane z = ½.
+                assert!((out.finest()[v.index()].z - 0.5).abs() < 1e-12);
+            }
+        }
+        // The smooth side still shrinks: the bottom corners move inwards.
+        assert!(out.limit[0].length() < 0.5 * 3f64.sqrt() - 0.1);
+    }
+}
+
+#[test]
+fn semi_sharp_creases_lie_between_their_integer_neighbours() {
+    let limit = |s: f64| {
+        let (cage, sharpness, _) = creased_cube(s);
+        refine(&cage, Scheme::CatmullClark, &sharpness, 4).1.limit
+    };
+    let (one, half, two, sharp) = (limit(1.0), limit(1.5), limit(2.0), limit(f64::INFINITY));
+    // On the crease loop (cage vertex 4 and the edge points of its loop edges at level 1) the
+    // surface comes closer to the sharp one as s grows, and 1.5 lies strictly between 1 and 2.
+    let cage = cube();
+    let (r, _) = refine(&cage, Scheme::CatmullClark, &[], 1);
+    let e = cage.find_halfedge(VertexId(4), VertexId(5)).unwrap().edge();
+    for v in [VertexId(4), r.split(1).edge_point(e)] {
+        let d = |p: &[DVec3]| (p[v.index()] - sharp[v.index()]).length();
+        assert!(
+            d(&one) > d(&half) && d(&half) > d(&two) && d(&two) > 1e-6,
+            "{v:?}: {} {} {}",
+            d(&one),
+            d(&half),
+            d(&two)
+        );
+        // Along the segment from s = 1 to s = 2, s = 1.5 projects strictly inside.
+        let t = (half[v.index()] - one[v.index()]).dot(two[v.index()] - one[v.index()])
+            / (two[v.index()] - one[v.index()]).length_squared();
+        assert!(t > 0.0 && t < 1.0, "{v:?}: t = {t}");
+    }
+}
+
+#[test]
+fn corners_stay_and_semi_sharp_edges_blend_by_hand() {
+    // Three sharp edges at cube vertex 0: a corner, fixed at every level and in the limit.
+    let cage = cube();
+    let pairs: Vec<_> = [1, 2, 4].iter().map(|&u| (VertexId(0), VertexId(u), f64::INFINITY)).collect();
+    let sharpness = sharpness_from_pairs(&cage, &pairs).unwrap();
+    let (_, out) = refine(&cage, Scheme::CatmullClark, &sharpness, 3);
+    for level in &out.levels {
+        assert_eq!(level[0], cage.position(VertexId(0)));
+    }
+    assert_eq!(out.limit[0], cage.position(VertexId(0)));
+
+    // One interior grid edge of sharpness ¼: its edge point is ¼ midpoint + ¾ smooth rule, and
+    // its end vertices (darts) follow the smooth rule.
+    let cage = bumpy_grid(4);
+    let (a, b) = (VertexId(6), VertexId(7));
+    let sharpness = sharpness_from_pairs(&cage, &[(a, b, 0.25)]).unwrap();
+    let (r, out) = refine(&cage, Scheme::CatmullClark, &sharpness, 1);
+    let (_, smooth) = refine(&cage, Scheme::CatmullClark, &[], 1);
+    let e = cage.find_halfedge(a, b).unwrap().edge();
+    let m = r.split(1).edge_point(e).index();
+    let mid = 0.5 * (cage.position(a) + cage.position(b));
+    assert!((out.levels[1][m] - (0.25 * mid + 0.75 * smooth.levels[1][m])).length() < 1e-15);
+    assert_eq!(out.levels[1][a.index()], smooth.levels[1][a.index()]);
+    // Sharpness 1 is a crease for exactly one level: the first level is the sharp one's, the
+    // second blends nothing more (its halves are smooth).
+    let sharpness1 = sharpness_from_pairs(&cage, &[(a, b, 1.0)]).unwrap();
+    let sharp_inf = sharpness_from_pairs(&cage, &[(a, b, f64::INFINITY)]).unwrap();
+    let (_, one) = refine(&cage, Scheme::CatmullClark, &sharpness1, 1);
+    let (_, inf) = refine(&cage, Scheme::CatmullClark, &sharp_inf, 1);
+    assert_eq!(one.levels[1][m], inf.levels[1][m]);
+    assert_eq!(one.levels[1][m], mid);
+}
+
+#[test]
+fn bad_input_gets_clear_errors_or_documented_handling() {
+    let cage = cube();
+    let err = |r: taut_core::Result<Refinement>| r.unwrap_err().to_string();
+    let mut s = vec![0.0; cage.edge_count()];
+    s[3] = f64::NAN;
+    assert!(err(Refinement::new(&cage, Scheme::CatmullClark, &s, 2)).contains("use a number ≥ 0"));
+    s[3] = -1.0;
+    assert!(err(Refinement::new(&cage, Scheme::CatmullClark, &s, 2)).contains("sharpness -1"));
+    assert!(err(Refinement::new(&cage, Scheme::CatmullClark, &[1.0], 2)).contains("one per cage edge"));
+    assert!(err(Refinement::new(&cage, Scheme::CatmullClark, &[], 11)).contains("at most 10"));
+    let e = err(Refinement::new(&cage, Scheme::CatmullClark, &[], 10));
+    assert!(e.contains("faces") && e.contains("fewer levels"), "{e}");
+    assert!(
+        sharpness_from_pairs(&cage, &[(VertexId(0), VertexId(7), 1.0)])
+            .unwrap_err()
+            .to_string()
+            .contains("no cage edge")
+    );
+    let prism = prism(5, 1.0, 1.0);
+    assert!(err(Refinement::new(&prism, Scheme::CatmullClark, &[], 0)).contains("subdivide at least once"));
+    let r = Refinement::new(&cage, Scheme::CatmullClark, &[], 1).unwrap();
+    let mut out = RefinedPositions::default();
+    let mut bad = cage.positions().to_vec();
+    bad[2].y = f64::INFINITY;
+    assert!(r.evaluate(&bad, &mut out).unwrap_err().to_string().contains("cage vertex 2"));
+    assert!(r.evaluate(&bad[..3], &mut out).unwrap_err().to_string().contains("3 cage positions"));
+
+    // An isolated vertex is kept in place; a zero-area face and a valence-2 vertex are refined by
+    // the same rules, with finite positions and unit (or, where undefined, zero) normals.
+    let mut p = cage.positions().to_vec();
+    p.push(DVec3::splat(7.0));
+    // The top face becomes a fan around the midpoint of its edge 4–5: triangle (4, 5, 9) has
+    // zero area.
+    p.push(0.5 * (cage.position(VertexId(4)) + cage.position(VertexId(5))));
+    let mut faces = cage.polygons();
+    let top = faces.remove(1);
+    for k in 0..4 {
+        faces.push(vec![top[k], top[(k + 1) % 4], 9]);
+    }
+    let mesh = PolyMesh::from_polygons(p, &faces).unwrap();
+    let (r, out) = refine(&mesh, Scheme::CatmullClark, &[], 2);
+    assert_eq!(out.finest()[8], DVec3::splat(7.0));
+    assert_eq!(out.limit[8], DVec3::splat(7.0));
+    assert_eq!(out.normals[8], DVec3::ZERO);
+    for (p, n) in out.limit.iter().zip(&out.normals) {
+        assert!(p.is_finite() && ((n.length() - 1.0).abs() < 1e-12 || *n == DVec3::ZERO));
+    }
+    assert_eq!(r.mesh(2).euler_characteristic(), mesh.euler_characteristic());
+    // Two quads glued along all four edges: every vertex has valence 2.
+    let pillow = PolyMesh::from_polygons(cage.positions()[..4].to_vec(), &[[0, 1, 3, 2], [0, 2, 3, 1]]).unwrap();
+    let (_, out) = refine(&pillow, Scheme::CatmullClark, &[], 2);
+    assert!(out.limit.iter().all(|p| p.is_finite()));
+    assert!(out.normals.iter().all(|n| n.is_finite()));
 }

@@ -7,7 +7,8 @@
 //! - [`crease`]: per-edge sharpness, vertex rules and uniform semi-sharp creasing (OpenSubdiv's
 //!   semantics), boundaries as infinitely sharp edges.
 //! - [`rules`]: the Catmull–Clark and Loop rules as stencils from one level to the next.
-//! - [`limit`]: limit positions and normals as stencils over a level.
+//! - [`limit`]: limit positions and normals as stencils over a level; [`eigen_masks`]: the exact
+//!   masks at darts and across creases and boundaries.
 //! - [`refinement`]: [`Refinement`], built once per cage topology and re-evaluated per drag.
 //! - [`triangulate`](mod@triangulate): cages made of triangles for Loop.
 //! - [`sparse`]: the sparse row matrices the stencils and limit masks are stored in.
@@ -15,6 +16,7 @@
 //!   control cage fitter solves with.
 
 pub mod crease;
+pub mod eigen_masks;
 pub mod limit;
 pub mod loop_limit;
 pub mod refinement;

@@ -7,22 +7,29 @@
 //! ([`LimitStencils`]). [`Refinement::evaluate`] then only applies those matrices to new cage
 //! positions, writing into reusable buffers.
 //!
-//! Level-by-level stencils were chosen over stencils flattened onto the cage: a flattened
-//! level-3 Catmull–Clark row touches about 25 cage vertices against about 6 entries per row at
-//! each level, so the flattened matrix is several times larger and slower to apply
-//! (`benches/subdiv.rs` measures both).
+//! Level-by-level stencils were chosen over stencils flattened onto the cage: for a level-3
+//! Catmull–Clark torus the flattened matrix has 1.6 times the entries (1.72 M against 1.08 M)
+//! and is no faster to apply (`benches/subdiv.rs` measures both), and level by level also gives
+//! every intermediate level. After a drag, [`Refinement::update`] recomputes only the rows that
+//! read a moved vertex (found through the transposed patterns, [`Users`]), level by level and
+//! then the limit, with the same bits as a full evaluation.
 //!
 //! Sizes: each level multiplies the face count by about 4. [`MAX_LEVELS`] levels at most, and the
-//! finest level may have at most [`MAX_REFINED_FACES`] faces (topology, stencils and positions take
-//! roughly 1 KB per finest face, so the bound keeps a refinement under about 2 GB).
+//! finest level may have at most [`MAX_REFINED_FACES`] faces: a refinement takes about 400 bytes
+//! per finest face and its [`RefinedPositions`] about 90 more (measured on a level-3
+//! Catmull–Clark torus, [`Refinement::memory_bytes`]), so the bound keeps one under about 1 GB.
 
-use super::crease::{child_sharpness, effective_sharpness};
+use super::crease::{Rule, child_sharpness, effective_sharpness};
 use super::limit::LimitStencils;
 use super::rules::{Scheme, level_stencils};
-use super::sparse::SparseRows;
+use super::sparse::{SparseRows, Users};
 use super::topology::{SplitRule, SplitTopology};
 use crate::mesh::{EdgeId, PolyMesh, VertexId};
 use crate::{DVec3, Error, Result};
+use std::sync::atomic::{AtomicU64, Ordering};
+
+/// Source of refinement identities, so [`Refinement::update`] knows whose positions it is given.
+static NEXT_ID: AtomicU64 = AtomicU64::new(1);
 
 /// The most levels a refinement may have.
 pub const MAX_LEVELS: u32 = 10;
@@ -37,6 +44,8 @@ struct Level {
     sharpness: Vec<f64>,
     /// This level's positions from the previous level's.
     stencils: SparseRows,
+    /// For every vertex of the previous level, the rows of `stencils` that read it.
+    users: Users,
 }
 
 /// A cage refined by a subdivision scheme.
@@ -47,6 +56,10 @@ pub struct Refinement {
     cage_sharpness: Vec<f64>,
     levels: Vec<Level>,
     limit: LimitStencils,
+    /// For every vertex of the finest level, the vertices whose limit reads it.
+    limit_users: Users,
+    /// Unique per built refinement (clones share it: they hold the same stencils).
+    id: u64,
 }
 
 /// The positions of every level, the limit positions and limit normals of the finest level.
@@ -58,6 +71,13 @@ pub struct RefinedPositions {
     pub limit: Vec<DVec3>,
     /// The unit limit normal of every vertex of the finest level (zero where undefined).
     pub normals: Vec<DVec3>,
+    /// The refinement whose complete evaluation these are (0: none).
+    source: u64,
+    /// Scratch for [`Refinement::update`]: per-vertex marks, the current mark, two dirty lists.
+    marks: Vec<u32>,
+    mark: u32,
+    dirty: Vec<u32>,
+    next: Vec<u32>,
 }
 
 impl RefinedPositions {
@@ -72,7 +92,7 @@ impl Refinement {
     /// cage edge (`0` smooth, `f64::INFINITY` sharp), or nothing for a smooth cage.
     ///
     /// Errors: Loop on a cage with faces other than triangles (triangulate first:
-    /// [`super::triangulate`]), Catmull–Clark with 0 levels on a cage that is not all quads (no
+    /// [`super::triangulate()`]), Catmull–Clark with 0 levels on a cage that is not all quads (no
     /// limit stencils there), a negative or NaN sharpness or one value per edge missing, more than
     /// [`MAX_LEVELS`] levels or more than [`MAX_REFINED_FACES`] faces at the finest level.
     /// Isolated vertices are kept in place at every level; degenerate (zero-area) faces and
@@ -93,12 +113,19 @@ impl Refinement {
         if faces > MAX_REFINED_FACES as f64 {
             return Err(Error::Input(format!(
                 "{levels} levels of this {}-face cage would make about {faces:.0} faces, more than the {MAX_REFINED_FACES} \
-                 Taut refines (about 2 GB of memory); use fewer levels",
+                 Taut refines (about 1 GB of memory); use fewer levels",
                 cage.face_count()
             )));
         }
-        let mut out =
-            Refinement { scheme, cage: cage.clone(), cage_sharpness, levels: Vec::new(), limit: Default::default() };
+        let mut out = Refinement {
+            scheme,
+            cage: cage.clone(),
+            cage_sharpness,
+            levels: Vec::new(),
+            limit: Default::default(),
+            limit_users: Default::default(),
+            id: NEXT_ID.fetch_add(1, Ordering::Relaxed),
+        };
         for _ in 0..levels {
             let (parent, parent_sharpness) = out.finest_topology();
             let split = SplitTopology::split(parent, rule)?;
@@ -111,10 +138,12 @@ impl Refinement {
                     None => 0.0,
                 })
                 .collect();
-            out.levels.push(Level { split, sharpness, stencils });
+            let users = stencils.users();
+            out.levels.push(Level { split, sharpness, stencils, users });
         }
         let (finest, finest_sharpness) = out.finest_topology();
         out.limit = LimitStencils::new(scheme, finest, finest_sharpness)?;
+        out.limit_users = out.limit.users();
         Ok(out)
     }
 
@@ -157,9 +186,36 @@ impl Refinement {
         }
     }
 
+    /// The rule of vertex `v` of `level` (from the sharp edges at it; boundary edges count as
+    /// sharp).
+    pub fn vertex_rule(&self, level: u32, v: VertexId) -> Rule {
+        let (mesh, sharpness) = (self.mesh(level), self.sharpness(level));
+        Rule::from_sharp_edges(mesh.outgoing(v).filter(|h| sharpness[h.edge().index()] > 0.0).count())
+    }
+
     /// The stencils making `level ≥ 1` from the level above.
     pub fn stencils(&self, level: u32) -> &SparseRows {
         &self.levels[level as usize - 1].stencils
+    }
+
+    /// Approximate bytes of everything built: every level's mesh and split bookkeeping, sharpness,
+    /// stencils and their transposed patterns, the limit stencils and theirs.
+    pub fn memory_bytes(&self) -> usize {
+        let mesh = |m: &PolyMesh| 28 * m.vertex_count() + 16 * m.halfedge_count() + 4 * m.face_count();
+        let levels: usize = self
+            .levels
+            .iter()
+            .map(|l| {
+                let m = &l.split.mesh;
+                mesh(m)
+                    + 12 * m.edge_count()
+                    + 4 * m.face_count()
+                    + 8 * m.edge_count()
+                    + l.stencils.memory_bytes()
+                    + l.users.memory_bytes()
+            })
+            .sum();
+        mesh(&self.cage) + levels + self.limit.memory_bytes() + self.limit_users.memory_bytes()
     }
 
     /// The limit stencils of the finest level.
@@ -185,11 +241,73 @@ impl Refinement {
         self.evaluate_levels(cage_positions, out)?;
         let finest = out.levels.last().expect("level 0 is always there");
         self.limit.evaluate(finest, &mut out.limit, &mut out.normals);
+        out.source = self.id;
         Ok(())
     }
 
-    /// Like [`Refinement::evaluate`], without the limit positions and normals.
-    pub fn evaluate_levels(&self, cage_positions: &[DVec3], out: &mut RefinedPositions) -> Result<()> {
+    /// After a drag: brings `out` (last filled by [`Refinement::evaluate`] or `update` of this
+    /// refinement; anything else is evaluated in full) to new cage positions, recomputing only the rows that read a moved cage vertex,
+    /// level by level, then the limit positions and normals that read a changed finest vertex.
+    /// The result is bit-identical to [`Refinement::evaluate`]. Falls back to a full evaluation
+    /// when `out` does not hold this refinement's complete evaluation or when more than a quarter
+    /// of a level changes. Returns the number of rows recomputed.
+    pub fn update(&self, cage_positions: &[DVec3], out: &mut RefinedPositions) -> Result<usize> {
+        self.check_cage_positions(cage_positions)?;
+        let finest = self.mesh(self.level_count()).vertex_count();
+        let fits = out.source == self.id
+            && out.levels.len() == self.levels.len() + 1
+            && (0..=self.level_count()).all(|l| out.levels[l as usize].len() == self.mesh(l).vertex_count())
+            && out.limit.len() == finest
+            && out.normals.len() == finest;
+        if !fits {
+            self.evaluate(cage_positions, out)?;
+            return Ok(self.total_rows());
+        }
+        out.dirty.clear();
+        for (v, (old, new)) in out.levels[0].iter_mut().zip(cage_positions).enumerate() {
+            if old.to_array().map(f64::to_bits) != new.to_array().map(f64::to_bits) {
+                *old = *new;
+                out.dirty.push(v as u32);
+            }
+        }
+        out.marks.resize(finest.max(self.cage.vertex_count()), 0);
+        let mut recomputed = 0;
+        for (l, level) in self.levels.iter().enumerate() {
+            collect_users(&level.users, out);
+            if 4 * out.next.len() > level.stencils.row_count() {
+                // Most of the surface moves: evaluate the rest in full, in parallel.
+                for (k, level) in self.levels.iter().enumerate().skip(l) {
+                    let (coarse, fine) = out.levels.split_at_mut(k + 1);
+                    level.stencils.apply_into(&coarse[k], &mut fine[0]);
+                }
+                let finest = out.levels.last().expect("level 0 is always there");
+                self.limit.evaluate(finest, &mut out.limit, &mut out.normals);
+                return Ok(recomputed + self.rows_from(l));
+            }
+            let (coarse, fine) = out.levels.split_at_mut(l + 1);
+            for &v in &out.next {
+                fine[0][v as usize] = level.stencils.apply_row(v as usize, &coarse[l]);
+            }
+            recomputed += out.next.len();
+            std::mem::swap(&mut out.dirty, &mut out.next);
+        }
+        collect_users(&self.limit_users, out);
+        let finest = out.levels.last().expect("level 0 is always there");
+        self.limit.evaluate_some(finest, &out.next, &mut out.limit, &mut out.normals);
+        Ok(recomputed + out.next.len())
+    }
+
+    /// Rows of every level from `level` (0-based index into the levels below the cage) down,
+    /// and the limit.
+    fn rows_from(&self, level: usize) -> usize {
+        self.levels[level..].iter().map(|l| l.stencils.row_count()).sum::<usize>() + self.limit.vertex_count()
+    }
+
+    fn total_rows(&self) -> usize {
+        self.rows_from(0)
+    }
+
+    fn check_cage_positions(&self, cage_positions: &[DVec3]) -> Result<()> {
         if cage_positions.len() != self.cage.vertex_count() {
             return Err(Error::Input(format!(
                 "{} cage positions given for a cage of {} vertices",
@@ -202,6 +320,14 @@ impl Refinement {
                 "cage vertex {v} has a non-finite coordinate; every coordinate must be finite"
             )));
         }
+        Ok(())
+    }
+
+    /// Like [`Refinement::evaluate`], without the limit positions and normals.
+    pub fn evaluate_levels(&self, cage_positions: &[DVec3], out: &mut RefinedPositions) -> Result<()> {
+        self.check_cage_positions(cage_positions)?;
+        // The limit is left behind: the next update must evaluate in full.
+        out.source = 0;
         out.levels.resize_with(self.levels.len() + 1, Vec::new);
         out.levels[0].clear();
         out.levels[0].extend_from_slice(cage_positions);
@@ -249,6 +375,26 @@ impl Refinement {
         }
         Ok(std::iter::once(a).chain(chain.iter().map(|&(_, _, to)| to)).collect())
     }
+}
+
+/// `out.next`: every row of `users` reached from `out.dirty`, once each, in ascending order.
+fn collect_users(users: &Users, out: &mut RefinedPositions) {
+    out.mark = out.mark.wrapping_add(1);
+    if out.mark == 0 {
+        out.marks.iter_mut().for_each(|m| *m = 0);
+        out.mark = 1;
+    }
+    out.next.clear();
+    for &d in &out.dirty {
+        for &r in users.of(d as usize) {
+            if out.marks[r as usize] != out.mark {
+                out.marks[r as usize] = out.mark;
+                out.next.push(r);
+            }
+        }
+    }
+    // Ascending order keeps the writes local; the values do not depend on it.
+    out.next.sort_unstable();
 }
 
 /// The face count of `levels` levels of `cage` by `rule` (as a float: it may overflow).

@@ -53,6 +53,11 @@ impl SparseRows {
         self.columns.len()
     }
 
+    /// Bytes of the stored arrays (what applying the matrix reads besides the input points).
+    pub fn memory_bytes(&self) -> usize {
+        4 * self.offsets.len() + 12 * self.columns.len()
+    }
+
     /// The `(column, weight)` entries of row `i`.
     pub fn row(&self, i: usize) -> impl Iterator<Item = (u32, f64)> + '_ {
         let range = self.offsets[i] as usize..self.offsets[i + 1] as usize;
@@ -62,10 +67,10 @@ impl SparseRows {
     /// Row `i` applied to `points`.
     #[inline]
     pub fn apply_row(&self, i: usize, points: &[DVec3]) -> DVec3 {
-        let (a, b) = (self.offsets[i] as usize, self.offsets[i + 1] as usize);
+        let range = self.offsets[i] as usize..self.offsets[i + 1] as usize;
         let mut sum = DVec3::ZERO;
-        for k in a..b {
-            sum += self.weights[k] * points[self.columns[k] as usize];
+        for (&c, &w) in self.columns[range.clone()].iter().zip(&self.weights[range]) {
+            sum += w * points[c as usize];
         }
         sum
     }
@@ -100,6 +105,13 @@ impl SparseRows {
     /// The sum of each row's weights (1 for every row of an affine stencil).
     pub fn row_sums(&self) -> Vec<f64> {
         (0..self.row_count()).map(|i| self.row(i).map(|(_, w)| w).sum()).collect()
+    }
+
+    /// For every column, the rows that use it (the transposed pattern, without weights): what a
+    /// change of one input point reaches.
+    pub fn users(&self) -> Users {
+        // Rows hold each column once (the builder merges repeats) and come in ascending order.
+        Users::from_rows(self.column_count, self.row_count(), |i, out| out.extend(self.row(i).map(|(c, _)| c)))
     }
 
     /// Appends the rows of `other` (over the same columns) after these.
@@ -149,6 +161,55 @@ impl SparseRows {
                 }
             }
         })
+    }
+}
+
+/// For every input point, the output rows that read it ([`SparseRows::users`]).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Users {
+    offsets: Vec<u32>,
+    rows: Vec<u32>,
+}
+
+impl Users {
+    /// From the columns each of `row_count` rows reads, over `column_count` columns: a counting
+    /// sort, so each column's rows ascend (a column read twice by a row lists it twice, which
+    /// only costs a repeated visit).
+    /// `columns(i, out)` appends row `i`'s columns to `out`.
+    pub fn from_rows(column_count: usize, row_count: usize, columns: impl Fn(usize, &mut Vec<u32>)) -> Self {
+        let mut buffer = Vec::new();
+        let mut offsets = vec![0u32; column_count + 1];
+        for i in 0..row_count {
+            buffer.clear();
+            columns(i, &mut buffer);
+            for &c in &buffer {
+                offsets[c as usize + 1] += 1;
+            }
+        }
+        for c in 0..column_count {
+            offsets[c + 1] += offsets[c];
+        }
+        let mut fill = offsets.clone();
+        let mut rows = vec![0u32; offsets[column_count] as usize];
+        for i in 0..row_count {
+            buffer.clear();
+            columns(i, &mut buffer);
+            for &c in &buffer {
+                rows[fill[c as usize] as usize] = i as u32;
+                fill[c as usize] += 1;
+            }
+        }
+        Users { offsets, rows }
+    }
+
+    /// The rows that read column `c`.
+    pub fn of(&self, c: usize) -> &[u32] {
+        &self.rows[self.offsets[c] as usize..self.offsets[c + 1] as usize]
+    }
+
+    /// Bytes of the stored arrays.
+    pub fn memory_bytes(&self) -> usize {
+        4 * (self.offsets.len() + self.rows.len())
     }
 }
 
