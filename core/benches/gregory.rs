@@ -10,11 +10,14 @@
 //! - Tessellation throughput at 16 × 16 (patches per second, over the whole 2 000-face mesh), as
 //!   a ratio to a streaming pass writing the same bytes of positions and normals.
 //!
+//! - Evaluation of position and first derivatives on one thread, against a bicubic Bézier patch.
+//!
 //! Run with `cargo bench -p taut-core --bench gregory`. `TAUT_BENCH_QUICK=1` runs fewer repeats.
 
 use rayon::prelude::*;
 use std::hint::black_box;
 use std::time::{Duration, Instant};
+use taut_core::gregory::bezier::{bernstein3, bernstein3_d1};
 use taut_core::gregory::{CurveMesh, Tessellation, gregory_patch};
 use taut_core::subdiv::{RefinedPositions, Refinement, Scheme};
 use taut_core::{DVec3, PolyMesh, VertexId};
@@ -160,6 +163,49 @@ fn tessellation(cage: &PolyMesh, repeats: usize) {
     );
 }
 
+/// One thread: `(S, S_u, S_v)` of a Gregory patch per sample, against the same of the bicubic
+/// Bézier patch with its rim and the averages of its inner pairs (the same 16-point sums without
+/// the four rational blends).
+fn evaluation(cage: &PolyMesh, repeats: usize) {
+    let (mesh, _) = CurveMesh::from_cage(cage).unwrap();
+    let k = 16;
+    let grid: Vec<(f64, f64)> =
+        (0..=k).flat_map(|j| (0..=k).map(move |i| (i as f64 / k as f64, j as f64 / k as f64))).collect();
+    let patches = &mesh.patches()[..256.min(mesh.patch_count())];
+    let samples = (patches.len() * grid.len()) as f64;
+    let gregory = median(repeats, || {
+        for p in patches {
+            for &(u, v) in &grid {
+                black_box(p.first_derivatives(black_box(u), v));
+            }
+        }
+    });
+    let bezier = median(repeats, || {
+        for p in patches {
+            let net = &p.rim;
+            for &(u, v) in &grid {
+                let (bu, bv) = (bernstein3(black_box(u)), bernstein3(v));
+                let (du, dv) = (bernstein3_d1(u), bernstein3_d1(v));
+                let (mut s, mut su, mut sv) = (DVec3::ZERO, DVec3::ZERO, DVec3::ZERO);
+                for i in 0..4 {
+                    for j in 0..4 {
+                        s += (bu[i] * bv[j]) * net[i][j];
+                        su += (du[i] * bv[j]) * net[i][j];
+                        sv += (bu[i] * dv[j]) * net[i][j];
+                    }
+                }
+                black_box((s, su, sv));
+            }
+        }
+    });
+    println!(
+        "evaluation on one thread: Gregory patch {:.0} ns per sample (position and first derivatives) = {:.2}x a bicubic Bézier patch ({:.0} ns)",
+        gregory.as_secs_f64() / samples * 1e9,
+        gregory.as_secs_f64() / bezier.as_secs_f64(),
+        bezier.as_secs_f64() / samples * 1e9
+    );
+}
+
 fn main() {
     let quick = std::env::var_os("TAUT_BENCH_QUICK").is_some();
     let repeats = if quick { 3 } else { 9 };
@@ -177,4 +223,5 @@ fn main() {
         times[2] / times[0]
     );
     tessellation(&medium, repeats);
+    evaluation(&medium, repeats);
 }

@@ -314,8 +314,9 @@ fn interior_samples(curves: &CurveMesh, f: FaceId, k: usize) -> Vec<(DVec3, DVec
 /// `S_u × S_v` normalised, or the patch's limit normal where it vanishes.
 fn unit_normal(patch: &GregoryPatch, u: f64, v: f64, su: DVec3, sv: DVec3) -> DVec3 {
     let n = su.cross(sv);
-    if n.length() > 1e-12 * su.length() * sv.length() && n.length() > 0.0 {
-        n.normalize()
+    let area = n.length_squared();
+    if area > 1e-24 * su.length_squared() * sv.length_squared() && area > 0.0 {
+        n / area.sqrt()
     } else {
         patch.normal(u, v).unwrap_or(DVec3::ZERO)
     }
