@@ -91,6 +91,8 @@ def main():
     for name, title, (v, f) in [
         ("cube.obj", "A cube of side 100", cube()),
         ("prism.obj", "A pentagonal prism, circumradius 300, height 300", prism()),
+        ("prism30.obj", "A pentagonal prism, circumradius 30, height 30 (the size the curve-mesh paper's figures fit)",
+         prism(r=30.0, h=30.0)),
         ("patch.obj", "An open 4 x 3 quad patch", patch()),
         ("torus.obj", "A genus-1 cage: 8 x 4 quads", torus()),
     ]:

@@ -9,6 +9,7 @@ mod cage_cmd;
 mod cli;
 mod coons_cmd;
 mod curve_cmd;
+mod curve_mesh_cmd;
 mod editor;
 mod fair_cmd;
 mod fair_surface_cmd;
@@ -43,6 +44,9 @@ enum Command {
     Subdivide(subdivide_cmd::SubdivideArgs),
     /// Smooth a polyline given as JSON, inserting points between the input points.
     SmoothCurve(curve_cmd::SmoothCurveArgs),
+    /// Build a cage's curve mesh on its Catmull–Clark limit surface, fill it with G1 Gregory
+    /// patches and write them (.obj or .glb).
+    CurveMesh(curve_mesh_cmd::CurveMeshArgs),
     /// Draw a surface shaded, as zebra stripes or in curvature colour into a PNG.
     Render(render_cmd::RenderArgs),
     /// Make a light Loop control cage from a dense mesh (a scan or a heavy export).
@@ -101,6 +105,7 @@ fn main() -> ExitCode {
         Some(Command::Coons(args)) => coons_cmd::run(args),
         Some(Command::FairSurface(args)) => fair_surface_cmd::run(args),
         Some(Command::Lcg(args)) => lcg_cmd::run(args),
+        Some(Command::CurveMesh(args)) => curve_mesh_cmd::run(args),
         None => match cli.view.as_str() {
             "shaded" | "zebra" | "curvature" => {
                 editor::window::run(editor::window::Startup { file: cli.file.clone(), view: cli.view.clone() })

@@ -15,6 +15,7 @@ pub mod curve;
 pub mod document;
 pub mod edit;
 pub mod error;
+pub mod gregory;
 pub mod io;
 pub mod mesh;
 pub mod nusd;
