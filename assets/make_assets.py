@@ -106,7 +106,7 @@ def main():
         "fixed": [True] * len(v),
         "vertex_tension": [0.0] * len(v),
         "edge_tension": [],
-        "settings": {"levels": 3, "lambda": 0.6, "tol": 0.001, "max_iterations": 5000, "spacing": "chord"},
+        "settings": {"levels": 4, "lambda": 0.6, "tol": 0.001, "max_iterations": 5000, "spacing": "chord"},
     }
     with open("default.taut", "w") as out:
         json.dump(doc, out, indent=1)

@@ -104,7 +104,8 @@ impl EditorDocument {
             return Ok(Self::new(doc, Some(path.to_path_buf())));
         }
         let (mesh, report) = io::import_mesh_with(path, &io::ImportOptions { obj_up }).map_err(|e| e.to_string())?;
-        let doc = Document::new(mesh);
+        let mut doc = Document::new(mesh);
+        doc.settings.levels = display_levels(doc.cage.face_count());
         doc.validate().map_err(|e| format!("{}: {e}", path.display()))?;
         let mut opened = Self::new(doc, None);
         opened.source = Some(path.to_path_buf());
@@ -335,6 +336,15 @@ impl EditorDocument {
 
 fn is_taut(path: &Path) -> bool {
     path.extension().is_some_and(|e| e.eq_ignore_ascii_case("taut"))
+}
+
+/// The NUSD levels an imported cage is shown at: 4, where zebra stripes on the default scene stop
+/// looking faceted (at level 3 the facets show), or fewer for a larger cage so that the finest
+/// level stays under 80,000 faces (the default scene at level 5 has 42,000) and a drag stays
+/// live. Each level multiplies the faces by about four; a cage is shown at one level at least.
+pub fn display_levels(cage_faces: usize) -> u32 {
+    const FINEST_FACES: usize = 80_000;
+    (1..=4u32).rev().find(|&l| cage_faces.max(1).saturating_mul(4usize.pow(l)) <= FINEST_FACES).unwrap_or(1)
 }
 
 #[cfg(test)]

@@ -322,6 +322,7 @@ fn an_imported_mesh_asks_for_a_taut_file() {
     assert_eq!(ed.source(), Some(obj.as_path()));
     assert!(ed.import_report().is_some_and(|r| r.is_clean()));
     assert_eq!(ed.title(), "cube.obj");
+    assert_eq!(ed.doc().settings.levels, 4, "a small imported cage is shown at level 4");
     assert!(ed.save().is_err());
     let taut = dir.join("cube.taut");
     ed.save_as(&taut).unwrap();
@@ -348,4 +349,16 @@ fn garbage_files_are_errors() {
     }
     assert!(EditorDocument::open(&dir.join("missing.taut")).is_err());
     let _ = std::fs::remove_dir_all(dir);
+}
+
+#[test]
+fn larger_imported_cages_are_shown_at_fewer_levels() {
+    // The default scene's 41 faces and a cube at 4; Blender's monkey (500 faces) at 3, its
+    // finest level 32,000 faces; a scan's million faces at one level.
+    assert_eq!(display_levels(6), 4);
+    assert_eq!(display_levels(41), 4);
+    assert_eq!(display_levels(500), 3);
+    assert_eq!(display_levels(4_000), 2);
+    assert_eq!(display_levels(1_000_000), 1);
+    assert_eq!(display_levels(0), 4);
 }
