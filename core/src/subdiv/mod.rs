@@ -10,7 +10,6 @@
 //! - [`limit`]: limit positions and normals as stencils over a level; [`eigen_masks`]: the exact
 //!   masks at darts and across creases and boundaries.
 //! - [`refinement`]: [`Refinement`], built once per cage topology and re-evaluated per drag.
-//! - [`triangulate`](mod@triangulate): cages made of triangles for Loop.
 //! - [`sparse`]: the sparse row matrices the stencils and limit masks are stored in.
 //! - [`loop_limit`]: the limit-position matrix of a smooth Loop cage, `p∞ = M p`, which the
 //!   control cage fitter solves with.
@@ -23,7 +22,6 @@ pub mod refinement;
 pub mod rules;
 pub mod sparse;
 pub mod topology;
-pub mod triangulate;
 
 pub use crease::{Rule, sharpness_from_pairs};
 pub use limit::{LimitStencils, catmull_clark_limit};
@@ -32,4 +30,3 @@ pub use refinement::{MAX_LEVELS, MAX_REFINED_FACES, RefinedPositions, Refinement
 pub use rules::Scheme;
 pub use sparse::SparseRows;
 pub use topology::{SplitRule, SplitTopology, VertexOrigin};
-pub use triangulate::{Triangulation, triangulate};

@@ -92,7 +92,7 @@ impl Refinement {
     /// cage edge (`0` smooth, `f64::INFINITY` sharp), or nothing for a smooth cage.
     ///
     /// Errors: Loop on a cage with faces other than triangles (triangulate first:
-    /// [`super::triangulate()`]), Catmull–Clark with 0 levels on a cage that is not all quads (no
+    /// [`crate::mesh::edit::triangulate()`]), Catmull–Clark with 0 levels on a cage that is not all quads (no
     /// limit stencils there), a negative or NaN sharpness or one value per edge missing, more than
     /// [`MAX_LEVELS`] levels or more than [`MAX_REFINED_FACES`] faces at the finest level.
     /// Isolated vertices are kept in place at every level; degenerate (zero-area) faces and

@@ -169,7 +169,8 @@ mod tests {
     #[test]
     fn every_row_is_affine() {
         let quads = cube();
-        let triangles = crate::subdiv::triangulate(&quads, crate::subdiv::Triangulation::Fan).unwrap();
+        let triangles =
+            crate::mesh::edit::triangulate(&quads, None, crate::mesh::edit::Triangulation::Fan).unwrap().mesh;
         for (scheme, rule, cage) in
             [(Scheme::CatmullClark, SplitRule::Quads, quads), (Scheme::Loop, SplitRule::Triangles, triangles)]
         {
