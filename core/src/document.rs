@@ -10,7 +10,12 @@
 //! Format versions: 1 had no scheme (NUSD), creases or subdivision settings; 2 adds them. Every
 //! version-1 file opens as a NUSD document. An infinitely sharp crease is written `"inf"` (JSON
 //! has no infinity).
+//!
+//! The optional key `curves` holds the Curves workspace's curves, segments and Coons patches
+//! ([`CurveSet`]); it is written only when there are some, so files without curves are as before.
 
+use crate::curve::CurveSet;
+use crate::curve::set::CurvesFile;
 use crate::mesh::{EdgeId, PolyMesh, VertexId};
 use crate::nusd::SolverSettings;
 pub use crate::surface::{SchemeKind, SubdivSettings};
@@ -42,6 +47,8 @@ pub struct Document {
     pub settings: SolverSettings,
     /// Subdivision settings.
     pub subdiv: SubdivSettings,
+    /// Curves, log-aesthetic segments and Coons patches (the Curves workspace).
+    pub curves: CurveSet,
 }
 
 impl Document {
@@ -58,6 +65,7 @@ impl Document {
             crease: vec![0.0; e],
             settings: SolverSettings::default(),
             subdiv: SubdivSettings::default(),
+            curves: CurveSet::default(),
         }
     }
 
@@ -90,6 +98,7 @@ impl Document {
             scheme: self.scheme,
             settings: self.settings,
             subdiv: self.subdiv,
+            curves: self.curves.clone(),
         };
         doc.validate()?;
         Ok(doc)
@@ -181,7 +190,8 @@ impl Document {
             check_sharpness(self.crease[e.index()], || format!("edge {}-{}", a.0, b.0))?;
         }
         self.settings.validate()?;
-        self.subdiv.validate()
+        self.subdiv.validate()?;
+        self.curves.validate()
     }
 
     /// The document as `.taut` JSON text.
@@ -214,6 +224,7 @@ impl Document {
                 .collect(),
             settings: self.settings,
             subdivision: Some(self.subdiv),
+            curves: self.curves.to_file(),
         };
         serde_json::to_string_pretty(&file).expect("a document always serialises")
     }
@@ -255,6 +266,9 @@ impl Document {
         }
         doc.scheme = file.scheme.unwrap_or(SchemeKind::Nusd);
         doc.subdiv = file.subdivision.unwrap_or_default();
+        if let Some(curves) = file.curves {
+            doc.curves = CurveSet::from_file(curves).map_err(|e| Error::format(origin, e.to_string()))?;
+        }
         if doc.fixed.len() != n || doc.vertex_tension.len() != n {
             return Err(Error::format(
                 origin,
@@ -299,6 +313,7 @@ impl PartialEq for Document {
             && self.scheme == other.scheme
             && self.settings == other.settings
             && self.subdiv == other.subdiv
+            && self.curves == other.curves
     }
 }
 
@@ -339,6 +354,8 @@ struct TautFile {
     settings: SolverSettings,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     subdivision: Option<SubdivSettings>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    curves: Option<CurvesFile>,
 }
 
 #[derive(Serialize, Deserialize)]

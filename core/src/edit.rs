@@ -40,6 +40,9 @@ pub enum Edit {
     SetSubdivSettings(SubdivSettings),
     /// Chooses the surface scheme.
     SetScheme(SchemeKind),
+    /// Replaces the curves, segments and Coons patches (the Curves workspace). Boxed, as
+    /// [`Edit::Replace`]; the set's view state is not taken (it is no change of the design).
+    SetCurves(Box<crate::curve::CurveSet>),
     /// Replaces the whole document (a new cage, an undoable topology change). Boxed: a document
     /// is far larger than the other edits.
     Replace(Box<Document>),
@@ -102,6 +105,7 @@ impl Document {
             }
             Edit::SetSubdivSettings(settings) => settings.validate(),
             Edit::SetScheme(scheme) => self.check_scheme(*scheme),
+            Edit::SetCurves(set) => set.validate_content().map_err(|e| Error::Input(format!("cannot use the curves: {e}"))),
             Edit::Replace(new) => {
                 new.cage.validate().map_err(|e| Error::Input(format!("cannot use the new cage: {e}")))?;
                 new.validate().map_err(|e| Error::Input(format!("cannot use the new cage: {e}")))
@@ -142,6 +146,7 @@ impl Document {
             Edit::SetSettings(settings) => self.settings != *settings,
             Edit::SetSubdivSettings(settings) => self.subdiv != *settings,
             Edit::SetScheme(scheme) => self.scheme != *scheme,
+            Edit::SetCurves(set) => self.curves != **set,
             Edit::Replace(new) => *self != **new,
         }
     }
@@ -183,6 +188,12 @@ impl Document {
             Edit::SetSettings(settings) => self.settings = settings,
             Edit::SetSubdivSettings(settings) => self.subdiv = settings,
             Edit::SetScheme(scheme) => self.scheme = scheme,
+            Edit::SetCurves(set) => {
+                let view = self.curves.view;
+                self.curves = *set;
+                self.curves.view = view;
+                self.curves.view.selected = self.curves.view.selected.filter(|&s| s < self.curves.curves.len());
+            }
             Edit::Replace(new) => *self = *new,
         }
     }

@@ -8,15 +8,18 @@
 //! - [`menger`]: the curvature of the circle through each point and its neighbours, for combs.
 //! - [`plane`]: the least-squares plane of a planar curve.
 //! - [`bspline`]: clamped B-splines and their least-squares fit to points.
+//! - [`set`]: the curves, segments and Coons patches a document holds.
 
 pub mod bspline;
 pub mod derivatives;
 pub mod menger;
 pub mod plane;
 pub mod sequence;
+pub mod set;
 
 pub use bspline::BSpline;
 pub use derivatives::{CurveGeometry, curve_geometry};
 pub use menger::{PolylineCurvature, polyline_curvature};
 pub use plane::Plane;
 pub use sequence::PointSequence;
+pub use set::{CoonsPatch, CurveSet, CurvesView, DocCurve, SegmentControls, Workspace};
