@@ -255,3 +255,45 @@ fn subdivision_zebra_pictures() {
     let loop_doc = knob.with_edited_cage(triangles).unwrap().with_scheme(SchemeKind::Loop);
     golden("zebra-knob-loop", &picture(smooth(&loop_doc).as_ref(), ZEBRA, VIEW));
 }
+
+/// A Coons patch as the Curves workspace keeps it (four boundary polylines, two of them
+/// log-aesthetic segments lifted out of the plane), in zebra with its boundaries over it: the
+/// stripes run smoothly across the interior and bend with the curved sides.
+#[test]
+fn coons_patch_zebra() {
+    use taut_core::aesthetic::AestheticSegment;
+    use taut_core::curve::CoonsPatch;
+    let segment = |p0: DVec3, p1: DVec3, p2: DVec3, alpha: f64| {
+        AestheticSegment::from_control_points(p0, p1, p2, alpha).unwrap().expect("the segment exists").sample(41)
+    };
+    let lift = |points: Vec<DVec3>, h: f64| -> Vec<DVec3> {
+        let n = points.len() - 1;
+        points
+            .into_iter()
+            .enumerate()
+            .map(|(k, p)| p + DVec3::Z * h * (std::f64::consts::PI * k as f64 / n as f64).sin())
+            .collect()
+    };
+    let (p00, p10, p11, p01) =
+        (DVec3::ZERO, DVec3::new(2.0, 0.0, 0.0), DVec3::new(2.0, 1.6, 0.0), DVec3::new(0.0, 1.6, 0.0));
+    let bottom = lift(segment(p00, DVec3::new(1.2, -0.5, 0.0), p10, 1.0), 0.3);
+    let right: Vec<DVec3> = (0..=20).map(|k| p10.lerp(p11, k as f64 / 20.0)).collect();
+    let top = lift(segment(p11, DVec3::new(0.8, 2.1, 0.0), p01, -1.0), 0.5);
+    let left: Vec<DVec3> = (0..=20).map(|k| p01.lerp(p00, k as f64 / 20.0)).collect();
+    let patch = CoonsPatch { boundaries: [bottom, right, top, left], samples: 40 };
+    let mesh = patch.mesh().unwrap();
+    let image = picture_of(
+        &mesh,
+        None,
+        ZEBRA,
+        None,
+        |frame| {
+            let style = overlay::CombStyle { scale: 0.0, curve_width_px: 2.5, ..Default::default() };
+            let surface_lines =
+                patch.boundaries.iter().flat_map(|b| overlay::polyline_with_comb(b, false, &style, frame)).collect();
+            OverlayData { surface_lines, ..Default::default() }
+        },
+        (25.0, 40.0),
+    );
+    golden("coons-patch-zebra", &image);
+}

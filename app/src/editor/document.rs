@@ -126,6 +126,12 @@ impl EditorDocument {
         &self.doc
     }
 
+    /// Sets what the Curves workspace shows, saved with the file: no change of the design, so
+    /// neither an undo step nor unsaved work.
+    pub fn set_curves_view(&mut self, view: taut_core::curve::CurvesView) {
+        self.doc.curves.view = view;
+    }
+
     /// The `.taut` file Save writes; `None` for a new document or an imported mesh.
     pub fn path(&self) -> Option<&Path> {
         self.path.as_deref()

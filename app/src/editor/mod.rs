@@ -3,6 +3,10 @@
 //! place that applies them and records undo), the [`state::EditorState`] keeps the live NUSD
 //! solver in step with it, and [`window`] runs a frame as input → edits → solve → render.
 
+pub mod curves;
+mod curves_panels;
+mod curves_render;
+mod curves_viewport;
 #[cfg(test)]
 mod defect_tests;
 pub mod document;

@@ -155,6 +155,8 @@ pub struct EditorState {
     /// The viewport's width over height and the legend's margin at its right, in points, as last
     /// laid out (framing fits the model into what the legend leaves free).
     pub viewport_shape: (f32, f32),
+    /// The Curves workspace.
+    pub curves: super::curves::CurvesWorkspace,
 }
 
 impl EditorState {
@@ -179,7 +181,9 @@ impl EditorState {
             obj_up: UpAxis::default(),
             display_frame: DisplayFrame::IDENTITY,
             viewport_shape: (1.6, 0.0),
+            curves: Default::default(),
         };
+        state.load_curves_view();
         state.frame_all();
         state
     }
@@ -210,6 +214,7 @@ impl EditorState {
         self.progress = None;
         self.selection.clear();
         self.surface_error = None;
+        self.load_curves_view();
         if let Some(path) = self.document.path().map(Path::to_path_buf) {
             let _ = self.recent.add(&path);
         }
@@ -359,6 +364,7 @@ impl EditorState {
     pub fn frame_all(&mut self) {
         let cage = &self.document.doc().cage;
         let mut points: Vec<taut_core::DVec3> = cage.positions().to_vec();
+        points.extend(self.curve_points());
         if let Some(mesh) = self.surface_mesh() {
             let step = (mesh.vertex_count() / 20_000).max(1);
             points.extend(mesh.positions().iter().step_by(step));

@@ -23,6 +23,8 @@ pub enum PathPurpose {
     ExportObj,
     ExportGlb,
     Screenshot,
+    /// A point sequence for the Curves workspace.
+    ImportCurve,
 }
 
 impl PathPurpose {
@@ -33,6 +35,9 @@ impl PathPurpose {
             PathPurpose::ExportObj => "Export the surface as OBJ",
             PathPurpose::ExportGlb => "Export the surface as GLB",
             PathPurpose::Screenshot => "Save a screenshot of the viewport (.png)",
+            PathPurpose::ImportCurve => {
+                "Import a curve: points as .json ({\"points\": [[x, y], ...]}) or .csv (x,y(,z) rows)"
+            }
         }
     }
 
@@ -43,6 +48,7 @@ impl PathPurpose {
             PathPurpose::ExportObj => "obj",
             PathPurpose::ExportGlb => "glb",
             PathPurpose::Screenshot => "png",
+            PathPurpose::ImportCurve => "json",
         }
     }
 }
@@ -134,8 +140,16 @@ impl EditorState {
         let ctx = ui_root.ctx().clone();
         self.shortcuts(&ctx, ui_state);
         egui::Panel::top("menu").show(ui_root, |ui| {
-            egui::MenuBar::new().ui(ui, |ui| self.menu(ui, ui_state));
+            egui::MenuBar::new().ui(ui, |ui| {
+                self.menu(ui, ui_state);
+                self.workspace_switch(ui);
+            });
         });
+        if self.curves.workspace == taut_core::curve::Workspace::Curves {
+            self.curves_workspace_ui(ui_root, ui_state);
+            self.dialogs(&ctx, ui_state);
+            return;
+        }
         egui::Panel::bottom("status").show(ui_root, |ui| self.status_bar(ui, ui_state));
         if self.notice.is_some() {
             egui::Panel::bottom("notice").show(ui_root, |ui| self.notice_strip(ui, ui_state));
@@ -243,12 +257,14 @@ impl EditorState {
     pub fn undo(&mut self) {
         if self.document.undo() {
             self.prune_selection();
+            self.curves_after_undo();
         }
     }
 
     pub fn redo(&mut self) {
         if self.document.redo() {
             self.prune_selection();
+            self.curves_after_undo();
         }
     }
 
@@ -285,9 +301,14 @@ impl EditorState {
             let dialog = rfd::FileDialog::new().set_title(purpose.title());
             let dialog = match purpose {
                 PathPurpose::Open => dialog.add_filter("Cages and meshes", &["taut", "obj", "gltf", "glb"]),
+                PathPurpose::ImportCurve => dialog.add_filter("Point files", &["json", "csv"]),
                 other => dialog.add_filter(other.extension(), &[other.extension()]),
             };
-            let picked = if purpose == PathPurpose::Open { dialog.pick_file() } else { dialog.save_file() };
+            let picked = if matches!(purpose, PathPurpose::Open | PathPurpose::ImportCurve) {
+                dialog.pick_file()
+            } else {
+                dialog.save_file()
+            };
             if let Some(path) = picked {
                 self.path_chosen(purpose, path, ui_state);
             }
@@ -302,8 +323,8 @@ impl EditorState {
     /// came from, so it is not replaced by accident.
     pub(super) fn suggested_path(&self, purpose: PathPurpose) -> String {
         let named = self.document.path().or(self.document.source());
-        let (Some(path), true) = (named, purpose != PathPurpose::Open) else {
-            return if purpose == PathPurpose::Open {
+        let (Some(path), true) = (named, !matches!(purpose, PathPurpose::Open | PathPurpose::ImportCurve)) else {
+            return if matches!(purpose, PathPurpose::Open | PathPurpose::ImportCurve) {
                 String::new()
             } else {
                 format!("untitled.{}", purpose.extension())
@@ -326,6 +347,7 @@ impl EditorState {
             PathPurpose::Screenshot => {
                 ui_state.screenshot = Some(super::state::with_extension_if_missing(&path, "png"))
             }
+            PathPurpose::ImportCurve => self.import_curve(&path),
         }
     }
 }

@@ -62,6 +62,8 @@ struct Running {
     gpu_surface: Option<GpuSurface>,
     /// The other scheme's surface of the compare view, drawn as a ghost.
     ghost: Ghost,
+    /// The Coons patches of the Curves workspace.
+    patches: super::curves_render::PatchSurface,
     drawn_generation: Option<(u64, u64)>,
     drawn_values: Option<*const f32>,
     drawn_frame: Option<taut_render::DisplayFrame>,
@@ -214,6 +216,7 @@ impl Running {
             buffers: SurfaceBuffers::default(),
             gpu_surface: None,
             ghost: Ghost::default(),
+            patches: Default::default(),
             drawn_generation: None,
             drawn_values: None,
             drawn_frame: None,
@@ -254,12 +257,16 @@ impl Running {
         // Render.
         self.upload_surface();
         self.ghost.upload(&self.gpu, &self.editor);
-        let overlays = self.editor.overlays();
-        let scene = Scene {
-            overlays: Some(&overlays),
-            viewport: self.ui.viewport_px,
-            ghost: self.ghost.shown(&self.editor),
-            ..Scene::new(self.editor.camera, self.gpu_surface.as_ref(), self.editor.surface_mode())
+        self.patches.upload(&self.gpu, &self.editor);
+        let overlays = self.editor.workspace_overlays();
+        let scene = match self.patches.scene(&self.editor, self.gpu_surface.as_ref(), &overlays) {
+            Some(scene) => Scene { viewport: self.ui.viewport_px, ..scene },
+            None => Scene {
+                overlays: Some(&overlays),
+                viewport: self.ui.viewport_px,
+                ghost: self.ghost.shown(&self.editor),
+                ..Scene::new(self.editor.camera, self.gpu_surface.as_ref(), self.editor.surface_mode())
+            },
         };
         // egui's texture changes are applied whether or not this frame reaches the screen.
         let mut textures = std::mem::take(&mut output.textures_delta);
@@ -321,7 +328,7 @@ impl Running {
         }
         self.editor.frame_time = started.elapsed();
         let delay = output.viewport_output.values().map(|v| v.repaint_delay).min();
-        if self.editor.busy() || delay.is_some_and(|d| d.is_zero()) {
+        if self.editor.busy() || self.editor.curves_busy() || delay.is_some_and(|d| d.is_zero()) {
             self.window.request_redraw();
         } else if let Some(d) = delay.filter(|d| *d < std::time::Duration::from_secs(3600)) {
             self.repaint_at = Some(Instant::now() + d);
@@ -367,9 +374,11 @@ impl Running {
     /// Saves the viewport (without the panels) as a PNG of its size on screen.
     fn screenshot(&mut self, path: &std::path::Path) {
         let [_, _, w, h] = self.ui.viewport_px.unwrap_or([0, 0, self.config.width, self.config.height]);
-        let overlays = self.editor.overlays();
-        let scene = Scene::new(self.editor.camera, self.gpu_surface.as_ref(), self.editor.surface_mode())
-            .with_overlays(&overlays);
+        let overlays = self.editor.workspace_overlays();
+        let scene = self.patches.scene(&self.editor, self.gpu_surface.as_ref(), &overlays).unwrap_or_else(|| {
+            Scene::new(self.editor.camera, self.gpu_surface.as_ref(), self.editor.surface_mode())
+                .with_overlays(&overlays)
+        });
         // An off-screen picture needs a format the read-back understands.
         let targets = TargetFormats::for_adapter(&self.gpu.adapter, wgpu::TextureFormat::Rgba8UnormSrgb);
         let mut renderer = Renderer::new(&self.gpu, targets);

@@ -1,0 +1,613 @@
+//! The Curves workspace: the document's curves ([`taut_core::curve::CurveSet`]) imported from
+//! point files or drawn on a plane, faired toward log-aesthetic curves live (the discrete
+//! log-aesthetic filter of Miura, Yoshida and Saito, seed `003_0c1161d9995b9b01`, read in
+//! `shared/spec/log-aesthetic.md`), shown with curvature combs and curvature/LCG plots, log-aesthetic
+//! segments placed by their three control points (Yoshida–Saito), and Coons patches built from
+//! four curves and shown with zebra stripes.
+//!
+//! Every change of the curves is one [`Edit::SetCurves`], so undo covers import, drawing,
+//! deleting, segment edits and patches. A filter run works on a copy of the selected curve (the
+//! viewport and the plots show the copy as it moves) and becomes one undo step when it stops or
+//! converges; Continue goes on with the same filter while the document's curve is what the run
+//! left. An undo (or any other change of that curve) under a run drops the run.
+//!
+//! Where it is weak: the filter runs on the UI thread within [`FILTER_BUDGET`] a frame, so a
+//! curve of 100,000 points moves a pass every few frames; drawn strokes keep the mouse's samples
+//! (3 points apart on screen), which the filter then smooths; four drawn curves rarely meet, so a
+//! Coons patch snaps their ends together when they are within [`SNAP_FRACTION`] of the patch's
+//! size (each side bent linearly along its length), and refuses them when they are farther.
+
+use super::document::Edit;
+use super::state::EditorState;
+use std::time::{Duration, Instant};
+use taut_core::aesthetic::{
+    Alpha, CurvatureGraph, CurveFilter, EstimateSettings, FilterSettings, FilterStatus, curvature_graph, estimate_alpha,
+};
+use taut_core::curve::{CoonsPatch, CurveSet, DocCurve, Plane, PointSequence, SegmentControls, Workspace};
+use taut_core::{DVec3, PolyMesh};
+
+/// Filter time per frame.
+pub const FILTER_BUDGET: Duration = Duration::from_millis(8);
+/// Ends of the four curves of a Coons patch closer than this fraction of its size are snapped.
+pub const SNAP_FRACTION: f64 = 0.1;
+
+/// The plane a curve is drawn on (through the model's origin).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DrawPlane {
+    Xy,
+    Yz,
+    Zx,
+    /// The plane facing the camera.
+    View,
+}
+
+impl DrawPlane {
+    pub const ALL: [DrawPlane; 4] = [DrawPlane::Xy, DrawPlane::Yz, DrawPlane::Zx, DrawPlane::View];
+
+    pub fn label(self) -> &'static str {
+        match self {
+            DrawPlane::Xy => "XY (z = 0)",
+            DrawPlane::Yz => "YZ (x = 0)",
+            DrawPlane::Zx => "ZX (y = 0)",
+            DrawPlane::View => "view plane through the origin",
+        }
+    }
+
+    /// The plane's unit normal; `view_backward` is the camera's backward direction.
+    pub fn normal(self, view_backward: DVec3) -> DVec3 {
+        match self {
+            DrawPlane::Xy => DVec3::Z,
+            DrawPlane::Yz => DVec3::X,
+            DrawPlane::Zx => DVec3::Y,
+            DrawPlane::View => view_backward.normalize_or(DVec3::Z),
+        }
+    }
+
+    /// Two unit axes in the plane.
+    pub fn axes(self, view_backward: DVec3) -> (DVec3, DVec3) {
+        let n = self.normal(view_backward);
+        let u = match self {
+            DrawPlane::Xy => DVec3::X,
+            DrawPlane::Yz => DVec3::Y,
+            DrawPlane::Zx => DVec3::Z,
+            DrawPlane::View => n.any_orthonormal_vector(),
+        };
+        (u, n.cross(u))
+    }
+}
+
+/// What the primary mouse button does in the viewport.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CurveTool {
+    /// Click a curve to select it; drag a segment's control point.
+    Select,
+    /// Drag to draw a curve on the plane.
+    Draw,
+}
+
+/// The filter's controls.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FilterControls {
+    /// Estimate α per piece from the curve (else use `alpha`).
+    pub estimate: bool,
+    pub alpha: f64,
+    /// Half-width m of the window of 2m + 1 points.
+    pub window: usize,
+    /// The space-curve filter (with torsion) instead of the planar one.
+    pub space: bool,
+    /// β of the torsion law, for the space-curve filter.
+    pub torsion_beta: f64,
+}
+
+impl Default for FilterControls {
+    fn default() -> Self {
+        FilterControls { estimate: true, alpha: 1.0, window: 3, space: false, torsion_beta: 1.0 }
+    }
+}
+
+/// A filter running on one curve.
+#[derive(Debug)]
+pub struct FilterRun {
+    /// The curve it works on.
+    pub curve: usize,
+    filter: CurveFilter,
+    /// False while stopped.
+    pub running: bool,
+    /// The document's points of the curve the run goes on from (its start or last commit).
+    base: Vec<DVec3>,
+    /// LCG residual of the curve when the run began.
+    pub residual_before: Option<f64>,
+}
+
+impl FilterRun {
+    pub fn status(&self) -> FilterStatus {
+        self.filter.status()
+    }
+
+    pub fn points(&self) -> &[DVec3] {
+        self.filter.points()
+    }
+}
+
+/// The plots' data for one curve's points, kept while the points stay the same.
+#[derive(Clone, Debug)]
+pub struct CurvePlots {
+    points: Vec<DVec3>,
+    pub graph: CurvatureGraph,
+    /// Per piece of monotone curvature: its first and last point and the LCG line fitted to it.
+    pub pieces: Vec<(usize, usize, taut_core::aesthetic::LineFit)>,
+    /// Why α could not be estimated per piece, if it could not.
+    pub estimate_error: Option<String>,
+}
+
+/// The Curves workspace's state beside the document.
+#[derive(Debug)]
+pub struct CurvesWorkspace {
+    pub workspace: Workspace,
+    pub selected: Option<usize>,
+    pub tool: CurveTool,
+    pub plane: DrawPlane,
+    pub filter: FilterControls,
+    pub run: Option<FilterRun>,
+    pub show_combs: bool,
+    /// Longest comb tooth as a fraction of the curves' size.
+    pub comb_length: f64,
+    /// A tooth at every n-th point.
+    pub comb_density: usize,
+    /// Curves picked for a Coons patch, in the order picked.
+    pub picked: Vec<usize>,
+    pub patch_samples: usize,
+    /// α of a new segment.
+    pub segment_alpha: f64,
+    /// The stroke being drawn, in model coordinates, and the last mouse position sampled.
+    pub(super) stroke: Option<(Vec<DVec3>, glam::Vec2)>,
+    /// A segment control point being dragged: curve, control index.
+    pub(super) control_drag: Option<(usize, usize)>,
+    plots: Option<CurvePlots>,
+}
+
+impl Default for CurvesWorkspace {
+    fn default() -> Self {
+        CurvesWorkspace {
+            workspace: Workspace::Surface,
+            selected: None,
+            tool: CurveTool::Select,
+            plane: DrawPlane::Xy,
+            filter: FilterControls::default(),
+            run: None,
+            show_combs: true,
+            comb_length: 0.15,
+            comb_density: 1,
+            picked: Vec::new(),
+            patch_samples: 24,
+            segment_alpha: 1.0,
+            stroke: None,
+            control_drag: None,
+            plots: None,
+        }
+    }
+}
+
+impl EditorState {
+    /// The document's curves.
+    pub fn curve_set(&self) -> &CurveSet {
+        &self.document.doc().curves
+    }
+
+    /// Shows the surface or the curves workspace; the choice is saved with the file.
+    pub fn set_workspace(&mut self, workspace: Workspace) {
+        self.curves.workspace = workspace;
+        self.sync_curves_view();
+    }
+
+    /// Writes the workspace and selection into the document's view (saved, not undone).
+    pub(super) fn sync_curves_view(&mut self) {
+        let view = taut_core::curve::CurvesView { workspace: self.curves.workspace, selected: self.curves.selected };
+        self.document.set_curves_view(view);
+    }
+
+    /// Takes the workspace and selection from a newly opened document.
+    pub(super) fn load_curves_view(&mut self) {
+        let view = self.curve_set().view;
+        self.curves.workspace = view.workspace;
+        self.curves.selected = view.selected;
+        self.curves.run = None;
+        self.curves.picked.clear();
+        self.curves.plots = None;
+    }
+
+    /// After undo or redo: the selection and the picks kept within the curves there are.
+    pub(super) fn curves_after_undo(&mut self) {
+        let n = self.curve_set().curves.len();
+        self.curves.selected = self.curves.selected.filter(|&s| s < n);
+        self.curves.picked.retain(|&p| p < n);
+        self.sync_curves_view();
+    }
+
+    /// Selects a curve (or none).
+    pub fn select_curve(&mut self, curve: Option<usize>) {
+        self.curves.selected = curve.filter(|&c| c < self.curve_set().curves.len());
+        self.sync_curves_view();
+    }
+
+    /// The points shown for curve `i`: the running filter's, or the document's.
+    pub fn shown_points(&self, i: usize) -> &[DVec3] {
+        match &self.curves.run {
+            Some(run) if run.curve == i => run.points(),
+            _ => &self.curve_set().curves[i].points,
+        }
+    }
+
+    /// Applies a new curve set as one edit, keeping the selection valid.
+    pub(super) fn set_curves(&mut self, set: CurveSet) {
+        self.edit(Edit::SetCurves(Box::new(set)));
+        let n = self.curve_set().curves.len();
+        self.curves.selected = self.curves.selected.filter(|&s| s < n);
+        self.curves.picked.retain(|&p| p < n);
+        self.sync_curves_view();
+    }
+
+    /// Adds a curve and selects it.
+    pub fn add_curve(&mut self, curve: DocCurve) {
+        let mut set = self.curve_set().clone();
+        set.curves.push(curve);
+        let n = set.curves.len();
+        let before = self.curve_set().curves.len();
+        self.set_curves(set);
+        if self.curve_set().curves.len() == n && n > before {
+            self.select_curve(Some(n - 1));
+        }
+    }
+
+    /// Reads a point file (JSON or CSV) as a new curve.
+    pub fn import_curve(&mut self, path: &std::path::Path) {
+        let read = taut_core::io::points::read_points(path).and_then(|file| {
+            let seq = PointSequence::new(file.points, file.closed);
+            seq.validate(3)?;
+            Ok(seq)
+        });
+        match read {
+            Ok(seq) => {
+                let name = path.file_stem().map_or_else(|| "curve".into(), |s| s.to_string_lossy().into_owned());
+                let count = seq.len();
+                self.add_curve(DocCurve::new(name, seq.points, seq.closed));
+                self.notify(format!("imported {count} points from {}", path.display()), false);
+            }
+            Err(e) => self.notify(format!("could not import {}: {e}", path.display()), true),
+        }
+    }
+
+    /// Deletes the selected curve.
+    pub fn delete_selected_curve(&mut self) {
+        let Some(s) = self.curves.selected else {
+            self.notify("select a curve to delete first", true);
+            return;
+        };
+        self.curves.run = None;
+        let mut set = self.curve_set().clone();
+        set.curves.remove(s);
+        self.curves.picked.clear();
+        self.curves.selected = None;
+        self.set_curves(set);
+    }
+
+    /// A new log-aesthetic segment on the drawing plane, sized to the model.
+    pub fn add_segment(&mut self) {
+        let (u, v) = self.curves.plane.axes(self.view_backward());
+        let r = 0.4 * self.curves_size();
+        let controls = SegmentControls {
+            controls: [(-r * u).to_array(), (0.2 * r * u + 0.9 * r * v).to_array(), (r * u).to_array()],
+            alpha: self.curves.segment_alpha,
+        };
+        let n = self.curve_set().curves.len();
+        match DocCurve::segment(format!("segment {}", n + 1), controls) {
+            Ok(curve) => self.add_curve(curve),
+            Err(e) => self.notify(format!("cannot make the segment: {e}"), true),
+        }
+    }
+
+    /// Sets the controls of segment `curve` (within a gesture for drags and sliders).
+    pub fn set_segment(&mut self, curve: usize, controls: SegmentControls) {
+        let Some(old) = self.curve_set().curves.get(curve) else { return };
+        let name = old.name.clone();
+        match DocCurve::segment(name, controls) {
+            Ok(c) => {
+                let mut set = self.curve_set().clone();
+                set.curves[curve] = c;
+                self.set_curves(set);
+            }
+            Err(e) => self.notify(format!("cannot move the segment: {e}"), true),
+        }
+    }
+
+    /// The camera's backward direction in model coordinates.
+    pub(super) fn view_backward(&self) -> DVec3 {
+        self.camera.backward().as_dvec3()
+    }
+
+    /// The size of what the workspace shows: the curves and patches, or the cage.
+    pub fn curves_size(&self) -> f64 {
+        let points = self.curve_points();
+        let d = taut_core::mesh::bounding_box(&points).map_or(0.0, |(lo, hi)| lo.distance(hi));
+        if d > 0.0 { d } else { self.document.doc().cage.bounding_diagonal().max(1e-9) }
+    }
+
+    /// Every point of the curves and patch boundaries.
+    pub(super) fn curve_points(&self) -> Vec<DVec3> {
+        let set = self.curve_set();
+        let mut points: Vec<DVec3> = set.curves.iter().flat_map(|c| c.points.iter().copied()).collect();
+        for c in set.curves.iter().filter_map(|c| c.segment) {
+            points.extend(c.points());
+        }
+        for p in &set.patches {
+            points.extend(p.boundaries.iter().flatten());
+        }
+        points
+    }
+
+    // The filter.
+
+    /// Starts the filter on the selected curve.
+    pub fn run_filter(&mut self) {
+        let Some(i) = self.curves.selected else {
+            self.notify("select a curve to fair first", true);
+            return;
+        };
+        let curve = &self.curve_set().curves[i];
+        if curve.segment.is_some() {
+            self.notify("this is a log-aesthetic segment already: there is nothing to fair", true);
+            return;
+        }
+        let seq = curve.sequence();
+        match self.make_filter(&seq) {
+            Ok(filter) => {
+                let before = curvature_graph(&seq, filter.plane().map(|p| p.normal)).fit.map(|f| f.residual);
+                self.curves.run =
+                    Some(FilterRun { curve: i, filter, running: true, base: seq.points, residual_before: before });
+            }
+            Err(e) => self.notify(format!("cannot fair '{}': {e}", curve.name), true),
+        }
+    }
+
+    fn make_filter(&self, seq: &PointSequence) -> taut_core::Result<CurveFilter> {
+        let c = self.curves.filter;
+        let torsion_beta = c.space.then_some(c.torsion_beta);
+        let alpha = if c.estimate {
+            seq.validate(2 * c.window + 1)?;
+            let normal = if c.space { None } else { Plane::fit(&seq.points).map(|p| p.normal) };
+            let estimate = estimate_alpha(seq, normal, &EstimateSettings::default())
+                .map_err(|e| taut_core::Error::Input(format!("cannot estimate α ({e}); give α instead")))?;
+            Alpha::PerPoint(estimate.per_point())
+        } else {
+            Alpha::Uniform(c.alpha)
+        };
+        CurveFilter::new(seq, FilterSettings { window: c.window, alpha, torsion_beta, ..FilterSettings::default() })
+    }
+
+    /// Stops the filter, keeping what it did as one undo step.
+    pub fn stop_filter(&mut self) {
+        if let Some(run) = &mut self.curves.run {
+            run.running = false;
+        }
+        self.commit_filter();
+    }
+
+    /// Goes on with the stopped filter (a new one when the curve changed since).
+    pub fn continue_filter(&mut self) {
+        match &mut self.curves.run {
+            Some(run) if !run.status().converged => run.running = true,
+            _ => self.run_filter(),
+        }
+    }
+
+    /// Writes the run's points into the document (one undo step).
+    fn commit_filter(&mut self) {
+        let Some(run) = &self.curves.run else { return };
+        let (i, points) = (run.curve, run.points().to_vec());
+        let mut set = self.curve_set().clone();
+        if set.curves[i].points == points {
+            return;
+        }
+        set.curves[i].points = points.clone();
+        self.set_curves(set);
+        if let Some(run) = &mut self.curves.run {
+            run.base = points;
+        }
+    }
+
+    /// One frame of filter work within `budget`; commits when the run converges.
+    pub fn step_curves(&mut self, budget: Duration) {
+        let Some(run) = &self.curves.run else { return };
+        // A run whose curve changed under it (undo, delete) is dropped.
+        let current = self.curve_set().curves.get(run.curve).map(|c| &c.points);
+        if current != Some(&run.base) {
+            self.curves.run = None;
+            return;
+        }
+        if !run.running {
+            return;
+        }
+        let started = Instant::now();
+        let run = self.curves.run.as_mut().expect("checked above");
+        let mut failure = None;
+        let mut passes = 1;
+        while started.elapsed() < budget {
+            let t = Instant::now();
+            match run.filter.run(passes) {
+                Ok(status) if status.converged => break,
+                Ok(_) => {}
+                Err(e) => {
+                    failure = Some(e.to_string());
+                    break;
+                }
+            }
+            // Double the passes while they are fast, to keep the clock checks cheap.
+            if t.elapsed() < budget / 16 {
+                passes = (passes * 2).min(64);
+            }
+        }
+        let status = run.status();
+        let done = status.converged || status.passes >= run.filter.settings().max_passes || failure.is_some();
+        if done {
+            run.running = false;
+            self.commit_filter();
+            match failure {
+                Some(e) => self.notify(format!("the filter stopped: {e}; the last good pass is kept"), true),
+                None => self.notify(format!("the filter converged after {} passes", status.passes), false),
+            }
+        }
+    }
+
+    /// True while the filter is running (the window keeps redrawing).
+    pub fn curves_busy(&self) -> bool {
+        self.curves.run.as_ref().is_some_and(|r| r.running)
+    }
+
+    /// The plots' data of the selected curve as shown now.
+    pub fn selected_plots(&mut self) -> Option<&CurvePlots> {
+        let i = self.curves.selected?;
+        let points = self.shown_points(i).to_vec();
+        if points.len() < 3 {
+            return None;
+        }
+        let fresh = self.curves.plots.as_ref().is_some_and(|p| p.points == points);
+        if !fresh {
+            let closed = self.curve_set().curves[i].closed;
+            let normal = if self.curves.filter.space { None } else { Plane::fit(&points).map(|p| p.normal) };
+            let seq = PointSequence::new(points, closed);
+            let graph = curvature_graph(&seq, normal);
+            let (pieces, estimate_error) = match estimate_alpha(&seq, normal, &EstimateSettings::default()) {
+                Ok(est) => {
+                    let pieces = est
+                        .pieces
+                        .iter()
+                        .filter_map(|p| {
+                            let inside: Vec<usize> =
+                                (0..seq.len()).filter(|&k| (p.start..=p.end).contains(&est.parameters[k])).collect();
+                            let (first, last) = (*inside.first()?, *inside.last()?);
+                            Some((first, last, graph.fit_range(first, last)?))
+                        })
+                        .collect();
+                    (pieces, None)
+                }
+                Err(e) => (Vec::new(), Some(e.to_string())),
+            };
+            self.curves.plots = Some(CurvePlots { points: seq.points, graph, pieces, estimate_error });
+        }
+        self.curves.plots.as_ref()
+    }
+
+    // Coons patches.
+
+    /// Builds a Coons patch from the four picked curves (snapping ends that nearly meet).
+    pub fn build_coons(&mut self) {
+        let picked = self.curves.picked.clone();
+        if picked.len() != 4 {
+            self.notify(format!("pick four curves for a Coons patch ({} picked)", picked.len()), true);
+            return;
+        }
+        let sides: Vec<Vec<DVec3>> = picked.iter().map(|&i| self.curve_set().curves[i].points.clone()).collect();
+        if let Some(k) = sides.iter().position(|s| s.len() < 2) {
+            self.notify(
+                format!("curve '{}' has no points (no such segment)", self.curve_set().curves[picked[k]].name),
+                true,
+            );
+            return;
+        }
+        match loop_of_sides(sides) {
+            Ok(boundaries) => {
+                let patch = CoonsPatch { boundaries, samples: self.curves.patch_samples };
+                if let Err(e) = patch.mesh() {
+                    self.notify(format!("cannot build the Coons patch: {e}"), true);
+                    return;
+                }
+                let mut set = self.curve_set().clone();
+                set.patches.push(patch);
+                self.set_curves(set);
+                self.curves.picked.clear();
+                self.notify("built a Coons patch from the four curves", false);
+            }
+            Err(e) => self.notify(format!("cannot build the Coons patch: {e}"), true),
+        }
+    }
+
+    /// Deletes the last Coons patch.
+    pub fn delete_last_patch(&mut self) {
+        let mut set = self.curve_set().clone();
+        if set.patches.pop().is_some() {
+            self.set_curves(set);
+        }
+    }
+
+    /// Every Coons patch of the document as one mesh (for the viewport), if there are any.
+    pub fn patches_mesh(&self) -> Option<PolyMesh> {
+        let mut positions = Vec::new();
+        let mut faces: Vec<Vec<u32>> = Vec::new();
+        for patch in &self.curve_set().patches {
+            let Ok(mesh) = patch.mesh() else { continue };
+            let offset = positions.len() as u32;
+            positions.extend_from_slice(mesh.positions());
+            faces.extend(mesh.polygons().into_iter().map(|f| f.into_iter().map(|v| v + offset).collect()));
+        }
+        if faces.is_empty() { None } else { PolyMesh::from_polygons(positions, &faces).ok() }
+    }
+}
+
+/// Orders four curves into a loop (each may run either way) and snaps ends that nearly meet.
+fn loop_of_sides(mut sides: Vec<Vec<DVec3>>) -> Result<[Vec<DVec3>; 4], String> {
+    let all: Vec<DVec3> = sides.iter().flatten().copied().collect();
+    let size = taut_core::mesh::bounding_box(&all).map_or(0.0, |(lo, hi)| lo.distance(hi));
+    let tolerance = SNAP_FRACTION * size;
+    let ends = |s: &Vec<DVec3>| (s[0], s[s.len() - 1]);
+    let mut ordered = vec![sides.remove(0)];
+    while !sides.is_empty() {
+        let tail = ends(ordered.last().expect("one side at least")).1;
+        // The side with the end nearest the loop's tail, turned to start there.
+        let (k, reversed, d) = sides
+            .iter()
+            .enumerate()
+            .flat_map(|(k, s)| {
+                let (a, b) = ends(s);
+                [(k, false, a.distance(tail)), (k, true, b.distance(tail))]
+            })
+            .min_by(|x, y| x.2.total_cmp(&y.2))
+            .expect("sides left");
+        if d > tolerance {
+            return Err(format!(
+                "the curves do not meet: an end is {d:.3} from the nearest other end (at most {tolerance:.3}); \
+                 draw or move them so that they form a loop"
+            ));
+        }
+        let mut s = sides.remove(k);
+        if reversed {
+            s.reverse();
+        }
+        ordered.push(s);
+    }
+    let closing = ends(&ordered[3]).1.distance(ends(&ordered[0]).0);
+    if closing > tolerance {
+        return Err(format!("the four curves do not close into a loop (a gap of {closing:.3})"));
+    }
+    // Each corner: the mean of the two ends that meet there; each side bent linearly along its
+    // arc length onto its two corners.
+    let corners: Vec<DVec3> = (0..4).map(|k| 0.5 * (ends(&ordered[(k + 3) % 4]).1 + ends(&ordered[k]).0)).collect();
+    for (k, side) in ordered.iter_mut().enumerate() {
+        let (a, b) = ends(side);
+        let (da, db) = (corners[k] - a, corners[(k + 1) % 4] - b);
+        let arc = taut_core::curve::sequence::arc_lengths(side);
+        let total = arc[arc.len() - 1].max(f64::MIN_POSITIVE);
+        for (p, s) in side.iter_mut().zip(&arc) {
+            let t = s / total;
+            *p += (1.0 - t) * da + t * db;
+        }
+        let last = side.len() - 1;
+        side[0] = corners[k];
+        side[last] = corners[(k + 1) % 4];
+    }
+    let [a, b, c, d]: [Vec<DVec3>; 4] = ordered.try_into().expect("four sides");
+    Ok([a, b, c, d])
+}
+
+#[cfg(test)]
+#[path = "curves_tests.rs"]
+mod tests;

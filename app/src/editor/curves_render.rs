@@ -1,0 +1,60 @@
+//! The Coons patches of the Curves workspace on the GPU: one mesh of every patch, uploaded when
+//! the document changes and drawn as the viewport's surface with zebra stripes (reflection lines
+//! show a patch's smoothness and its kinks at a glance), the cage's surface as a ghost behind it.
+
+use super::state::EditorState;
+use taut_core::curve::Workspace;
+use taut_render::passes::surface::{GHOST, SurfaceMode};
+use taut_render::{Gpu, GpuSurface, Scene, SurfaceBuffers};
+
+/// The stripes the patches are drawn with.
+pub fn patch_zebra(editor: &EditorState) -> SurfaceMode {
+    let d = &editor.display;
+    SurfaceMode::Zebra { stripes: d.stripes, angle_degrees: d.stripe_angle, width_ratio: d.stripe_width }
+}
+
+/// The patches' GPU surface, kept in step with the document.
+#[derive(Debug, Default)]
+pub struct PatchSurface {
+    buffers: SurfaceBuffers,
+    gpu: Option<GpuSurface>,
+    drawn: Option<(u64, taut_render::DisplayFrame)>,
+}
+
+impl PatchSurface {
+    /// Uploads the patches when the document or the display frame changed (Curves workspace).
+    pub fn upload(&mut self, gpu: &Gpu, editor: &EditorState) {
+        if editor.curves.workspace != Workspace::Curves {
+            return;
+        }
+        let key = (editor.document.revision(), editor.display_frame);
+        if self.drawn == Some(key) {
+            return;
+        }
+        self.drawn = Some(key);
+        let Some(mesh) = editor.patches_mesh() else {
+            self.gpu = None;
+            return;
+        };
+        let changes = self.buffers.update_with(&mesh, None, &editor.display_frame);
+        match &mut self.gpu {
+            Some(g) => g.upload(&gpu.device, &gpu.queue, &self.buffers, changes),
+            None => self.gpu = Some(GpuSurface::new(&gpu.device, &self.buffers)),
+        }
+    }
+
+    /// The Curves workspace's scene: the patches in zebra, the cage's surface ghosted behind
+    /// them; `None` in the surface workspace.
+    pub fn scene<'a>(
+        &'a self,
+        editor: &EditorState,
+        cage_surface: Option<&'a GpuSurface>,
+        overlays: &'a taut_render::overlay::OverlayData,
+    ) -> Option<Scene<'a>> {
+        (editor.curves.workspace == Workspace::Curves).then(|| Scene {
+            overlays: Some(overlays),
+            ghost: cage_surface.map(|g| (g, GHOST)),
+            ..Scene::new(editor.camera, self.gpu.as_ref(), patch_zebra(editor))
+        })
+    }
+}

@@ -1,0 +1,293 @@
+//! The Curves workspace driven as a designer drives it, in egui_kittest: switching workspaces,
+//! importing point files through the path dialog, drawing with pointer events on a plane,
+//! fairing live with undo, the plots, a segment's α slider, a Coons patch saved and reopened.
+
+use super::super::document::EditorDocument;
+use super::super::document::tests::temp_dir;
+use super::super::panel_tests::{App, editor_on, slider_point, widget_beside_label};
+use super::super::primitives;
+use super::super::ui::PathPurpose;
+use super::CurveTool;
+use egui::accesskit::Role;
+use egui::{Event, Modifiers, PointerButton, Pos2};
+use egui_kittest::Harness;
+use egui_kittest::kittest::{By, NodeT, Queryable};
+use taut_core::DVec3;
+use taut_core::aesthetic::curvature_graph;
+use taut_core::curve::{DocCurve, PointSequence, Workspace};
+
+/// An editor on the cube with the Curves workspace open.
+fn curves_editor(curves: Vec<DocCurve>) -> Harness<'static, App> {
+    let mut doc = primitives::cube();
+    doc.curves.curves = curves;
+    let mut harness = editor_on(doc);
+    harness.get_by_label("Curves workspace").click();
+    harness.run_steps(2);
+    harness
+}
+
+/// A logarithmic spiral ρ = e^{0.3 θ} over 1.2 turns (α = 1), `n` points, with deterministic
+/// noise of `noise` of its size across the curve.
+fn noisy_spiral(n: usize, noise: f64) -> Vec<DVec3> {
+    let mut seed = 12345u64;
+    let mut random = move || {
+        seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        ((seed >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
+    };
+    (0..n)
+        .map(|i| {
+            let t = 1.0 + 7.5 * i as f64 / (n - 1) as f64;
+            let r = (0.3 * t).exp();
+            DVec3::new(r * t.cos(), r * t.sin(), 0.0) * (1.0 + noise * random())
+        })
+        .collect()
+}
+
+/// Whether a plain label (or any widget) reading `text` is shown.
+fn shows(harness: &Harness<'_, App>, text: &str) -> bool {
+    harness.query(By::new().label(text).include_labels()).is_some()
+}
+
+/// The text of the first plain label containing `text`.
+fn label_containing(harness: &Harness<'_, App>, text: &str) -> Option<String> {
+    harness.query(By::new().label_contains(text).include_labels()).map(|n| {
+        let node = n.accesskit_node();
+        node.label().or_else(|| node.value()).unwrap_or_default()
+    })
+}
+
+fn lcg_residual(points: &[DVec3]) -> f64 {
+    curvature_graph(&PointSequence::new(points.to_vec(), false), Some(DVec3::Z)).fit.expect("an LCG line").residual
+}
+
+#[test]
+fn the_switch_shows_either_workspace_and_is_saved_with_the_file() {
+    let mut harness = editor_on(primitives::cube());
+    assert!(shows(&harness, "Cage"), "the surface workspace first");
+    harness.get_by_label("Curves workspace").click();
+    harness.run_steps(2);
+    assert_eq!(harness.state().editor.curves.workspace, Workspace::Curves);
+    assert!(shows(&harness, "Curves") && !shows(&harness, "Cage"));
+    assert!(shows(&harness, "Log-aesthetic filter"));
+    assert!(!harness.state().editor.document.is_dirty(), "switching is no change of the design");
+    let path = temp_dir("curves-switch").join("w.taut");
+    harness.state_mut().editor.save_as(&path);
+    let reopened = EditorDocument::open(&path).unwrap();
+    assert_eq!(reopened.doc().curves.view.workspace, Workspace::Curves);
+    harness.get_by_label("Surface workspace").click();
+    harness.run_steps(2);
+    assert!(shows(&harness, "Cage"), "back to the surface workspace");
+    assert_eq!(harness.state().editor.curves.workspace, Workspace::Surface);
+}
+
+/// Opens the import dialog, types `path` and confirms.
+fn import(harness: &mut Harness<'_, App>, path: &std::path::Path) {
+    harness.get_by_label("Import…").click();
+    harness.run_steps(2);
+    let ui = &mut harness.state_mut().ui;
+    assert!(matches!(ui.path_dialog, Some((PathPurpose::ImportCurve, _))), "Import asks for a path");
+    ui.path_dialog = Some((PathPurpose::ImportCurve, path.display().to_string()));
+    harness.run_steps(1);
+    harness.get_by_label("OK").click();
+    harness.run_steps(2);
+}
+
+#[test]
+fn importing_json_adds_a_curve_and_a_bad_csv_row_is_named() {
+    let mut harness = curves_editor(Vec::new());
+    let dir = temp_dir("curves-import");
+    let json = dir.join("arc.json");
+    std::fs::write(&json, r#"{"points": [[0, 0], [1, 0.2], [2, 0.7], [3, 1.5]]}"#).unwrap();
+    import(&mut harness, &json);
+    let editor = &harness.state().editor;
+    let curves = &editor.curve_set().curves;
+    assert_eq!(curves.len(), 1);
+    assert_eq!(curves[0].name, "arc");
+    assert_eq!(curves[0].points[2], DVec3::new(2.0, 0.7, 0.0));
+    assert_eq!(editor.curves.selected, Some(0));
+    assert!(label_containing(&harness, "arc  (4 points)").is_some(), "the list shows it");
+
+    let csv = dir.join("bad.csv");
+    std::fs::write(&csv, "x,y\n0,0\n1,zero\n2,1\n").unwrap();
+    import(&mut harness, &csv);
+    let editor = &harness.state().editor;
+    assert_eq!(editor.curve_set().curves.len(), 1, "a bad file adds nothing");
+    let notice = editor.notice.clone().expect("a message");
+    assert!(
+        notice.is_error && notice.text.contains("row 3") && notice.text.contains("'zero' is not a number"),
+        "{notice:?}"
+    );
+    assert!(!notice.text.contains('\n'), "one line: {}", notice.text);
+
+    // Undo takes the import back.
+    harness.state_mut().editor.undo();
+    assert!(harness.state().editor.curve_set().curves.is_empty());
+}
+
+/// Presses the primary button at `from`, moves through `path` and lets go at its end.
+fn stroke(harness: &mut Harness<'_, App>, from: Pos2, path: &[Pos2]) {
+    let press = |pos, pressed| Event::PointerButton {
+        pos,
+        button: PointerButton::Primary,
+        pressed,
+        modifiers: Modifiers::NONE,
+    };
+    harness.input_mut().events.push(Event::PointerMoved(from));
+    harness.run_steps(1);
+    harness.input_mut().events.push(press(from, true));
+    harness.run_steps(1);
+    for &p in path {
+        harness.input_mut().events.push(Event::PointerMoved(p));
+        harness.run_steps(1);
+    }
+    harness.input_mut().events.push(press(*path.last().unwrap(), false));
+    harness.run_steps(2);
+}
+
+#[test]
+fn a_drawn_curve_lies_on_the_chosen_plane() {
+    let mut harness = curves_editor(Vec::new());
+    harness.get_by_label("Draw").click();
+    harness.run_steps(1);
+    assert_eq!(harness.state().editor.curves.tool, CurveTool::Draw);
+    // The middle of the viewport (between the panels of 270 and 360 points).
+    let centre = Pos2::new(270.0 + (1280.0 - 630.0) / 2.0, 400.0);
+    let path: Vec<Pos2> = (1..=30)
+        .map(|k| {
+            let t = k as f32 / 30.0;
+            centre + egui::vec2(160.0 * t, -90.0 * (3.0 * t).sin())
+        })
+        .collect();
+    stroke(&mut harness, centre, &path);
+    let curves = &harness.state().editor.curve_set().curves;
+    assert_eq!(curves.len(), 1, "the stroke became a curve");
+    let points = &curves[0].points;
+    assert!(points.len() >= 20, "{} points", points.len());
+    assert!(points.iter().all(|p| p.z.abs() <= 1e-9 * (1.0 + p.length())), "on z = 0: {points:?}");
+    let spread = points[0].distance(points[points.len() - 1]);
+    assert!(spread > 0.1, "the curve follows the mouse ({spread})");
+
+    // On the YZ plane, x = 0.
+    harness.state_mut().editor.curves.plane = super::DrawPlane::Yz;
+    harness.state_mut().editor.camera.set_view(taut_render::StandardView::Right);
+    harness.run_steps(1);
+    stroke(&mut harness, centre, &path);
+    let curves = &harness.state().editor.curve_set().curves;
+    assert_eq!(curves.len(), 2);
+    assert!(curves[1].points.iter().all(|p| p.x.abs() <= 1e-9 * (1.0 + p.length())));
+}
+
+#[test]
+fn the_live_filter_lowers_the_lcg_residual_and_undo_restores_the_curve_bit_for_bit() {
+    let original = noisy_spiral(120, 0.005);
+    let mut harness = curves_editor(vec![DocCurve::new("noisy", original.clone(), false)]);
+    harness.state_mut().editor.select_curve(Some(0));
+    harness.state_mut().editor.curves.filter.estimate = false;
+    harness.state_mut().editor.curves.filter.alpha = 1.0;
+    harness.run_steps(1);
+    harness.get_by_label("Run").click();
+    harness.run_steps(1);
+    assert!(harness.state().editor.curves.run.is_some(), "Run starts the filter: {:?}", harness.state().editor.notice);
+    let mut frames = 0;
+    let mut moved_while_running = false;
+    while harness.state().editor.curves_busy() && frames < 300 {
+        harness.run_steps(1);
+        frames += 1;
+        let editor = &harness.state().editor;
+        if editor.curves_busy() {
+            moved_while_running |= editor.shown_points(0) != original.as_slice();
+            assert_eq!(editor.curve_set().curves[0].points, original, "the document waits for the run's end");
+        }
+    }
+    if harness.state().editor.curves_busy() {
+        harness.get_by_label("Stop").click();
+        harness.run_steps(1);
+    }
+    assert!(moved_while_running || frames <= 1, "the viewport follows the running filter");
+    let faired = harness.state().editor.curve_set().curves[0].points.clone();
+    let (before, after) = (lcg_residual(&original), lcg_residual(&faired));
+    assert!(after < 0.25 * before, "LCG residual {before} → {after}: expected at least a factor of 4");
+    assert!(harness.state().editor.document.can_undo());
+    harness.state_mut().editor.undo();
+    harness.run_steps(1);
+    let restored = &harness.state().editor.curve_set().curves[0].points;
+    assert!(
+        restored.iter().zip(&original).all(|(a, b)| a.to_array().map(f64::to_bits) == b.to_array().map(f64::to_bits))
+    );
+    assert!(!harness.state().editor.document.can_undo(), "the run was one undo step");
+}
+
+#[test]
+fn the_plots_show_the_curvature_and_the_lcg_with_alpha() {
+    let mut harness = curves_editor(vec![DocCurve::new("spiral", noisy_spiral(80, 0.0), false)]);
+    assert!(label_containing(&harness, "Select a curve").is_some());
+    harness.get(By::new().label_contains("spiral  (80 points)")).click();
+    harness.run_steps(2);
+    assert!(shows(&harness, "curvature κ against arc length s"));
+    let text = label_containing(&harness, "LCG: slope α = ").expect("the LCG's slope is shown");
+    let alpha: f64 = text.trim_start_matches("LCG: slope α = ").split(',').next().unwrap().parse().unwrap();
+    assert!((alpha - 1.0).abs() < 0.05, "a log spiral's LCG slope is 1, the plot says {alpha}");
+}
+
+#[test]
+fn the_segment_alpha_slider_changes_the_segment_and_keeps_its_ends() {
+    let mut harness = curves_editor(Vec::new());
+    harness.get_by_label("New segment").click();
+    harness.run_steps(2);
+    let first = harness.state().editor.curve_set().curves[0].clone();
+    let controls = first.segment.expect("a segment");
+    assert!(!first.points.is_empty(), "the default segment exists");
+    let rail = widget_beside_label(&harness, "segment α", Role::Slider);
+    let at = slider_point(rail, 0.3);
+    harness.hover_at(at);
+    harness.run_steps(1);
+    harness.drag_at(at);
+    harness.run_steps(1);
+    harness.drop_at(at);
+    harness.run_steps(2);
+    let after = harness.state().editor.curve_set().curves[0].clone();
+    let new_alpha = after.segment.unwrap().alpha;
+    assert!(new_alpha < 0.0, "30 % along −3…3 is about −1.2, got {new_alpha}");
+    assert_eq!(after.segment.unwrap().controls, controls.controls, "the controls stay");
+    assert_ne!(after.points, first.points, "the segment changed");
+    if !after.points.is_empty() {
+        let [p0, _, p2] = controls.points();
+        assert!(after.points[0].distance(p0) < 1e-9 && after.points[after.points.len() - 1].distance(p2) < 1e-9);
+    } else {
+        assert!(label_containing(&harness, "no such segment").is_some(), "said clearly");
+    }
+}
+
+#[test]
+fn a_coons_patch_from_four_curves_lands_in_the_document_and_reopens() {
+    // A loop of four sides with small gaps at the corners, one side drawn backwards.
+    let c = [DVec3::ZERO, DVec3::new(2.0, 0.0, 0.0), DVec3::new(2.0, 1.5, 0.5), DVec3::new(0.0, 1.5, 0.0)];
+    let side = |a: DVec3, b: DVec3, bow: f64| -> Vec<DVec3> {
+        (0..=10).map(|k| a.lerp(b, k as f64 / 10.0) + DVec3::new(0.0, 0.0, bow * (k as f64 * 0.314).sin())).collect()
+    };
+    let mut sides = vec![side(c[0], c[1], 0.2), side(c[1], c[2], 0.0), side(c[3], c[2], 0.3), side(c[3], c[0], 0.0)];
+    sides[1][0] += DVec3::new(0.01, 0.0, 0.0);
+    let curves = sides.iter().enumerate().map(|(k, s)| DocCurve::new(format!("side {k}"), s.clone(), false)).collect();
+    let mut harness = curves_editor(curves);
+    harness.state_mut().editor.curves.picked = vec![0, 2, 1, 3];
+    harness.state_mut().editor.curves.patch_samples = 8;
+    harness.run_steps(1);
+    harness.get(By::new().label_contains("Build Coons patch")).click();
+    harness.run_steps(2);
+    let editor = &harness.state().editor;
+    let patches = &editor.curve_set().patches;
+    assert_eq!(patches.len(), 1, "{:?}", editor.notice);
+    let mesh = editor.patches_mesh().expect("a mesh");
+    assert_eq!(mesh.vertex_count(), 81);
+    // The corners are where the sides meet, within the snap.
+    for corner in c {
+        let nearest = mesh.positions().iter().map(|p| p.distance(corner)).fold(f64::INFINITY, f64::min);
+        assert!(nearest < 0.01, "corner {corner} is {nearest} from the patch");
+    }
+    let path = temp_dir("curves-coons").join("patch.taut");
+    harness.state_mut().editor.save_as(&path);
+    let reopened = EditorDocument::open(&path).unwrap();
+    assert_eq!(reopened.doc().curves, harness.state().editor.curve_set().clone());
+    harness.state_mut().editor.undo();
+    assert!(harness.state().editor.curve_set().patches.is_empty(), "undo takes the patch back");
+}
