@@ -105,7 +105,9 @@ impl Document {
             }
             Edit::SetSubdivSettings(settings) => settings.validate(),
             Edit::SetScheme(scheme) => self.check_scheme(*scheme),
-            Edit::SetCurves(set) => set.validate_content().map_err(|e| Error::Input(format!("cannot use the curves: {e}"))),
+            Edit::SetCurves(set) => {
+                set.validate_content().map_err(|e| Error::Input(format!("cannot use the curves: {e}")))
+            }
             Edit::Replace(new) => {
                 new.cage.validate().map_err(|e| Error::Input(format!("cannot use the new cage: {e}")))?;
                 new.validate().map_err(|e| Error::Input(format!("cannot use the new cage: {e}")))

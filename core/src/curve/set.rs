@@ -344,7 +344,8 @@ mod tests {
         let text = plain.to_json();
         assert!(!text.contains("\"curves\""), "an empty set is not written");
         let mut doc = plain.clone();
-        let noisy: Vec<DVec3> = (0..7).map(|i| DVec3::new(i as f64 / 3.0, (0.1 * i as f64).sin() + 1e-17, 0.1)).collect();
+        let noisy: Vec<DVec3> =
+            (0..7).map(|i| DVec3::new(i as f64 / 3.0, (0.1 * i as f64).sin() + 1e-17, 0.1)).collect();
         doc.curves.curves.push(DocCurve::new("sketch", noisy, false));
         let controls = SegmentControls { controls: [[0.0, 0.0, 0.0], [0.5, 0.5, 0.0], [1.0, 0.0, 0.0]], alpha: 1.0 };
         doc.curves.curves.push(DocCurve::segment("segment", controls).unwrap());
