@@ -265,7 +265,7 @@ fn a_coons_patch_from_four_curves_lands_in_the_document_and_reopens() {
     let side = |a: DVec3, b: DVec3, bow: f64| -> Vec<DVec3> {
         (0..=10).map(|k| a.lerp(b, k as f64 / 10.0) + DVec3::new(0.0, 0.0, bow * (k as f64 * 0.314).sin())).collect()
     };
-    let mut sides = vec![side(c[0], c[1], 0.2), side(c[1], c[2], 0.0), side(c[3], c[2], 0.3), side(c[3], c[0], 0.0)];
+    let mut sides = [side(c[0], c[1], 0.2), side(c[1], c[2], 0.0), side(c[3], c[2], 0.3), side(c[3], c[0], 0.0)];
     sides[1][0] += DVec3::new(0.01, 0.0, 0.0);
     let curves = sides.iter().enumerate().map(|(k, s)| DocCurve::new(format!("side {k}"), s.clone(), false)).collect();
     let mut harness = curves_editor(curves);
