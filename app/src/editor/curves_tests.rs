@@ -291,3 +291,28 @@ fn a_coons_patch_from_four_curves_lands_in_the_document_and_reopens() {
     harness.state_mut().editor.undo();
     assert!(harness.state().editor.curve_set().patches.is_empty(), "undo takes the patch back");
 }
+
+#[test]
+fn dragging_a_control_point_moves_only_it_in_the_segments_plane_as_one_undo_step() {
+    let mut harness = curves_editor(Vec::new());
+    harness.state_mut().editor.camera.set_view(taut_render::StandardView::Top);
+    harness.get_by_label("New segment").click();
+    harness.run_steps(2);
+    let before = harness.state().editor.curve_set().curves[0].segment.expect("a segment");
+    let [x, y, w, h] = harness.state().ui.viewport_px.expect("the viewport was laid out").map(|v| v as f32);
+    let view = super::super::interaction::ViewportRect { min: glam::Vec2::new(x, y), size: glam::Vec2::new(w, h) };
+    let editor = &harness.state().editor;
+    let middle = editor.display_frame.to_display_f64(before.points()[1]);
+    let (pixel, _) = super::super::interaction::project(&editor.camera, &view, middle).expect("on screen");
+    let from = Pos2::new(pixel.x, pixel.y);
+    let path: Vec<Pos2> = (1..=8).map(|k| from + egui::vec2(4.0 * k as f32, 3.0 * k as f32)).collect();
+    stroke(&mut harness, from, &path);
+    let after = harness.state().editor.curve_set().curves[0].segment.unwrap();
+    let [p0, p1, p2] = after.points();
+    assert_eq!([p0.to_array(), p2.to_array()], [before.controls[0], before.controls[2]], "the ends stay");
+    assert!(p1.distance(before.points()[1]) > 1e-3, "the middle control followed the mouse");
+    let normal = (before.points()[1] - before.points()[0]).cross(before.points()[2] - before.points()[1]).normalize();
+    assert!((p1 - p0).dot(normal).abs() < 1e-9, "it stays in the segment's plane");
+    harness.state_mut().editor.undo();
+    assert_eq!(harness.state().editor.curve_set().curves[0].segment.unwrap(), before, "one undo step");
+}
