@@ -78,6 +78,11 @@ fn the_switch_shows_either_workspace_and_is_saved_with_the_file() {
     harness.run_steps(2);
     assert!(shows(&harness, "Cage"), "back to the surface workspace");
     assert_eq!(harness.state().editor.curves.workspace, Workspace::Surface);
+    // Opening the file shows the workspace it was saved in.
+    harness.state_mut().editor.open(&path);
+    harness.run_steps(2);
+    assert_eq!(harness.state().editor.curves.workspace, Workspace::Curves);
+    assert!(shows(&harness, "Log-aesthetic filter"));
 }
 
 /// Opens the import dialog, types `path` and confirms.
