@@ -134,7 +134,10 @@ impl CoonsPatch {
         if let Some(b) = self.boundaries.iter().find(|b| b.len() > MAX_POINTS) {
             return Err(Error::Input(format!("Coons patch {which}: a side has {} points, too many", b.len())));
         }
-        self.mesh().map(|_| ()).map_err(|e| Error::Input(format!("Coons patch {which}: {e}")))
+        // The sides checked as the patch checks them, on the coarsest grid: validation runs on
+        // every edit of the document, and building the full mesh there would slow every drag.
+        let sides = self.boundaries.clone().map(BoundaryCurve::Polyline);
+        coons_patch(&sides, 1).map(|_| ()).map_err(|e| Error::Input(format!("Coons patch {which}: {e}")))
     }
 }
 
