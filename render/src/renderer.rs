@@ -25,6 +25,9 @@ pub struct Scene<'a> {
     pub viewport: Option<[u32; 4]>,
     /// A second surface drawn as a translucent ghost of this colour (linear RGBA).
     pub ghost: Option<(&'a GpuSurface, [f32; 4])>,
+    /// Another ghost beside the first, in its own colour (the editor's original mesh of a fitted
+    /// cage, while the compare view shows the other scheme as the first).
+    pub second_ghost: Option<(&'a GpuSurface, [f32; 4])>,
 }
 
 impl<'a> Scene<'a> {
@@ -38,6 +41,7 @@ impl<'a> Scene<'a> {
             overlays: None,
             viewport: None,
             ghost: None,
+            second_ghost: None,
         }
     }
 
@@ -126,6 +130,9 @@ impl Renderer {
         if let Some((_, color)) = scene.ghost {
             self.surface.set_ghost(queue, color);
         }
+        if let Some((_, color)) = scene.second_ghost {
+            self.surface.set_second_ghost(queue, color);
+        }
         let none = OverlayData::default();
         let overlays = scene.overlays.unwrap_or(&none);
         self.lines.prepare(device, queue, &overlays.surface_lines, &overlays.on_top_lines);
@@ -165,6 +172,9 @@ impl Renderer {
         self.lines.draw_surface_lines(&mut pass, frame);
         if let Some((ghost, _)) = scene.ghost {
             self.surface.draw_ghost(&mut pass, frame, ghost);
+        }
+        if let Some((ghost, _)) = scene.second_ghost {
+            self.surface.draw_second_ghost(&mut pass, frame, ghost);
         }
         self.lines.draw_on_top_lines(&mut pass, frame);
         self.points.draw(&mut pass, frame);
