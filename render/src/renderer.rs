@@ -289,6 +289,44 @@ mod tests {
         assert!(close(hidden, base, 2), "a ghost behind the surface shows: {hidden:?} vs {base:?}");
     }
 
+    /// Two ghosts at once, each in its own colour (the compare view's and the editor's original
+    /// mesh): where only one covers the surface, that one's tint shows; where both do, both.
+    #[test]
+    fn two_ghosts_keep_their_own_colours() {
+        use crate::passes::surface::GHOST;
+        const BLUE: [f32; 4] = [0.10, 0.45, 0.95, 0.30];
+        let gpu = gpu();
+        let targets = TargetFormats::for_adapter(&gpu.adapter, wgpu::TextureFormat::Rgba8UnormSrgb);
+        let mut renderer = Renderer::new(&gpu, targets);
+        let surface = square(&gpu);
+        let camera = front_camera();
+        let plain =
+            render_image(&gpu, &mut renderer, &Scene::new(camera, Some(&surface), SurfaceMode::Shaded), W, H).unwrap();
+        // The amber ghost covers the middle, the blue one the middle and more.
+        let amber = square_at(&gpu, 0.3, 0.5);
+        let blue = square_at(&gpu, 0.7, 0.3);
+        let scene = Scene {
+            ghost: Some((&amber, GHOST)),
+            second_ghost: Some((&blue, BLUE)),
+            ..Scene::new(camera, Some(&surface), SurfaceMode::Shaded)
+        };
+        let image = render_image(&gpu, &mut renderer, &scene, W, H).unwrap();
+        save(&image, "taut-two-ghosts.png");
+        let only_blue = project(&camera, Vec3::new(0.5, 0.0, 0.5));
+        let (base, tinted) = (pixel(&plain, only_blue), pixel(&image, only_blue));
+        assert!(tinted[2] > base[2] + 10 && tinted[0] + 10 < base[0], "blue over grey: {tinted:?} over {base:?}");
+        let both = project(&camera, Vec3::ZERO);
+        let tinted = pixel(&image, both);
+        // Amber under blue: redder than blue alone, bluer than the grey under amber alone.
+        let amber_only =
+            Scene { ghost: Some((&amber, GHOST)), ..Scene::new(camera, Some(&surface), SurfaceMode::Shaded) };
+        let amber_pixel = pixel(&render_image(&gpu, &mut renderer, &amber_only, W, H).unwrap(), both);
+        assert!(tinted[0] > pixel(&image, only_blue)[0] + 5, "the amber ghost shows under the blue: {tinted:?}");
+        assert!(tinted[2] > amber_pixel[2] + 5, "the blue ghost shows over the amber: {tinted:?} vs {amber_pixel:?}");
+        let outside = project(&camera, Vec3::new(0.9, 0.0, 0.9));
+        assert!(close(pixel(&image, outside), pixel(&plain, outside), 2), "outside both nothing changes");
+    }
+
     #[test]
     fn overlays_draw_where_the_camera_puts_them() {
         let gpu = gpu();

@@ -33,6 +33,9 @@ pub const ORIGINAL_GHOST: [f32; 4] = [0.10, 0.45, 0.95, 0.30];
 /// Source of [`Original`] ids.
 static NEXT_ORIGINAL: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
 
+/// How often the window looks at a running fit's progress.
+const PROGRESS_REPAINT: Duration = Duration::from_millis(200);
+
 /// The fastest the distance view re-measures while the cage is being edited.
 const MIN_REMEASURE: Duration = Duration::from_millis(150);
 
@@ -237,8 +240,9 @@ impl EditorState {
     pub(super) fn cage_window(&mut self, ctx: &egui::Context, ui_state: &mut UiState) {
         self.poll_cage_fit();
         if self.cage.job.is_some() {
-            // Look again soon for progress, without spinning: the fit runs on its own thread.
-            ctx.request_repaint_after(Duration::from_millis(100));
+            // Look again soon for progress, without spinning: the fit runs on its own thread, and
+            // on a software renderer a frame takes a good part of a core.
+            ctx.request_repaint_after(PROGRESS_REPAINT);
         }
         let Some(mut dialog) = self.cage.dialog.take() else { return };
         let mut open = true;
@@ -282,11 +286,14 @@ impl EditorState {
                 ui.separator();
                 let seconds = progress.started.elapsed().as_secs_f64();
                 ui.label(format!("{} ({seconds:.1} s)", progress.step));
-                ui.add(
-                    egui::ProgressBar::new(progress.fraction.clamp(0.0, 1.0) as f32)
-                        .text(format!("{}: {:.0} %", progress.step, 100.0 * progress.fraction))
-                        .animate(!cancelling),
-                );
+                // Steps that report no fraction (reading, preparing) show their name alone.
+                let text = if progress.fraction > 0.0 {
+                    format!("{}: {:.0} %", progress.step, 100.0 * progress.fraction)
+                } else {
+                    format!("{}…", progress.step)
+                };
+                // Not animated: an animated bar repaints every frame and takes the fit's CPU.
+                ui.add(egui::ProgressBar::new(progress.fraction.clamp(0.0, 1.0) as f32).text(text));
                 if *cancelling {
                     ui.label("cancelling…");
                 } else {

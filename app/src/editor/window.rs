@@ -352,13 +352,17 @@ impl Running {
         {
             return;
         }
-        let mut changes = self.buffers.update_with(mesh, normals, &frame);
+        let first = self.buffers.update_with(mesh, normals, &frame);
+        let mut changes = first;
         if let Some((v, _, _)) = &surface.values
             && v.len() == mesh.vertex_count()
         {
             self.buffers.set_values(v);
             changes = self.buffers.update_with(mesh, normals, &frame);
             changes.vertices = true;
+            // The second update sees the new topology as known already: keep the first's word,
+            // or a new mesh drawn in colour keeps the old mesh's triangles.
+            changes.indices |= first.indices;
         }
         match &mut self.gpu_surface {
             Some(gpu_surface) => gpu_surface.upload(&self.gpu.device, &self.gpu.queue, &self.buffers, changes),
