@@ -34,7 +34,7 @@ pub const ORIGINAL_GHOST: [f32; 4] = [0.10, 0.45, 0.95, 0.30];
 static NEXT_ORIGINAL: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
 
 /// How often the window looks at a running fit's progress.
-const PROGRESS_REPAINT: Duration = Duration::from_millis(200);
+const PROGRESS_REPAINT: Duration = Duration::from_millis(300);
 
 /// The fastest the distance view re-measures while the cage is being edited.
 const MIN_REMEASURE: Duration = Duration::from_millis(150);
@@ -69,7 +69,8 @@ impl CageDialog {
 #[derive(Debug)]
 pub struct Original {
     pub source: PathBuf,
-    /// The prepared original (what the fit saw), drawn as the ghost.
+    /// The prepared original (what the fit saw) as the ghost draws it: simplified when larger
+    /// than [`super::cage_job::GHOST_TRIANGLES`].
     pub mesh: PolyMesh,
     pub index: SurfaceIndex,
     pub report: FitReport,
@@ -238,10 +239,16 @@ impl EditorState {
 
     /// The Make cage window: settings, then progress and Cancel while the fit runs.
     pub(super) fn cage_window(&mut self, ctx: &egui::Context, ui_state: &mut UiState) {
+        let was_running = self.cage.job.is_some();
         self.poll_cage_fit();
+        if was_running && self.cage.job.is_none() {
+            // The document changed after the panels were drawn this frame: draw them again.
+            ctx.request_repaint();
+        }
         if self.cage.job.is_some() {
             // Look again soon for progress, without spinning: the fit runs on its own thread, and
-            // on a software renderer a frame takes a good part of a core.
+            // on a software renderer a frame takes a good part of a core
+            // (a few frames a second keep the bar moving and leave the fit its CPU).
             ctx.request_repaint_after(PROGRESS_REPAINT);
         }
         let Some(mut dialog) = self.cage.dialog.take() else { return };
@@ -371,7 +378,17 @@ impl EditorState {
         times.push(format!("ghost {:.2} s", original.ghost_seconds));
         ui.add(egui::Label::new(egui::RichText::new(format!("times: {}", times.join(", "))).small()).wrap());
         let (mut ghost, mut distance) = (original.show_ghost, original.show_distance);
-        ui.checkbox(&mut ghost, "original as ghost").on_hover_text("The mesh the cage was made from, translucent blue");
+        let simplified = original.mesh.face_count() < r.input_triangles;
+        let ghost_help = if simplified {
+            format!(
+                "The mesh the cage was made from, translucent blue; drawn simplified to {} triangles (the distances \
+                 are measured to the whole mesh)",
+                original.mesh.face_count()
+            )
+        } else {
+            "The mesh the cage was made from, translucent blue".to_string()
+        };
+        ui.checkbox(&mut ghost, "original as ghost").on_hover_text(ghost_help);
         let distance_changed = ui
             .checkbox(&mut distance, "colour by distance to original")
             .on_hover_text("The surface coloured by its distance to the original, with a legend; follows every edit")
