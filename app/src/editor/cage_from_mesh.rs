@@ -69,8 +69,7 @@ impl CageDialog {
 #[derive(Debug)]
 pub struct Original {
     pub source: PathBuf,
-    /// The prepared original (what the fit saw) as the ghost draws it: simplified when larger
-    /// than [`super::cage_job::GHOST_TRIANGLES`].
+    /// The prepared original (what the fit saw), drawn as the ghost.
     pub mesh: PolyMesh,
     pub index: SurfaceIndex,
     pub report: FitReport,
@@ -378,17 +377,7 @@ impl EditorState {
         times.push(format!("ghost {:.2} s", original.ghost_seconds));
         ui.add(egui::Label::new(egui::RichText::new(format!("times: {}", times.join(", "))).small()).wrap());
         let (mut ghost, mut distance) = (original.show_ghost, original.show_distance);
-        let simplified = original.mesh.face_count() < r.input_triangles;
-        let ghost_help = if simplified {
-            format!(
-                "The mesh the cage was made from, translucent blue; drawn simplified to {} triangles (the distances \
-                 are measured to the whole mesh)",
-                original.mesh.face_count()
-            )
-        } else {
-            "The mesh the cage was made from, translucent blue".to_string()
-        };
-        ui.checkbox(&mut ghost, "original as ghost").on_hover_text(ghost_help);
+        ui.checkbox(&mut ghost, "original as ghost").on_hover_text("The mesh the cage was made from, translucent blue");
         let distance_changed = ui
             .checkbox(&mut distance, "colour by distance to original")
             .on_hover_text("The surface coloured by its distance to the original, with a legend; follows every edit")
