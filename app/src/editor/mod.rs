@@ -3,6 +3,10 @@
 //! place that applies them and records undo), the [`state::EditorState`] keeps the live NUSD
 //! solver in step with it, and [`window`] runs a frame as input → edits → solve → render.
 
+pub mod cage_from_mesh;
+pub mod cage_job;
+#[cfg(test)]
+mod cage_tests;
 #[cfg(test)]
 mod defect_tests;
 pub mod document;

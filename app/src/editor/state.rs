@@ -155,6 +155,8 @@ pub struct EditorState {
     /// The viewport's width over height and the legend's margin at its right, in points, as last
     /// laid out (framing fits the model into what the legend leaves free).
     pub viewport_shape: (f32, f32),
+    /// File ▸ Make cage from mesh…: its dialog, the running fit, the original of the cage.
+    pub cage: super::cage_from_mesh::CageFromMesh,
 }
 
 impl EditorState {
@@ -179,6 +181,7 @@ impl EditorState {
             obj_up: UpAxis::default(),
             display_frame: DisplayFrame::IDENTITY,
             viewport_shape: (1.6, 0.0),
+            cage: Default::default(),
         };
         state.frame_all();
         state
@@ -210,6 +213,7 @@ impl EditorState {
         self.progress = None;
         self.selection.clear();
         self.surface_error = None;
+        self.cage.original = None;
         if let Some(path) = self.document.path().map(Path::to_path_buf) {
             let _ = self.recent.add(&path);
         }
@@ -349,7 +353,11 @@ impl EditorState {
     pub fn legend(&self) -> Option<Legend> {
         self.colours_shown().then(|| {
             let (min, max) = self.value_range();
-            let title = overlay::legend_title(self.colour_by()).to_string();
+            let title = if self.cage.distance_shown() {
+                "distance to original".to_string()
+            } else {
+                overlay::legend_title(self.colour_by()).to_string()
+            };
             Legend { map: self.color_map(), min, max, title }
         })
     }

@@ -23,6 +23,8 @@ pub enum PathPurpose {
     ExportObj,
     ExportGlb,
     Screenshot,
+    /// The mesh of File ▸ Make cage from mesh…
+    MakeCage,
 }
 
 impl PathPurpose {
@@ -33,6 +35,7 @@ impl PathPurpose {
             PathPurpose::ExportObj => "Export the surface as OBJ",
             PathPurpose::ExportGlb => "Export the surface as GLB",
             PathPurpose::Screenshot => "Save a screenshot of the viewport (.png)",
+            PathPurpose::MakeCage => "Make a cage from a mesh (.obj, .stl, .ply, .gltf, .glb)",
         }
     }
 
@@ -43,6 +46,7 @@ impl PathPurpose {
             PathPurpose::ExportObj => "obj",
             PathPurpose::ExportGlb => "glb",
             PathPurpose::Screenshot => "png",
+            PathPurpose::MakeCage => "obj",
         }
     }
 }
@@ -148,9 +152,11 @@ impl EditorState {
                 self.solver_panel(ui, ui_state);
                 ui.separator();
                 self.display_panel(ui);
+                self.cage_fit_panel(ui);
             });
         });
         egui::CentralPanel::no_frame().show(ui_root, |ui| self.viewport(ui, ui_state));
+        self.cage_window(&ctx, ui_state);
         self.dialogs(&ctx, ui_state);
     }
 
@@ -285,9 +291,11 @@ impl EditorState {
             let dialog = rfd::FileDialog::new().set_title(purpose.title());
             let dialog = match purpose {
                 PathPurpose::Open => dialog.add_filter("Cages and meshes", &["taut", "obj", "gltf", "glb"]),
+                PathPurpose::MakeCage => dialog.add_filter("Meshes", &["obj", "stl", "ply", "gltf", "glb"]),
                 other => dialog.add_filter(other.extension(), &[other.extension()]),
             };
-            let picked = if purpose == PathPurpose::Open { dialog.pick_file() } else { dialog.save_file() };
+            let picking = matches!(purpose, PathPurpose::Open | PathPurpose::MakeCage);
+            let picked = if picking { dialog.pick_file() } else { dialog.save_file() };
             if let Some(path) = picked {
                 self.path_chosen(purpose, path, ui_state);
             }
@@ -301,6 +309,9 @@ impl EditorState {
     /// imported from) with the purpose's extension; an export never suggests the mesh the cage
     /// came from, so it is not replaced by accident.
     pub(super) fn suggested_path(&self, purpose: PathPurpose) -> String {
+        if purpose == PathPurpose::MakeCage {
+            return self.cage.dialog.as_ref().map(|d| d.path.clone()).unwrap_or_default();
+        }
         let named = self.document.path().or(self.document.source());
         let (Some(path), true) = (named, purpose != PathPurpose::Open) else {
             return if purpose == PathPurpose::Open {
@@ -325,6 +336,12 @@ impl EditorState {
             PathPurpose::ExportGlb => self.export(&super::state::with_extension_if_missing(&path, "glb")),
             PathPurpose::Screenshot => {
                 ui_state.screenshot = Some(super::state::with_extension_if_missing(&path, "png"))
+            }
+            PathPurpose::MakeCage => {
+                self.open_cage_dialog();
+                if let Some(dialog) = &mut self.cage.dialog {
+                    dialog.path = path.display().to_string();
+                }
             }
         }
     }

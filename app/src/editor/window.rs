@@ -62,6 +62,8 @@ struct Running {
     gpu_surface: Option<GpuSurface>,
     /// The other scheme's surface of the compare view, drawn as a ghost.
     ghost: Ghost,
+    /// The original mesh of a cage made from a mesh, drawn as a second ghost.
+    original_ghost: super::cage_from_mesh::OriginalGhost,
     drawn_generation: Option<(u64, u64)>,
     drawn_values: Option<*const f32>,
     drawn_frame: Option<taut_render::DisplayFrame>,
@@ -214,6 +216,7 @@ impl Running {
             buffers: SurfaceBuffers::default(),
             gpu_surface: None,
             ghost: Ghost::default(),
+            original_ghost: Default::default(),
             drawn_generation: None,
             drawn_values: None,
             drawn_frame: None,
@@ -254,11 +257,13 @@ impl Running {
         // Render.
         self.upload_surface();
         self.ghost.upload(&self.gpu, &self.editor);
+        self.original_ghost.upload(&self.gpu, &self.editor);
         let overlays = self.editor.overlays();
         let scene = Scene {
             overlays: Some(&overlays),
             viewport: self.ui.viewport_px,
             ghost: self.ghost.shown(&self.editor),
+            second_ghost: self.original_ghost.shown(&self.editor),
             ..Scene::new(self.editor.camera, self.gpu_surface.as_ref(), self.editor.surface_mode())
         };
         // egui's texture changes are applied whether or not this frame reaches the screen.
@@ -347,13 +352,17 @@ impl Running {
         {
             return;
         }
-        let mut changes = self.buffers.update_with(mesh, normals, &frame);
+        let first = self.buffers.update_with(mesh, normals, &frame);
+        let mut changes = first;
         if let Some((v, _, _)) = &surface.values
             && v.len() == mesh.vertex_count()
         {
             self.buffers.set_values(v);
             changes = self.buffers.update_with(mesh, normals, &frame);
             changes.vertices = true;
+            // The second update sees the new topology as known already: keep the first's word,
+            // or a new mesh drawn in colour keeps the old mesh's triangles.
+            changes.indices |= first.indices;
         }
         match &mut self.gpu_surface {
             Some(gpu_surface) => gpu_surface.upload(&self.gpu.device, &self.gpu.queue, &self.buffers, changes),
