@@ -3,6 +3,7 @@
 //! place that applies them and records undo), the [`state::EditorState`] keeps the live NUSD
 //! solver in step with it, and [`window`] runs a frame as input → edits → solve → render.
 
+pub mod curve_mesh_edit;
 #[cfg(test)]
 mod defect_tests;
 pub mod document;

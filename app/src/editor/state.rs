@@ -155,6 +155,8 @@ pub struct EditorState {
     /// The viewport's width over height and the legend's margin at its right, in points, as last
     /// laid out (framing fits the model into what the legend leaves free).
     pub viewport_shape: (f32, f32),
+    /// The curve-mesh selection and overlays ([`super::curve_mesh_edit`]).
+    pub curve_mesh: super::curve_mesh_edit::CurveMeshEditing,
 }
 
 impl EditorState {
@@ -179,6 +181,7 @@ impl EditorState {
             obj_up: UpAxis::default(),
             display_frame: DisplayFrame::IDENTITY,
             viewport_shape: (1.6, 0.0),
+            curve_mesh: Default::default(),
         };
         state.frame_all();
         state
@@ -321,7 +324,9 @@ impl EditorState {
                 data.surface_lines.extend(overlay::polyline_with_comb(c, false, &style, frame));
             }
         }
-        if self.display.show_cage {
+        if self.curve_mesh_overlays(&mut data) {
+            // The curve-mesh scheme draws its own vertices and a faint cage.
+        } else if self.display.show_cage {
             let selection = CageSelection {
                 selected_vertices: self.selection.vertices.clone(),
                 selected_edges: self.selection.edges.clone(),
@@ -341,7 +346,7 @@ impl EditorState {
             data.on_top_lines = lines;
             data.points = points;
         }
-        data.legend = self.legend();
+        data.legend = self.curve_mesh_legend().or_else(|| self.legend());
         data
     }
 
