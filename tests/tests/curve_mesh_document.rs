@@ -12,11 +12,8 @@ use taut_core::{DVec3, Document, EdgeId, Edit, PolyMesh, VertexId};
 
 fn cube() -> PolyMesh {
     let p = (0..8).map(|i| DVec3::new((i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64)).collect();
-    PolyMesh::from_polygons(
-        p,
-        &[[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]],
-    )
-    .unwrap()
+    PolyMesh::from_polygons(p, &[[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]])
+        .unwrap()
 }
 
 /// A triangular prism: two triangles and three quads (its curve mesh is built on one
@@ -159,7 +156,10 @@ fn moving_cage_points_keeps_the_curve_mesh_edits() {
     // Every edited vertex keeps its position and tangent plane exactly (the designer put it there).
     assert_eq!(moved.curve_mesh.vertices, doc.curve_mesh.vertices);
     let (m, _) = moved.curve_mesh().unwrap();
-    assert_ne!(bits([m.vertex_position(VertexId(7))]), bits([doc.curve_mesh().unwrap().0.vertex_position(VertexId(7))]));
+    assert_ne!(
+        bits([m.vertex_position(VertexId(7))]),
+        bits([doc.curve_mesh().unwrap().0.vertex_position(VertexId(7))])
+    );
     // The cached curve mesh the move built equals a fresh build with the carried edits.
     let (mut fresh, _) = CurveMesh::from_cage(&moved.cage).unwrap();
     fresh.set_edits(&moved.curve_mesh).unwrap();

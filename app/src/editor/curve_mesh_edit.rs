@@ -269,7 +269,9 @@ impl EditorState {
         }
         let text = match &ui_state.curve_mesh.drag {
             Some(d) => match (d.handle, d.axis) {
-                (Handle::Normal(_), _) => "turning the tangent plane: the normal follows the cursor (Esc cancels)".into(),
+                (Handle::Normal(_), _) => {
+                    "turning the tangent plane: the normal follows the cursor (Esc cancels)".into()
+                }
                 (_, Some(axis)) => format!("moving along {axis:?} (X, Y, Z to change, Esc to cancel)"),
                 (_, None) => "moving in the view plane (X, Y or Z locks an axis, Esc cancels)".into(),
             },
@@ -437,7 +439,13 @@ impl EditorState {
             let hovered = self.curve_mesh.hovered == Some(Handle::Vertex(v));
             data.points.push(PointMark {
                 position: frame.point(cm.vertex_position(v)),
-                color: if hovered { HOVERED } else if selected { SELECTED } else { VERTEX },
+                color: if hovered {
+                    HOVERED
+                } else if selected {
+                    SELECTED
+                } else {
+                    VERTEX
+                },
                 radius_px: if selected || hovered { 5.0 } else { 3.5 },
                 style: PointStyle::Filled,
             });
@@ -447,7 +455,12 @@ impl EditorState {
         {
             let (p, n) = (cm.vertex_position(v), cm.vertex_normal(v));
             let length = self.handle_length();
-            let line = |a: DVec3, b: DVec3, color, width_px| LineSegment { a: frame.point(a), b: frame.point(b), color, width_px };
+            let line = |a: DVec3, b: DVec3, color, width_px| LineSegment {
+                a: frame.point(a),
+                b: frame.point(b),
+                color,
+                width_px,
+            };
             for h in t.outgoing(v) {
                 let e = h.edge();
                 if let Some(q) = cm.inner_point(e, v) {
@@ -496,9 +509,7 @@ impl EditorState {
         let edits = &self.document.doc().curve_mesh;
         let (edited_vertices, edited_curves) = (edits.vertices.len(), edits.curves.len());
         let diagonal = self.document.doc().cage.bounding_diagonal();
-        ui.label(format!(
-            "{patches} Gregory patches; {edited_vertices} vertices and {edited_curves} curves edited"
-        ));
+        ui.label(format!("{patches} Gregory patches; {edited_vertices} vertices and {edited_curves} curves edited"));
         match selected {
             Some((v, p, n)) => self.curve_mesh_vertex_fields(ui, ui_state, v, p, n, diagonal),
             None if many > 1 => {

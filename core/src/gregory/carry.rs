@@ -245,7 +245,8 @@ mod tests {
         assert_eq!(r[..v], (0..v as u32).map(|i| Role::Vertex(VertexId(i))).collect::<Vec<_>>()[..]);
         assert_eq!(r[v], Role::EdgePoint(EdgeId(0)));
         assert_eq!(r[v + e], Role::FacePoint(FaceId(0)));
-        let quads = PolyMesh::from_polygons(vec![DVec3::ZERO, DVec3::X, DVec3::ONE, DVec3::Y], &[[0, 1, 2, 3]]).unwrap();
+        let quads =
+            PolyMesh::from_polygons(vec![DVec3::ZERO, DVec3::X, DVec3::ONE, DVec3::Y], &[[0, 1, 2, 3]]).unwrap();
         assert_eq!(roles(&quads).unwrap().len(), 4);
     }
 }

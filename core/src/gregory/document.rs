@@ -157,7 +157,10 @@ impl Document {
         ascending(&mut e.curves.iter().map(|c| c.curve), shape[1], "curve")?;
         let finite = |x: &[f64]| x.iter().all(|c| c.is_finite());
         if let Some(v) = e.vertices.iter().find(|v| !finite(&v.position) || !finite(&v.normal)) {
-            return Err(Error::Input(format!("curve-mesh edits: vertex {} has a value that is not a number", v.vertex)));
+            return Err(Error::Input(format!(
+                "curve-mesh edits: vertex {} has a value that is not a number",
+                v.vertex
+            )));
         }
         if let Some(c) = e.curves.iter().find(|c| !c.inner.iter().all(|p| finite(p))) {
             return Err(Error::Input(format!("curve-mesh edits: curve {} has a value that is not a number", c.curve)));
@@ -228,7 +231,11 @@ impl Document {
     /// After this document's cage replaced `before`'s (moved points when `provenance` is `None`, a
     /// topology edit with its provenance otherwise): `before`'s curve-mesh edits carried onto this
     /// cage's curve mesh by [`super::carry`]'s rule, replacing this document's edit state.
-    pub fn carry_curve_mesh_edits(&mut self, before: &Document, provenance: Option<&Provenance>) -> Result<CarryReport> {
+    pub fn carry_curve_mesh_edits(
+        &mut self,
+        before: &Document,
+        provenance: Option<&Provenance>,
+    ) -> Result<CarryReport> {
         if before.curve_mesh.is_empty() {
             self.curve_mesh = CurveMeshEdits::default();
             return Ok(CarryReport::default());

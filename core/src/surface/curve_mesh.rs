@@ -161,7 +161,8 @@ fn differences(old: &CurveMesh, new: &CurveMesh) -> Changed {
                 || bits(old.vertex_normal(v)) != bits(new.vertex_normal(v))
         })
         .collect();
-    let curves = new.topology().edges().filter(|&e| old.curve(e).points.map(bits) != new.curve(e).points.map(bits)).collect();
+    let curves =
+        new.topology().edges().filter(|&e| old.curve(e).points.map(bits) != new.curve(e).points.map(bits)).collect();
     Changed { vertices, curves, patches }
 }
 
@@ -172,7 +173,10 @@ impl SurfaceScheme for CurveMeshSurface {
 
     fn update(&mut self, doc: &Document) -> Result<()> {
         if doc.scheme != SchemeKind::CurveMesh {
-            return Err(Error::Input(format!("the document's scheme is {}, not Curve mesh", doc.scheme.display_name())));
+            return Err(Error::Input(format!(
+                "the document's scheme is {}, not Curve mesh",
+                doc.scheme.display_name()
+            )));
         }
         let same_topology =
             doc.cage.topology_generation() == self.cage_topology || doc.cage.polygons() == self.cage_polygons;
