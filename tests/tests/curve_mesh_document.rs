@@ -126,7 +126,8 @@ fn hostile_curve_mesh_keys_are_refused_with_one_line() {
     let doc = edited_cube();
     let text = doc.to_json();
     let value: serde_json::Value = serde_json::from_str(&text).unwrap();
-    let variants: Vec<(&str, Box<dyn Fn(&mut serde_json::Value)>)> = vec![
+    type Spoil = Box<dyn Fn(&mut serde_json::Value)>;
+    let variants: Vec<(&str, Spoil)> = vec![
         ("wrong counts", Box::new(|v| v["curve_mesh"]["shape"][0] = 9.into())),
         ("vertex out of range", Box::new(|v| v["curve_mesh"]["vertices"][0]["vertex"] = 8.into())),
         ("vertex listed twice", Box::new(|v| v["curve_mesh"]["vertices"][1]["vertex"] = 0.into())),

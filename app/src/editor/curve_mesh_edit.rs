@@ -20,7 +20,9 @@
 //! wants to change the cage switches to another scheme, edits it there, and comes back: the
 //! curve-mesh edits follow the cage edit by [`taut_core::gregory::carry`]'s rule.
 //!
-//! Weak spots: picking is a linear scan over every curve-mesh vertex (fine for a few thousand);
+//! Vertices on the far side of the surface (tangent plane turned away from the eye) are neither
+//! drawn nor picked. Weak spots: picking is a linear scan over every curve-mesh vertex (fine for
+//! a few thousand); the facing test is per vertex, so a vertex on a silhouette may flicker;
 //! there is no box selection of curve-mesh vertices (Shift+click adds); the tilt and azimuth
 //! fields turn the tangent plane by the smallest rotation from the current normal, so the inner
 //! points' twist about the normal depends on the path the typed values took.
@@ -157,8 +159,25 @@ impl EditorState {
                 }
             }
         }
-        out.extend(t.vertices().filter(|&v| !t.is_isolated(v)).map(|v| (Handle::Vertex(v), cm.vertex_position(v))));
+        out.extend(
+            t.vertices()
+                .filter(|&v| self.curve_mesh_vertex_faces_eye(v))
+                .map(|v| (Handle::Vertex(v), cm.vertex_position(v))),
+        );
         out
+    }
+
+    /// True for a curve-mesh vertex on a curve whose tangent plane faces the camera: the others
+    /// are on the far side of the surface, neither drawn nor picked (a dot seen through the
+    /// surface would take the pick from the one in front of it). Selected vertices always are.
+    pub fn curve_mesh_vertex_faces_eye(&self, v: VertexId) -> bool {
+        let Some(s) = self.curve_mesh_surface() else { return false };
+        let cm = s.curve_mesh();
+        if v.index() >= cm.vertex_count() || cm.topology().is_isolated(v) {
+            return false;
+        }
+        let eye = self.display_frame.to_model(self.camera.eye().as_dvec3());
+        self.curve_mesh.selected.contains(&v) || (eye - cm.vertex_position(v)).dot(cm.vertex_normal(v)) > 0.0
     }
 
     /// The handle under `mouse` (points), nearest on screen, the front one among ties.
@@ -275,9 +294,7 @@ impl EditorState {
                 (_, Some(axis)) => format!("moving along {axis:?} (X, Y, Z to change, Esc to cancel)"),
                 (_, None) => "moving in the view plane (X, Y or Z locks an axis, Esc cancels)".into(),
             },
-            None => "Curve mesh: drag a vertex; the selected one shows its legs (drag their ends) and its normal \
-                     (drag the tip to tilt its tangent plane)"
-                .into(),
+            None => "Drag a curve-mesh vertex, its legs' ends or its normal's tip".into(),
         };
         ui.painter_at(response.rect).text(
             response.rect.left_top() + egui::vec2(8.0, 8.0),
@@ -434,7 +451,7 @@ impl EditorState {
                 width_px,
             }));
         }
-        for v in t.vertices().filter(|&v| !t.is_isolated(v)) {
+        for v in t.vertices().filter(|&v| self.curve_mesh_vertex_faces_eye(v)) {
             let selected = self.curve_mesh.selected.contains(&v);
             let hovered = self.curve_mesh.hovered == Some(Handle::Vertex(v));
             data.points.push(PointMark {
