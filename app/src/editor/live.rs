@@ -68,6 +68,8 @@ impl EditorState {
         match self.document.doc().scheme {
             SchemeKind::Nusd => SchemeKind::CatmullClark,
             SchemeKind::CatmullClark | SchemeKind::Loop => SchemeKind::Nusd,
+            // The limit surface the curve mesh was fitted to.
+            SchemeKind::CurveMesh => SchemeKind::CatmullClark,
         }
     }
 

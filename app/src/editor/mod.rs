@@ -7,6 +7,7 @@ pub mod cage_from_mesh;
 pub mod cage_job;
 #[cfg(test)]
 mod cage_tests;
+pub mod curve_mesh_edit;
 #[cfg(test)]
 mod defect_tests;
 pub mod document;

@@ -157,6 +157,8 @@ pub struct EditorState {
     pub viewport_shape: (f32, f32),
     /// File ▸ Make cage from mesh…: its dialog, the running fit, the original of the cage.
     pub cage: super::cage_from_mesh::CageFromMesh,
+    /// The curve-mesh selection and overlays ([`super::curve_mesh_edit`]).
+    pub curve_mesh: super::curve_mesh_edit::CurveMeshEditing,
 }
 
 impl EditorState {
@@ -182,6 +184,7 @@ impl EditorState {
             display_frame: DisplayFrame::IDENTITY,
             viewport_shape: (1.6, 0.0),
             cage: Default::default(),
+            curve_mesh: Default::default(),
         };
         state.frame_all();
         state
@@ -325,7 +328,9 @@ impl EditorState {
                 data.surface_lines.extend(overlay::polyline_with_comb(c, false, &style, frame));
             }
         }
-        if self.display.show_cage {
+        if self.curve_mesh_overlays(&mut data) {
+            // The curve-mesh scheme draws its own vertices and a faint cage.
+        } else if self.display.show_cage {
             let selection = CageSelection {
                 selected_vertices: self.selection.vertices.clone(),
                 selected_edges: self.selection.edges.clone(),
@@ -345,7 +350,7 @@ impl EditorState {
             data.on_top_lines = lines;
             data.points = points;
         }
-        data.legend = self.legend();
+        data.legend = self.curve_mesh_legend().or_else(|| self.legend());
         data
     }
 

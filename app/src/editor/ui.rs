@@ -114,6 +114,8 @@ pub struct UiState {
     pub(super) crease_drag: Option<CreaseDrag>,
     /// The pointer's last position over the viewport, in points.
     pub(super) pointer: Option<glam::Vec2>,
+    /// Drags and questions of the curve-mesh scheme.
+    pub curve_mesh: super::curve_mesh_edit::CurveMeshUi,
 }
 
 /// A crease being set with the mouse (Shift+E, as in Blender).
@@ -179,6 +181,9 @@ impl EditorState {
             } else if escape {
                 self.finish_crease_drag(ui_state, false);
             }
+            return;
+        }
+        if self.curve_mesh_drag_keys(ctx, ui_state) {
             return;
         }
         if let Some(drag) = &mut ui_state.drag {
