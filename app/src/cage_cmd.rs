@@ -131,9 +131,15 @@ pub fn run(args: &CageArgs) -> Result<(), String> {
     let report = &fit.report;
     print_table(report.qem.clone(), report.fitted().cloned());
     println!("{}", report.verdict);
-    if report.cage_faces != report.target_faces {
+    if report.cage_faces > report.target_faces {
         println!(
             "the cage has {} faces, not the {} asked for: the topology (closed pieces, locked borders) allows no fewer",
+            report.cage_faces, report.target_faces
+        );
+    } else if report.cage_faces < report.target_faces {
+        println!(
+            "the cage has {} faces, not the {} asked for: the simplifier's last collapses (or a nearby target tried \
+             for a manifold cage) landed there",
             report.cage_faces, report.target_faces
         );
     }

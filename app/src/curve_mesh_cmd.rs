@@ -2,7 +2,9 @@
 //! G1 Gregory patches and write the tessellated patches (`core::gregory`).
 //!
 //! The output format follows the extension: `.obj` (one `g` group per patch, `s 1`, analytic
-//! normals) or `.glb` (one merged mesh whose triangles run patch after patch). `--curves` writes
+//! normals), `.glb` (one merged mesh whose triangles run patch after patch) or `.taut` (the
+//! document in the curve-mesh scheme, with the input's curve-mesh edits when it is a `.taut`
+//! that has them). A `.taut` input's curve-mesh edits are applied to what is written. `--curves` writes
 //! every curve's four Bézier points and every patch's 20 Gregory points as JSON; `--report`
 //! prints the figures of the fit, the continuity and the closeness to the limit surface.
 
@@ -13,12 +15,14 @@ use std::path::PathBuf;
 use taut_core::gregory::build::FitReport;
 use taut_core::gregory::tessellate::{DEFAULT_SAMPLES, MAX_SAMPLES};
 use taut_core::gregory::{CurveMesh, Tessellation, export, fit_edge_curves};
+use taut_core::surface::SchemeKind;
 
 #[derive(Debug, Args)]
 pub struct CurveMeshArgs {
     /// Cage: .obj, .gltf, .glb or .taut.
     pub input: PathBuf,
-    /// Where to write the tessellated patches: .obj or .glb.
+    /// Where to write the tessellated patches (.obj or .glb) or the document in the curve-mesh
+    /// scheme (.taut).
     #[arg(short, long)]
     pub output: PathBuf,
     /// Samples per patch side (each patch becomes samples × samples quads).
@@ -36,8 +40,8 @@ pub struct CurveMeshArgs {
 
 pub fn run(args: &CurveMeshArgs) -> Result<(), String> {
     let kind = extension(&args.output);
-    if kind != "obj" && kind != "glb" {
-        return Err(format!("{}: unsupported output; use .obj or .glb", args.output.display()));
+    if kind != "obj" && kind != "glb" && kind != "taut" {
+        return Err(format!("{}: unsupported output; use .obj, .glb or .taut", args.output.display()));
     }
     if !(1..=MAX_SAMPLES).contains(&args.samples) {
         return Err(format!("--samples {}: use 1 to {MAX_SAMPLES}", args.samples));
@@ -52,7 +56,8 @@ pub fn run(args: &CurveMeshArgs) -> Result<(), String> {
     let doc = load_document(&args.input, &args.files)?;
     let cage = &doc.cage;
     let started = std::time::Instant::now();
-    let (curves, report) = CurveMesh::from_cage(cage).map_err(|e| e.to_string())?;
+    // The document's curve mesh: built from the cage, with the edits a .taut input carries.
+    let (curves, report) = doc.curve_mesh().map_err(|e| e.to_string())?;
     let built = started.elapsed();
     println!(
         "curve mesh: {} vertices, {} curves, {} Gregory patches{}, built in {:.1} ms",
@@ -62,16 +67,27 @@ pub fn run(args: &CurveMeshArgs) -> Result<(), String> {
         if report.subdivided_first { " (the cage has faces other than quads: subdivided once first)" } else { "" },
         built.as_secs_f64() * 1e3
     );
-    let tessellation = Tessellation::new(&curves, args.samples).map_err(|e| e.to_string())?;
-    export::export_tessellation(&tessellation, &args.output, args.files.up).map_err(|e| e.to_string())?;
-    println!(
-        "wrote {} ({} vertices, {} faces, {} × {} per patch)",
-        args.output.display(),
-        tessellation.mesh().vertex_count(),
-        tessellation.mesh().face_count(),
-        args.samples,
-        args.samples
-    );
+    if kind == "taut" {
+        let out = doc.clone().with_scheme(SchemeKind::CurveMesh);
+        out.save(&args.output).map_err(|e| e.to_string())?;
+        println!(
+            "wrote {} (the document in the curve-mesh scheme, {} edited vertices and {} edited curves)",
+            args.output.display(),
+            out.curve_mesh.vertices.len(),
+            out.curve_mesh.curves.len()
+        );
+    } else {
+        let tessellation = Tessellation::new(&curves, args.samples).map_err(|e| e.to_string())?;
+        export::export_tessellation(&tessellation, &args.output, args.files.up).map_err(|e| e.to_string())?;
+        println!(
+            "wrote {} ({} vertices, {} faces, {} × {} per patch)",
+            args.output.display(),
+            tessellation.mesh().vertex_count(),
+            tessellation.mesh().face_count(),
+            args.samples,
+            args.samples
+        );
+    }
     if let Some(path) = &args.curves {
         export::export_curves_json(&curves, path).map_err(|e| e.to_string())?;
         println!("wrote the curves and control points to {}", path.display());

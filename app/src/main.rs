@@ -45,7 +45,7 @@ enum Command {
     /// Smooth a polyline given as JSON, inserting points between the input points.
     SmoothCurve(curve_cmd::SmoothCurveArgs),
     /// Build a cage's curve mesh on its Catmull–Clark limit surface, fill it with G1 Gregory
-    /// patches and write them (.obj or .glb).
+    /// patches and write them (.obj, .glb or .taut).
     CurveMesh(curve_mesh_cmd::CurveMeshArgs),
     /// Draw a surface shaded, as zebra stripes or in curvature colour into a PNG.
     Render(render_cmd::RenderArgs),

@@ -61,7 +61,7 @@ pub struct RenderArgs {
     /// Draw with the software rasteriser even when a GPU is present (reproducible pictures).
     #[arg(long)]
     pub software: bool,
-    /// The surface scheme of a cage: nusd, catmull-clark or loop [default: the .taut file's, or
+    /// The surface scheme of a cage: nusd, catmull-clark, loop or curve-mesh [default: the .taut file's, or
     /// nusd]; giving it draws a mesh file as a cage.
     #[arg(long)]
     pub scheme: Option<SchemeKind>,

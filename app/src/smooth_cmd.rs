@@ -19,7 +19,7 @@ pub struct SmoothArgs {
     /// Where to write: .obj or .glb (the surface), or .taut (the cage document).
     #[arg(short, long)]
     pub output: PathBuf,
-    /// The surface scheme: nusd, catmull-clark or loop [default: nusd, or the .taut file's].
+    /// The surface scheme: nusd, catmull-clark, loop or curve-mesh [default: nusd, or the .taut file's].
     #[arg(long)]
     pub scheme: Option<SchemeKind>,
     #[command(flatten)]

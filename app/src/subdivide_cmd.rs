@@ -43,6 +43,11 @@ pub fn run(args: &SubdivideArgs) -> Result<(), String> {
                 "--scheme nusd: subdivide makes catmull-clark or loop surfaces; use taut smooth for NUSD".into()
             );
         }
+        Some(SchemeKind::CurveMesh) => {
+            return Err(
+                "--scheme curve-mesh: subdivide makes catmull-clark or loop surfaces; use taut curve-mesh or taut smooth for the curve mesh".into()
+            );
+        }
         Some(s) => s,
         None if doc.scheme.is_subdivision() => doc.scheme,
         None => SchemeKind::CatmullClark,

@@ -154,12 +154,8 @@ fn bad_arguments_and_inputs_fail_cleanly() {
     let out_obj = dir.join("x.obj");
     let o = out_obj.to_str().unwrap();
     assert_clean_failure(
-        &taut(&["curve-mesh", &asset("cube.obj"), "-o", dir.join("x.taut").to_str().unwrap()]),
-        "use .obj or .glb",
-    );
-    assert_clean_failure(
         &taut(&["curve-mesh", &asset("cube.obj"), "-o", dir.join("x.stl").to_str().unwrap()]),
-        "use .obj or .glb",
+        "use .obj, .glb or .taut",
     );
     assert_clean_failure(&taut(&["curve-mesh", &asset("cube.obj"), "-o", o, "--samples", "0"]), "--samples 0");
     assert_clean_failure(
@@ -197,4 +193,47 @@ fn valence_two_vertices_and_isolated_vertices_are_handled() {
     assert!(figure(&stdout, "largest normal angle across shared boundaries:") <= 1e-6, "{stdout}");
     let (surface, _) = io::import_mesh(&obj).unwrap();
     assert!(surface.positions().iter().all(|p| p.is_finite()));
+}
+
+#[test]
+fn a_taut_output_is_the_document_in_curve_mesh_scheme_and_keeps_the_edits() {
+    use taut_core::Edit;
+    use taut_core::surface::SchemeKind;
+    let dir = scratch("taut");
+    let first = dir.join("cube.taut");
+    let out = taut(&["curve-mesh", &asset("cube.obj"), "-o", first.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let doc = Document::load(&first).expect("a .taut that opens");
+    assert_eq!(doc.scheme, SchemeKind::CurveMesh);
+    assert!(doc.curve_mesh.is_empty(), "nothing edited yet");
+    let (mesh, _) = doc.curve_mesh().unwrap();
+    let (built, _) = CurveMesh::from_cage(&doc.cage).unwrap();
+    let bits = |m: &CurveMesh| -> Vec<u64> {
+        m.patches().iter().flat_map(|p| p.control_points()).flat_map(|q| q.to_array()).map(f64::to_bits).collect()
+    };
+    assert_eq!(bits(&mesh), bits(&built), "the document's curve mesh is the cage's, bit for bit");
+
+    // An edited document through the command again: the edits reach the .taut and the .obj.
+    let mut edited = doc.clone();
+    let target = mesh.vertex_position(taut_core::VertexId(0)) + DVec3::new(0.05, -0.02, 0.03);
+    edited.apply(Edit::MoveCurveMeshVertices(vec![(taut_core::VertexId(0), target)])).unwrap();
+    let edited_path = dir.join("edited.taut");
+    edited.save(&edited_path).unwrap();
+    let second = dir.join("again.taut");
+    let out = taut(&["curve-mesh", edited_path.to_str().unwrap(), "-o", second.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let again = Document::load(&second).unwrap();
+    assert_eq!(again.curve_mesh, edited.curve_mesh, "the edits are carried through, bit for bit");
+    assert_eq!(bits(&again.curve_mesh().unwrap().0), bits(&edited.curve_mesh().unwrap().0));
+    let export = |input: &Path, name: &str| {
+        let obj = dir.join(name);
+        let out = taut(&["curve-mesh", input.to_str().unwrap(), "-o", obj.to_str().unwrap(), "--samples", "4"]);
+        assert!(out.status.success(), "{}", text(&out.stderr));
+        io::import_mesh(&obj).unwrap().0.positions().to_vec()
+    };
+    let (plain, moved) = (export(&first, "plain.obj"), export(&edited_path, "edited.obj"));
+    assert_eq!(plain.len(), moved.len());
+    let changed = plain.iter().zip(&moved).filter(|(a, b)| a != b).count();
+    // The three patches around the moved corner change (4 × 4 quads each); the other three not.
+    assert!(changed > 0 && changed <= 3 * 25, "{changed} of {} exported vertices moved", plain.len());
 }

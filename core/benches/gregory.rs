@@ -11,6 +11,11 @@
 //!   a ratio to a streaming pass writing the same bytes of positions and normals.
 //!
 //! - Evaluation of position and first derivatives on one thread, against a bicubic Bézier patch.
+//! - The editor's work per frame while a curve-mesh vertex of the default scene is dragged: the
+//!   document edit (checked on a copy of the curve mesh), the surface seam's update (the changed
+//!   patches re-tessellated at 16 × 16) and the continuity measurement of the overlay, against
+//!   moving one cage point of the same scene in the Catmull–Clark scheme (document edit and
+//!   limit-surface update).
 //!
 //! Run with `cargo bench -p taut-core --bench gregory`. `TAUT_BENCH_QUICK=1` runs fewer repeats.
 
@@ -224,4 +229,56 @@ fn main() {
     );
     tessellation(&medium, repeats);
     evaluation(&medium, repeats);
+    editor_drag(repeats);
+}
+
+/// One drag step in the editor on the default scene: the document edit, the seam update and the
+/// continuity overlay's measurement, against a cage-point drag step in Catmull–Clark.
+fn editor_drag(repeats: usize) {
+    use taut_core::surface::{self, SchemeKind};
+    use taut_core::{Document, Edit};
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets/default.taut");
+    let scene = Document::load(&path).unwrap();
+    let steps = 20;
+    let run = |scheme: SchemeKind, continuity: bool| {
+        let mut doc = scene.clone().with_scheme(scheme);
+        let mut seam = surface::build(&doc).unwrap();
+        let v = VertexId(3);
+        let home = match scheme {
+            SchemeKind::CurveMesh => doc.curve_mesh().unwrap().0.vertex_position(v),
+            _ => doc.cage.position(v),
+        };
+        let mut k = 0usize;
+        median(repeats, || {
+            for _ in 0..steps {
+                k += 1;
+                let p = home + DVec3::new(0.05 * (k % 7) as f64, -0.03 * (k % 5) as f64, 0.02 * (k % 3) as f64);
+                let edit = match scheme {
+                    SchemeKind::CurveMesh => Edit::MoveCurveMeshVertices(vec![(v, p)]),
+                    _ => Edit::MoveVertices(vec![(v, p)]),
+                };
+                // The editor tries every edit on a copy of the document, as here.
+                let mut after = doc.clone();
+                after.apply(edit).unwrap();
+                doc = after;
+                seam.update(&doc).unwrap();
+                if continuity && let Some(cm) = seam.as_curve_mesh() {
+                    black_box(cm.curve_mesh().continuity(16));
+                }
+            }
+        }) / steps as u32
+    };
+    let curve_mesh = run(SchemeKind::CurveMesh, false);
+    let with_continuity = run(SchemeKind::CurveMesh, true);
+    let catmull_clark = run(SchemeKind::CatmullClark, false);
+    let patches = scene.clone().with_scheme(SchemeKind::CurveMesh).curve_mesh().unwrap().0.patch_count();
+    println!(
+        "editor drag step on the default scene ({patches} patches): curve-mesh vertex {:.2} ms, with the continuity overlay {:.2} ms; \
+         a cage point in Catmull–Clark {:.2} ms; ratios {:.2}x and {:.2}x",
+        ms(curve_mesh),
+        ms(with_continuity),
+        ms(catmull_clark),
+        curve_mesh.as_secs_f64() / catmull_clark.as_secs_f64(),
+        with_continuity.as_secs_f64() / catmull_clark.as_secs_f64()
+    );
 }

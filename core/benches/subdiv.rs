@@ -24,8 +24,14 @@ use opensubdiv_rs::sdc::{self, SchemeType, VtxBoundaryInterpolation};
 use rayon::prelude::*;
 use std::hint::black_box;
 use std::time::{Duration, Instant};
-use taut_core::subdiv::{RefinedPositions, Refinement, Scheme, Triangulation, triangulate};
+use taut_core::mesh::edit::Triangulation;
+use taut_core::subdiv::{RefinedPositions, Refinement, Scheme};
 use taut_core::{DVec3, PolyMesh, VertexId};
+
+/// Every face cut into triangles (the cage-editing triangulation; vertices kept).
+fn triangulate(mesh: &PolyMesh, how: Triangulation) -> taut_core::Result<PolyMesh> {
+    Ok(taut_core::mesh::edit::triangulate(mesh, None, how)?.mesh)
+}
 
 /// A closed, curved genus-1 cage of `nu × nv` quads with uneven radii.
 fn torus(nu: u32, nv: u32) -> PolyMesh {

@@ -9,13 +9,16 @@
 //!
 //! Format versions: 1 had no scheme (NUSD), creases or subdivision settings; 2 adds them. Every
 //! version-1 file opens as a NUSD document. An infinitely sharp crease is written `"inf"` (JSON
-//! has no infinity).
+//! has no infinity). The optional key `curve_mesh` holds the curve mesh's edit state
+//! ([`crate::gregory::document`]); absent, the curve mesh is as the cage builds it.
 //!
 //! The optional key `curves` holds the Curves workspace's curves, segments and Coons patches
 //! ([`CurveSet`]); it is written only when there are some, so files without curves are as before.
 
 use crate::curve::CurveSet;
 use crate::curve::set::CurvesFile;
+use crate::gregory::CurveMeshEdits;
+use crate::gregory::document::CurveMeshCache;
 use crate::mesh::{EdgeId, PolyMesh, VertexId};
 use crate::nusd::SolverSettings;
 pub use crate::surface::{SchemeKind, SubdivSettings};
@@ -49,6 +52,10 @@ pub struct Document {
     pub subdiv: SubdivSettings,
     /// Curves, log-aesthetic segments and Coons patches (the Curves workspace).
     pub curves: CurveSet,
+    /// Curve mesh: the edited curve-mesh vertices and curves ([`crate::gregory::document`]).
+    pub curve_mesh: CurveMeshEdits,
+    /// The last curve mesh built for this document or a clone of it.
+    pub(crate) curve_cache: CurveMeshCache,
 }
 
 impl Document {
@@ -66,6 +73,8 @@ impl Document {
             settings: SolverSettings::default(),
             subdiv: SubdivSettings::default(),
             curves: CurveSet::default(),
+            curve_mesh: CurveMeshEdits::default(),
+            curve_cache: CurveMeshCache::default(),
         }
     }
 
@@ -86,10 +95,21 @@ impl Document {
     /// This document on an edited cage: every per-vertex and per-edge control carried along by
     /// the edit's provenance ([`crate::mesh::edit`]): what continues or copies an old element keeps
     /// its value; made vertices are fixed with no tension, made edges smooth with no tension.
+    /// Curve-mesh edits follow by [`crate::gregory::carry`]'s rule (see
+    /// [`with_edited_cage_reported`](Self::with_edited_cage_reported) for what was dropped).
     pub fn with_edited_cage(&self, edited: crate::mesh::edit::Edited) -> Result<Document> {
+        Ok(self.with_edited_cage_reported(edited)?.0)
+    }
+
+    /// [`with_edited_cage`](Self::with_edited_cage), with what carrying the curve-mesh edits kept
+    /// and dropped.
+    pub fn with_edited_cage_reported(
+        &self,
+        edited: crate::mesh::edit::Edited,
+    ) -> Result<(Document, crate::gregory::carry::CarryReport)> {
         use crate::mesh::edit::{CarryRule, carry_edge_property, carry_vertex_property};
         let p = &edited.provenance;
-        let doc = Document {
+        let mut doc = Document {
             fixed: carry_vertex_property(&self.fixed, p, &CarryRule::new_elements(true))?,
             vertex_tension: carry_vertex_property(&self.vertex_tension, p, &CarryRule::new_elements(0.0))?,
             edge_tension: carry_edge_property(&self.edge_tension, p, &CarryRule::new_elements(0.0))?,
@@ -99,13 +119,20 @@ impl Document {
             settings: self.settings,
             subdiv: self.subdiv,
             curves: self.curves.clone(),
+            curve_mesh: CurveMeshEdits::default(),
+            curve_cache: CurveMeshCache::default(),
         };
+        let carried = doc.carry_curve_mesh_edits(self, Some(p))?;
         doc.validate()?;
-        Ok(doc)
+        Ok((doc, carried))
     }
 
-    /// Refuses a scheme the cage cannot have, saying what to do (Loop needs triangles).
+    /// Refuses a scheme the cage cannot have, saying what to do (Loop needs triangles, a curve mesh
+    /// a cage it can be built on: built here, and kept for the surface).
     pub fn check_scheme(&self, scheme: SchemeKind) -> Result<()> {
+        if scheme == SchemeKind::CurveMesh {
+            self.curve_mesh().map_err(|e| Error::Topology(format!("no curve mesh can be built on this cage: {e}")))?;
+        }
         if scheme == SchemeKind::Loop
             && let Some(f) = self.cage.faces().find(|&f| self.cage.face_valence(f) != 3)
         {
@@ -191,7 +218,8 @@ impl Document {
         }
         self.settings.validate()?;
         self.subdiv.validate()?;
-        self.curves.validate()
+        self.curves.validate()?;
+        self.check_curve_mesh_edits()
     }
 
     /// The document as `.taut` JSON text.
@@ -225,6 +253,7 @@ impl Document {
             settings: self.settings,
             subdivision: Some(self.subdiv),
             curves: self.curves.to_file(),
+            curve_mesh: (!self.curve_mesh.is_empty()).then(|| self.curve_mesh.clone()),
         };
         serde_json::to_string_pretty(&file).expect("a document always serialises")
     }
@@ -258,10 +287,15 @@ impl Document {
             doc.vertex_tension = tension;
         }
         doc.settings = file.settings;
-        if file.version == 1 && (file.scheme.is_some() || !file.crease.is_empty() || file.subdivision.is_some()) {
+        if file.version == 1
+            && (file.scheme.is_some()
+                || !file.crease.is_empty()
+                || file.subdivision.is_some()
+                || file.curve_mesh.is_some())
+        {
             return Err(Error::format(
                 origin,
-                "a version-1 file has no scheme, crease or subdivision keys (they came with version 2)",
+                "a version-1 file has no scheme, crease, subdivision or curve_mesh keys (they came with version 2)",
             ));
         }
         doc.scheme = file.scheme.unwrap_or(SchemeKind::Nusd);
@@ -286,7 +320,12 @@ impl Document {
             let s = s.value().map_err(|m| Error::format(origin, format!("crease {a}-{b}: {m}")))?;
             doc.set_crease(VertexId(a), VertexId(b), s).map_err(|e| Error::format(origin, e.to_string()))?;
         }
+        doc.curve_mesh = file.curve_mesh.unwrap_or_default().normalized();
         doc.validate().map_err(|e| Error::format(origin, e.to_string()))?;
+        if !doc.curve_mesh.is_empty() {
+            // The edits must fit the curve mesh this cage builds; the build is kept for the editor.
+            doc.curve_mesh().map_err(|e| Error::format(origin, format!("curve_mesh: {e}")))?;
+        }
         Ok(doc)
     }
 
@@ -314,6 +353,7 @@ impl PartialEq for Document {
             && self.settings == other.settings
             && self.subdiv == other.subdiv
             && self.curves == other.curves
+            && self.curve_mesh == other.curve_mesh
     }
 }
 
@@ -356,6 +396,8 @@ struct TautFile {
     subdivision: Option<SubdivSettings>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     curves: Option<CurvesFile>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    curve_mesh: Option<CurveMeshEdits>,
 }
 
 #[derive(Serialize, Deserialize)]

@@ -6,9 +6,13 @@
 //! line. Besides each value's own range, an edit must leave a NUSD surface anchored: a surface
 //! without enough fixed vertices collapses or flattens (see
 //! [`check_anchoring`](crate::nusd::surface::check_anchoring)), so the edit that would do that is
-//! refused, naming the vertices to fix.
+//! refused, naming the vertices to fix. The curve-mesh edits are tried on the document's curve
+//! mesh ([`crate::gregory::document`]), and a move of cage points carries the curve-mesh edits
+//! onto the moved cage's curve mesh ([`crate::gregory::carry`]), or is refused when it cannot.
 
 use crate::document::{Document, SchemeKind, SubdivSettings, check_sharpness, check_tension};
+use crate::gregory::CurveMeshEdits;
+use crate::gregory::document::is_curve_mesh_edit;
 use crate::mesh::{EdgeId, VertexId};
 use crate::nusd::SolverSettings;
 use crate::{DVec3, Error, Result};
@@ -46,21 +50,53 @@ pub enum Edit {
     /// Replaces the whole document (a new cage, an undoable topology change). Boxed: a document
     /// is far larger than the other edits.
     Replace(Box<Document>),
+    /// Moves curve-mesh vertices (indices of the curve mesh) to absolute positions; each one's
+    /// tangent plane and the inner control points next to it move with it.
+    MoveCurveMeshVertices(Vec<(VertexId, DVec3)>),
+    /// Turns a curve-mesh vertex's tangent plane to a normal (by the smallest rotation); the inner
+    /// control points next to it turn with it.
+    SetCurveMeshNormal(VertexId, DVec3),
+    /// Rotates a curve-mesh vertex's tangent plane about the vertex by a unit quaternion.
+    RotateCurveMeshNormal(VertexId, glam::DQuat),
+    /// Moves the inner control point of a curve next to its end vertex `end` towards `position`,
+    /// projected onto that vertex's tangent plane.
+    MoveCurveMeshInnerPoint {
+        /// The curve (an edge of the curve mesh).
+        curve: EdgeId,
+        /// The end vertex whose leg it is.
+        end: VertexId,
+        /// Where the control point goes (before the projection).
+        position: DVec3,
+    },
+    /// Sets the whole curve-mesh edit state (a cancelled drag puts back the state before it).
+    SetCurveMeshEdits(CurveMeshEdits),
+    /// Discards every curve-mesh edit: the curve mesh as the cage builds it ("Rebuild from cage").
+    RebuildCurveMesh,
 }
 
 impl Document {
     /// Checks `edit` completely and applies it; a refused edit changes nothing and says why.
     /// Returns whether the document changed (an edit that sets what is already there does not).
     pub fn apply(&mut self, edit: Edit) -> Result<bool> {
+        if is_curve_mesh_edit(&edit) {
+            return self.apply_curve_mesh_edit(&edit);
+        }
         self.check_edit(&edit)?;
         if !self.changed_by(&edit) {
             return Ok(false);
         }
-        if self.anchoring_matters(&edit) {
+        let carry_curve_mesh = matches!(edit, Edit::MoveVertices(_)) && !self.curve_mesh.is_empty();
+        if self.anchoring_matters(&edit) || carry_curve_mesh {
             let mut after = self.clone();
+            let anchoring = self.anchoring_matters(&edit);
             after.perform(edit);
-            crate::nusd::surface::check_anchoring(&after.cage, &after.fixed)
-                .map_err(|e| Error::Input(format!("refused: {e}")))?;
+            if anchoring {
+                crate::nusd::surface::check_anchoring(&after.cage, &after.fixed)
+                    .map_err(|e| Error::Input(format!("refused: {e}")))?;
+            }
+            if carry_curve_mesh {
+                after.carry_curve_mesh_edits(self, None)?;
+            }
             *self = after;
         } else {
             self.perform(edit);
@@ -110,8 +146,18 @@ impl Document {
             }
             Edit::Replace(new) => {
                 new.cage.validate().map_err(|e| Error::Input(format!("cannot use the new cage: {e}")))?;
-                new.validate().map_err(|e| Error::Input(format!("cannot use the new cage: {e}")))
+                new.validate().map_err(|e| Error::Input(format!("cannot use the new cage: {e}")))?;
+                if !new.curve_mesh.is_empty() {
+                    new.curve_mesh().map_err(|e| Error::Input(format!("cannot use the new curve-mesh edits: {e}")))?;
+                }
+                Ok(())
             }
+            Edit::MoveCurveMeshVertices(_)
+            | Edit::SetCurveMeshNormal(..)
+            | Edit::RotateCurveMeshNormal(..)
+            | Edit::MoveCurveMeshInnerPoint { .. }
+            | Edit::SetCurveMeshEdits(_)
+            | Edit::RebuildCurveMesh => self.check_curve_mesh_edit(edit),
         }
     }
 
@@ -150,6 +196,12 @@ impl Document {
             Edit::SetScheme(scheme) => self.scheme != *scheme,
             Edit::SetCurves(set) => self.curves != **set,
             Edit::Replace(new) => *self != **new,
+            Edit::MoveCurveMeshVertices(_)
+            | Edit::SetCurveMeshNormal(..)
+            | Edit::RotateCurveMeshNormal(..)
+            | Edit::MoveCurveMeshInnerPoint { .. }
+            | Edit::SetCurveMeshEdits(_)
+            | Edit::RebuildCurveMesh => self.changed_by_curve_mesh_edit(edit),
         }
     }
 
@@ -197,6 +249,13 @@ impl Document {
                 self.curves.view.selected = self.curves.view.selected.filter(|&s| s < self.curves.curves.len());
             }
             Edit::Replace(new) => *self = *new,
+            // Applied by `apply_curve_mesh_edit`, which needs to try them first.
+            Edit::MoveCurveMeshVertices(_)
+            | Edit::SetCurveMeshNormal(..)
+            | Edit::RotateCurveMeshNormal(..)
+            | Edit::MoveCurveMeshInnerPoint { .. }
+            | Edit::SetCurveMeshEdits(_)
+            | Edit::RebuildCurveMesh => {}
         }
     }
 }

@@ -23,8 +23,14 @@
 use opensubdiv_rs::far::{PrimvarRefiner, TopologyDescriptor, TopologyRefiner, TopologyRefinerFactory, UniformOptions};
 use opensubdiv_rs::sdc::{self, SchemeType, VtxBoundaryInterpolation};
 use std::collections::HashMap;
-use taut_core::subdiv::{RefinedPositions, Refinement, Rule, Scheme, Triangulation, VertexOrigin, triangulate};
+use taut_core::mesh::edit::Triangulation;
+use taut_core::subdiv::{RefinedPositions, Refinement, Rule, Scheme, VertexOrigin};
 use taut_core::{DVec3, PolyMesh, VertexId};
+
+/// Every face cut into triangles (the cage-editing triangulation; vertices kept).
+fn triangulate(mesh: &PolyMesh, how: Triangulation) -> taut_core::Result<PolyMesh> {
+    Ok(taut_core::mesh::edit::triangulate(mesh, None, how)?.mesh)
+}
 
 /// Their refiner for `cage`, refined uniformly to `levels`.
 fn theirs(cage: &PolyMesh, scheme: Scheme, sharpness: &[f64], levels: u32) -> TopologyRefiner {

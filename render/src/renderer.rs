@@ -25,6 +25,9 @@ pub struct Scene<'a> {
     pub viewport: Option<[u32; 4]>,
     /// A second surface drawn as a translucent ghost of this colour (linear RGBA).
     pub ghost: Option<(&'a GpuSurface, [f32; 4])>,
+    /// Another ghost beside the first, in its own colour (the editor's original mesh of a fitted
+    /// cage, while the compare view shows the other scheme as the first).
+    pub second_ghost: Option<(&'a GpuSurface, [f32; 4])>,
 }
 
 impl<'a> Scene<'a> {
@@ -38,6 +41,7 @@ impl<'a> Scene<'a> {
             overlays: None,
             viewport: None,
             ghost: None,
+            second_ghost: None,
         }
     }
 
@@ -126,6 +130,9 @@ impl Renderer {
         if let Some((_, color)) = scene.ghost {
             self.surface.set_ghost(queue, color);
         }
+        if let Some((_, color)) = scene.second_ghost {
+            self.surface.set_second_ghost(queue, color);
+        }
         let none = OverlayData::default();
         let overlays = scene.overlays.unwrap_or(&none);
         self.lines.prepare(device, queue, &overlays.surface_lines, &overlays.on_top_lines);
@@ -165,6 +172,9 @@ impl Renderer {
         self.lines.draw_surface_lines(&mut pass, frame);
         if let Some((ghost, _)) = scene.ghost {
             self.surface.draw_ghost(&mut pass, frame, ghost);
+        }
+        if let Some((ghost, _)) = scene.second_ghost {
+            self.surface.draw_second_ghost(&mut pass, frame, ghost);
         }
         self.lines.draw_on_top_lines(&mut pass, frame);
         self.points.draw(&mut pass, frame);
@@ -277,6 +287,44 @@ mod tests {
         let scene = Scene { ghost: Some((&behind, GHOST)), ..Scene::new(camera, Some(&surface), SurfaceMode::Shaded) };
         let hidden = pixel(&render_image(&gpu, &mut renderer, &scene, W, H).unwrap(), centre);
         assert!(close(hidden, base, 2), "a ghost behind the surface shows: {hidden:?} vs {base:?}");
+    }
+
+    /// Two ghosts at once, each in its own colour (the compare view's and the editor's original
+    /// mesh): where only one covers the surface, that one's tint shows; where both do, both.
+    #[test]
+    fn two_ghosts_keep_their_own_colours() {
+        use crate::passes::surface::GHOST;
+        const BLUE: [f32; 4] = [0.10, 0.45, 0.95, 0.30];
+        let gpu = gpu();
+        let targets = TargetFormats::for_adapter(&gpu.adapter, wgpu::TextureFormat::Rgba8UnormSrgb);
+        let mut renderer = Renderer::new(&gpu, targets);
+        let surface = square(&gpu);
+        let camera = front_camera();
+        let plain =
+            render_image(&gpu, &mut renderer, &Scene::new(camera, Some(&surface), SurfaceMode::Shaded), W, H).unwrap();
+        // The amber ghost covers the middle, the blue one the middle and more.
+        let amber = square_at(&gpu, 0.3, 0.5);
+        let blue = square_at(&gpu, 0.7, 0.3);
+        let scene = Scene {
+            ghost: Some((&amber, GHOST)),
+            second_ghost: Some((&blue, BLUE)),
+            ..Scene::new(camera, Some(&surface), SurfaceMode::Shaded)
+        };
+        let image = render_image(&gpu, &mut renderer, &scene, W, H).unwrap();
+        save(&image, "taut-two-ghosts.png");
+        let only_blue = project(&camera, Vec3::new(0.5, 0.0, 0.5));
+        let (base, tinted) = (pixel(&plain, only_blue), pixel(&image, only_blue));
+        assert!(tinted[2] > base[2] + 10 && tinted[0] + 10 < base[0], "blue over grey: {tinted:?} over {base:?}");
+        let both = project(&camera, Vec3::ZERO);
+        let tinted = pixel(&image, both);
+        // Amber under blue: redder than blue alone, bluer than the grey under amber alone.
+        let amber_only =
+            Scene { ghost: Some((&amber, GHOST)), ..Scene::new(camera, Some(&surface), SurfaceMode::Shaded) };
+        let amber_pixel = pixel(&render_image(&gpu, &mut renderer, &amber_only, W, H).unwrap(), both);
+        assert!(tinted[0] > pixel(&image, only_blue)[0] + 5, "the amber ghost shows under the blue: {tinted:?}");
+        assert!(tinted[2] > amber_pixel[2] + 5, "the blue ghost shows over the amber: {tinted:?} vs {amber_pixel:?}");
+        let outside = project(&camera, Vec3::new(0.9, 0.0, 0.9));
+        assert!(close(pixel(&image, outside), pixel(&plain, outside), 2), "outside both nothing changes");
     }
 
     #[test]

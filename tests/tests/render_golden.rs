@@ -297,3 +297,29 @@ fn coons_patch_zebra() {
     );
     golden("coons-patch-zebra", &image);
 }
+
+/// The default scene as a curve mesh (its Gregory patches with their exact normals, the stripes
+/// running on across every curve), and the same with one curve-mesh vertex on the top rim pulled
+/// up and out: only the patches around it bend.
+#[test]
+fn curve_mesh_zebra_pictures() {
+    let doc = asset("default.taut").with_scheme(SchemeKind::CurveMesh);
+    golden("zebra-default-curve-mesh", &picture(smooth(&doc).as_ref(), ZEBRA, VIEW));
+    let mut edited = doc.clone();
+    let (m, _) = edited.curve_mesh().unwrap();
+    // The highest vertex nearest the camera's side (+x, −y at azimuth 30°).
+    let v = m
+        .topology()
+        .vertices()
+        .max_by(|&a, &b| {
+            let score = |v| {
+                let p = m.vertex_position(v);
+                p.z + 0.6 * (p.x - p.y)
+            };
+            score(a).total_cmp(&score(b))
+        })
+        .unwrap();
+    let lift = m.vertex_normal(v) * 0.03 * doc.cage.bounding_diagonal();
+    edited.apply(taut_core::Edit::MoveCurveMeshVertices(vec![(v, m.vertex_position(v) + lift)])).unwrap();
+    golden("zebra-default-curve-mesh-edited", &picture(smooth(&edited).as_ref(), ZEBRA, VIEW));
+}

@@ -2,12 +2,17 @@
 //! reference: hand-computed values, uniform B-splines and box-spline masks evaluated here, many
 //! further subdivision steps, transformed copies, a second thread count.
 
+use taut_core::mesh::edit::Triangulation;
 use taut_core::subdiv::{
-    RefinedPositions, Refinement, Scheme, Triangulation, catmull_clark_limit, loop_limit_matrix, sharpness_from_pairs,
-    triangulate,
+    RefinedPositions, Refinement, Scheme, catmull_clark_limit, loop_limit_matrix, sharpness_from_pairs,
 };
 use taut_core::{DVec3, HalfedgeId, PolyMesh, VertexId};
 use taut_tests::{cube, grid, prism, transformed};
+
+/// Every face cut into triangles (the cage-editing triangulation; vertices kept).
+fn triangulate(mesh: &PolyMesh, how: Triangulation) -> taut_core::Result<PolyMesh> {
+    Ok(taut_core::mesh::edit::triangulate(mesh, None, how)?.mesh)
+}
 
 fn refine(cage: &PolyMesh, scheme: Scheme, sharpness: &[f64], levels: u32) -> (Refinement, RefinedPositions) {
     let r = Refinement::new(cage, scheme, sharpness, levels).expect("valid cage");

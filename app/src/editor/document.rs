@@ -37,6 +37,17 @@ fn fresh_revision() -> u64 {
 struct Snapshot {
     doc: Document,
     state: u64,
+    /// The files the document belonged to, for a step that changed them ([`EditorDocument::adopt`]);
+    /// `None` for every other step, which leaves the files as they are.
+    files: Option<Files>,
+}
+
+/// Which files a document belongs to.
+#[derive(Clone, Debug)]
+struct Files {
+    path: Option<PathBuf>,
+    source: Option<PathBuf>,
+    import_report: Option<ImportReport>,
 }
 
 /// An open gesture: the state before it began.
@@ -184,7 +195,7 @@ impl EditorDocument {
                 }
             }
             None => {
-                let before = Snapshot { doc: self.doc.clone(), state: self.state };
+                let before = Snapshot { doc: self.doc.clone(), state: self.state, files: None };
                 self.push_undo(before);
                 self.redo.clear();
             }
@@ -200,7 +211,7 @@ impl EditorDocument {
     /// open continues the open one.
     pub fn begin_gesture(&mut self) {
         if self.gesture.is_none() {
-            let before = Snapshot { doc: self.doc.clone(), state: self.state };
+            let before = Snapshot { doc: self.doc.clone(), state: self.state, files: None };
             self.gesture = Some(Gesture { before, changed: false });
         }
     }
@@ -306,6 +317,31 @@ impl EditorDocument {
         io::export_mesh_with(surface, path, &options).map_err(|e| e.to_string())
     }
 
+    /// Makes `doc` the document as one undo step that also leaves the current file: Save then asks
+    /// for a `.taut` file, and `source` names where the content came from (a cage fitted to a
+    /// mesh). Undo goes back to the previous document and its file, with nothing lost; a gesture
+    /// in progress is ended first.
+    pub fn adopt(&mut self, doc: Document, source: Option<PathBuf>) -> Result<(), String> {
+        doc.validate().map_err(|e| e.to_string())?;
+        self.end_gesture();
+        let files = self.swap_files(Files { path: None, source, import_report: None });
+        let before = Snapshot { doc: std::mem::replace(&mut self.doc, doc), state: self.state, files: Some(files) };
+        self.push_undo(before);
+        self.redo.clear();
+        self.state = self.take_state();
+        self.touch();
+        Ok(())
+    }
+
+    /// Puts `files` in place and returns the ones they replace.
+    fn swap_files(&mut self, files: Files) -> Files {
+        Files {
+            path: std::mem::replace(&mut self.path, files.path),
+            source: std::mem::replace(&mut self.source, files.source),
+            import_report: std::mem::replace(&mut self.import_report, files.import_report),
+        }
+    }
+
     fn take_state(&mut self) -> u64 {
         let state = self.next_state;
         self.next_state += 1;
@@ -327,7 +363,8 @@ impl EditorDocument {
 
     /// Makes a snapshot current and returns the state it replaced.
     fn restore(&mut self, snapshot: Snapshot) -> Snapshot {
-        let current = Snapshot { doc: std::mem::replace(&mut self.doc, snapshot.doc), state: self.state };
+        let files = snapshot.files.map(|files| self.swap_files(files));
+        let current = Snapshot { doc: std::mem::replace(&mut self.doc, snapshot.doc), state: self.state, files };
         self.state = snapshot.state;
         // A snapshot carries the cage generation it had when taken, which later edits have
         // already counted past; a cache keyed on the generation would take the restored cage for

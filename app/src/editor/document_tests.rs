@@ -362,3 +362,35 @@ fn larger_imported_cages_are_shown_at_fewer_levels() {
     assert_eq!(display_levels(1_000_000), 1);
     assert_eq!(display_levels(0), 4);
 }
+
+/// Adopting a new document (a cage made from a mesh) is one undo step that leaves the file:
+/// Save then asks for one, undo brings back the document and its file, redo the adopted one.
+#[test]
+fn adopting_a_document_is_one_undo_step_that_leaves_the_file() {
+    let dir = temp_dir("adopt");
+    let file = dir.join("work.taut");
+    let mut ed = EditorDocument::new(cube_doc(), None);
+    ed.save_as(&file).unwrap();
+    ed.apply(Edit::MoveVertices(vec![(VertexId(7), DVec3::splat(1.5))])).unwrap();
+    let work = ed.doc().clone();
+    let mut other = cube_doc();
+    other.cage.positions_mut()[0] = DVec3::splat(-0.5);
+    let mesh = dir.join("scan.stl");
+    ed.adopt(other.clone(), Some(mesh.clone())).unwrap();
+    assert_eq!(ed.doc(), &other);
+    assert_eq!((ed.path(), ed.source()), (None, Some(mesh.as_path())));
+    assert!(ed.is_dirty() && ed.save().is_err(), "Save asks for a file");
+    assert_eq!(ed.title(), "scan.stl*");
+    assert!(ed.undo());
+    assert_eq!(ed.doc(), &work, "the unsaved move comes back");
+    assert_eq!((ed.path(), ed.source()), (Some(file.as_path()), Some(file.as_path())));
+    assert!(ed.is_dirty());
+    assert!(ed.redo());
+    assert_eq!((ed.doc(), ed.path()), (&other, None));
+    // A refused document changes nothing.
+    let mut broken = cube_doc();
+    broken.fixed.pop();
+    assert!(ed.adopt(broken, None).is_err());
+    assert_eq!((ed.doc(), ed.source()), (&other, Some(mesh.as_path())));
+    let _ = std::fs::remove_dir_all(dir);
+}

@@ -68,6 +68,8 @@ impl EditorState {
         match self.document.doc().scheme {
             SchemeKind::Nusd => SchemeKind::CatmullClark,
             SchemeKind::CatmullClark | SchemeKind::Loop => SchemeKind::Nusd,
+            // The limit surface the curve mesh was fitted to.
+            SchemeKind::CurveMesh => SchemeKind::CatmullClark,
         }
     }
 
@@ -81,6 +83,10 @@ impl EditorState {
                 Some(view) if view.scheme.kind() == doc.scheme => view.scheme.update(doc),
                 _ => surface::build(doc).map(|s| self.surface = Some(SurfaceView::new(s))),
             };
+            // A subdivision surface moves in `update`, not in `advance`: its colours are stale now.
+            if let Some(view) = &mut self.surface {
+                view.values_stale = true;
+            }
             match result {
                 Ok(()) => self.surface_error = None,
                 Err(e) => {
@@ -137,6 +143,12 @@ impl EditorState {
     /// Turns the compare view on or off (or switches between ghost and distance).
     pub fn set_compare(&mut self, mode: CompareMode) {
         self.display.compare = mode;
+        if mode == CompareMode::Distance
+            && let Some(original) = &mut self.cage.original
+        {
+            // One distance view at a time: the other scheme's replaces the original's.
+            original.show_distance = false;
+        }
         self.update_comparison();
         self.invalidate_values();
     }
@@ -156,16 +168,24 @@ impl EditorState {
         self.solved_revision != Some(self.document.revision())
             || self.surface.as_ref().is_some_and(|v| working(v.scheme.as_ref()))
             || self.comparison.as_ref().is_some_and(|c| working(c.scheme.as_ref()))
+            // The distance to a fitted cage's original, waiting for its throttled re-measure.
+            || (self.cage.distance_shown() && self.surface.as_ref().is_some_and(|v| v.values_stale))
     }
 
     /// What the colour view shows now.
     pub fn colour_by(&self) -> ColourBy {
-        if self.display.compare == CompareMode::Distance { ColourBy::Distance } else { self.display.colour_by }
+        if self.display.compare == CompareMode::Distance || self.cage.distance_shown() {
+            ColourBy::Distance
+        } else {
+            self.display.colour_by
+        }
     }
 
     /// True when the surface is drawn in colour (the curvature view, or the compare distance).
     pub fn colours_shown(&self) -> bool {
-        self.display.mode == DisplayMode::Curvature || self.display.compare == CompareMode::Distance
+        self.display.mode == DisplayMode::Curvature
+            || self.display.compare == CompareMode::Distance
+            || self.cage.distance_shown()
     }
 
     /// Recomputes the colour values when shown and stale (at most every 150 ms while the surface
@@ -186,7 +206,12 @@ impl EditorState {
         if !((view.values_stale || comparison_moved) && (done || due)) {
             return;
         }
+        let original = self.cage.distance_shown();
+        if original && self.cage.original.as_ref().is_some_and(|o| !o.measure_due()) {
+            return;
+        }
         let result = match by {
+            ColourBy::Distance if original => self.measure_original_distances(),
             ColourBy::Distance => self.measure_distances(),
             other => other.values(view.scheme.as_ref()).map_err(|e| e.to_string()),
         };

@@ -62,6 +62,9 @@ impl EditorState {
                 ui_state.path_dialog = Some((PathPurpose::Open, String::new()));
                 ui_state.focus_path_field = true;
             }
+            if ui.button("Make cage from mesh…").clicked() {
+                self.open_cage_dialog();
+            }
             ui.separator();
             if ui.button(item(Action::Save)).clicked() {
                 self.run_action(Action::Save, ui_state);

@@ -3,6 +3,11 @@
 //! place that applies them and records undo), the [`state::EditorState`] keeps the live NUSD
 //! solver in step with it, and [`window`] runs a frame as input → edits → solve → render.
 
+pub mod cage_from_mesh;
+pub mod cage_job;
+#[cfg(test)]
+mod cage_tests;
+pub mod curve_mesh_edit;
 pub mod curves;
 mod curves_panels;
 mod curves_render;

@@ -101,6 +101,17 @@ impl EditorState {
 
     pub(super) fn cage_panel(&mut self, ui: &mut egui::Ui, ui_state: &mut UiState) {
         ui.heading("Cage");
+        if self.document.doc().scheme == SchemeKind::CurveMesh {
+            self.selection.clear();
+            ui.add(
+                egui::Label::new(
+                    "The curve mesh is edited in the viewport and the Surface panel; the cage is shown for \
+                     reference. To change the cage, choose another scheme: the curve-mesh edits follow.",
+                )
+                .wrap(),
+            );
+            return;
+        }
         let vertices = self.selected_vertices_with_edge_ends();
         if self.selection.is_empty() {
             ui.add(
@@ -341,6 +352,11 @@ impl EditorState {
                     ),
                     (SchemeKind::CatmullClark, "Catmull–Clark subdivision, as Blender's: any polygons, with creases"),
                     (SchemeKind::Loop, "Loop subdivision: triangle cages, with creases"),
+                    (
+                        SchemeKind::CurveMesh,
+                        "Bézier curves on the Catmull–Clark limit surface filled with G1 Gregory patches: drag \
+                         curve-mesh vertices, tangent planes and control points; a move changes only nearby patches",
+                    ),
                 ] {
                     ui.selectable_value(&mut scheme, k, k.display_name()).on_hover_text(help);
                 }
@@ -350,7 +366,9 @@ impl EditorState {
         if scheme != doc.scheme {
             self.edit(Edit::SetScheme(scheme));
         }
-        if self.document.doc().scheme.is_subdivision() {
+        if self.document.doc().scheme == SchemeKind::CurveMesh {
+            self.curve_mesh_panel(ui, ui_state);
+        } else if self.document.doc().scheme.is_subdivision() {
             self.subdivision_settings(ui, ui_state);
         } else {
             self.nusd_settings(ui, ui_state);

@@ -157,6 +157,10 @@ pub struct EditorState {
     pub viewport_shape: (f32, f32),
     /// The Curves workspace.
     pub curves: super::curves::CurvesWorkspace,
+    /// File ▸ Make cage from mesh…: its dialog, the running fit, the original of the cage.
+    pub cage: super::cage_from_mesh::CageFromMesh,
+    /// The curve-mesh selection and overlays ([`super::curve_mesh_edit`]).
+    pub curve_mesh: super::curve_mesh_edit::CurveMeshEditing,
 }
 
 impl EditorState {
@@ -182,6 +186,8 @@ impl EditorState {
             display_frame: DisplayFrame::IDENTITY,
             viewport_shape: (1.6, 0.0),
             curves: Default::default(),
+            cage: Default::default(),
+            curve_mesh: Default::default(),
         };
         state.load_curves_view();
         state.frame_all();
@@ -215,6 +221,7 @@ impl EditorState {
         self.selection.clear();
         self.surface_error = None;
         self.load_curves_view();
+        self.cage.original = None;
         if let Some(path) = self.document.path().map(Path::to_path_buf) {
             let _ = self.recent.add(&path);
         }
@@ -326,7 +333,9 @@ impl EditorState {
                 data.surface_lines.extend(overlay::polyline_with_comb(c, false, &style, frame));
             }
         }
-        if self.display.show_cage {
+        if self.curve_mesh_overlays(&mut data) {
+            // The curve-mesh scheme draws its own vertices and a faint cage.
+        } else if self.display.show_cage {
             let selection = CageSelection {
                 selected_vertices: self.selection.vertices.clone(),
                 selected_edges: self.selection.edges.clone(),
@@ -346,7 +355,7 @@ impl EditorState {
             data.on_top_lines = lines;
             data.points = points;
         }
-        data.legend = self.legend();
+        data.legend = self.curve_mesh_legend().or_else(|| self.legend());
         data
     }
 
@@ -354,7 +363,11 @@ impl EditorState {
     pub fn legend(&self) -> Option<Legend> {
         self.colours_shown().then(|| {
             let (min, max) = self.value_range();
-            let title = overlay::legend_title(self.colour_by()).to_string();
+            let title = if self.cage.distance_shown() {
+                "distance to original".to_string()
+            } else {
+                overlay::legend_title(self.colour_by()).to_string()
+            };
             Legend { map: self.color_map(), min, max, title }
         })
     }

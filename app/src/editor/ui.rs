@@ -25,6 +25,8 @@ pub enum PathPurpose {
     Screenshot,
     /// A point sequence for the Curves workspace.
     ImportCurve,
+    /// The mesh of File ▸ Make cage from mesh…
+    MakeCage,
 }
 
 impl PathPurpose {
@@ -38,6 +40,7 @@ impl PathPurpose {
             PathPurpose::ImportCurve => {
                 "Import a curve: points as .json ({\"points\": [[x, y], ...]}) or .csv (x,y(,z) rows)"
             }
+            PathPurpose::MakeCage => "Make a cage from a mesh (.obj, .stl, .ply, .gltf, .glb)",
         }
     }
 
@@ -49,6 +52,7 @@ impl PathPurpose {
             PathPurpose::ExportGlb => "glb",
             PathPurpose::Screenshot => "png",
             PathPurpose::ImportCurve => "json",
+            PathPurpose::MakeCage => "obj",
         }
     }
 }
@@ -116,6 +120,8 @@ pub struct UiState {
     pub(super) crease_drag: Option<CreaseDrag>,
     /// The pointer's last position over the viewport, in points.
     pub(super) pointer: Option<glam::Vec2>,
+    /// Drags and questions of the curve-mesh scheme.
+    pub curve_mesh: super::curve_mesh_edit::CurveMeshUi,
 }
 
 /// A crease being set with the mouse (Shift+E, as in Blender).
@@ -147,6 +153,7 @@ impl EditorState {
         });
         if self.curves.workspace == taut_core::curve::Workspace::Curves {
             self.curves_workspace_ui(ui_root, ui_state);
+            self.cage_window(&ctx, ui_state);
             self.dialogs(&ctx, ui_state);
             return;
         }
@@ -162,9 +169,11 @@ impl EditorState {
                 self.solver_panel(ui, ui_state);
                 ui.separator();
                 self.display_panel(ui);
+                self.cage_fit_panel(ui);
             });
         });
         egui::CentralPanel::no_frame().show(ui_root, |ui| self.viewport(ui, ui_state));
+        self.cage_window(&ctx, ui_state);
         self.dialogs(&ctx, ui_state);
     }
 
@@ -187,6 +196,9 @@ impl EditorState {
             } else if escape {
                 self.finish_crease_drag(ui_state, false);
             }
+            return;
+        }
+        if self.curve_mesh_drag_keys(ctx, ui_state) {
             return;
         }
         if let Some(drag) = &mut ui_state.drag {
@@ -302,13 +314,11 @@ impl EditorState {
             let dialog = match purpose {
                 PathPurpose::Open => dialog.add_filter("Cages and meshes", &["taut", "obj", "gltf", "glb"]),
                 PathPurpose::ImportCurve => dialog.add_filter("Point files", &["json", "csv"]),
+                PathPurpose::MakeCage => dialog.add_filter("Meshes", &["obj", "stl", "ply", "gltf", "glb"]),
                 other => dialog.add_filter(other.extension(), &[other.extension()]),
             };
-            let picked = if matches!(purpose, PathPurpose::Open | PathPurpose::ImportCurve) {
-                dialog.pick_file()
-            } else {
-                dialog.save_file()
-            };
+            let picking = matches!(purpose, PathPurpose::Open | PathPurpose::MakeCage | PathPurpose::ImportCurve);
+            let picked = if picking { dialog.pick_file() } else { dialog.save_file() };
             if let Some(path) = picked {
                 self.path_chosen(purpose, path, ui_state);
             }
@@ -322,6 +332,9 @@ impl EditorState {
     /// imported from) with the purpose's extension; an export never suggests the mesh the cage
     /// came from, so it is not replaced by accident.
     pub(super) fn suggested_path(&self, purpose: PathPurpose) -> String {
+        if purpose == PathPurpose::MakeCage {
+            return self.cage.dialog.as_ref().map(|d| d.path.clone()).unwrap_or_default();
+        }
         let named = self.document.path().or(self.document.source());
         let (Some(path), true) = (named, !matches!(purpose, PathPurpose::Open | PathPurpose::ImportCurve)) else {
             return if matches!(purpose, PathPurpose::Open | PathPurpose::ImportCurve) {
@@ -348,6 +361,12 @@ impl EditorState {
                 ui_state.screenshot = Some(super::state::with_extension_if_missing(&path, "png"))
             }
             PathPurpose::ImportCurve => self.import_curve(&path),
+            PathPurpose::MakeCage => {
+                self.open_cage_dialog();
+                if let Some(dialog) = &mut self.cage.dialog {
+                    dialog.path = path.display().to_string();
+                }
+            }
         }
     }
 }

@@ -99,6 +99,13 @@ impl EditorState {
             }
         }
 
+        if self.curve_mesh_viewport(ui, &response, &view, mouse, ui_state) {
+            if self.busy() {
+                ui.ctx().request_repaint();
+            }
+            return;
+        }
+
         // Selection and dragging with the primary button.
         if response.drag_started_by(PointerButton::Primary) {
             let origin = ui.ctx().input(|i| i.pointer.press_origin()).map(|p| glam::Vec2::new(p.x, p.y)).or(mouse);

@@ -64,6 +64,8 @@ struct Running {
     ghost: Ghost,
     /// The Coons patches of the Curves workspace.
     patches: super::curves_render::PatchSurface,
+    /// The original mesh of a cage made from a mesh, drawn as a second ghost.
+    original_ghost: super::cage_from_mesh::OriginalGhost,
     drawn_generation: Option<(u64, u64)>,
     drawn_values: Option<*const f32>,
     drawn_frame: Option<taut_render::DisplayFrame>,
@@ -217,6 +219,7 @@ impl Running {
             gpu_surface: None,
             ghost: Ghost::default(),
             patches: Default::default(),
+            original_ghost: Default::default(),
             drawn_generation: None,
             drawn_values: None,
             drawn_frame: None,
@@ -258,6 +261,7 @@ impl Running {
         self.upload_surface();
         self.ghost.upload(&self.gpu, &self.editor);
         self.patches.upload(&self.gpu, &self.editor);
+        self.original_ghost.upload(&self.gpu, &self.editor);
         let overlays = self.editor.workspace_overlays();
         let scene = match self.patches.scene(&self.editor, self.gpu_surface.as_ref(), &overlays) {
             Some(scene) => Scene { viewport: self.ui.viewport_px, ..scene },
@@ -265,6 +269,7 @@ impl Running {
                 overlays: Some(&overlays),
                 viewport: self.ui.viewport_px,
                 ghost: self.ghost.shown(&self.editor),
+                second_ghost: self.original_ghost.shown(&self.editor),
                 ..Scene::new(self.editor.camera, self.gpu_surface.as_ref(), self.editor.surface_mode())
             },
         };
@@ -354,13 +359,17 @@ impl Running {
         {
             return;
         }
-        let mut changes = self.buffers.update_with(mesh, normals, &frame);
+        let first = self.buffers.update_with(mesh, normals, &frame);
+        let mut changes = first;
         if let Some((v, _, _)) = &surface.values
             && v.len() == mesh.vertex_count()
         {
             self.buffers.set_values(v);
             changes = self.buffers.update_with(mesh, normals, &frame);
             changes.vertices = true;
+            // The second update sees the new topology as known already: keep the first's word,
+            // or a new mesh drawn in colour keeps the old mesh's triangles.
+            changes.indices |= first.indices;
         }
         match &mut self.gpu_surface {
             Some(gpu_surface) => gpu_surface.upload(&self.gpu.device, &self.gpu.queue, &self.buffers, changes),

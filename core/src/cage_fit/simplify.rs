@@ -8,6 +8,9 @@
 //! shape's size; the cage takes its vertices' `f64` positions from the input (simplification
 //! only picks vertices, it does not move them).
 //!
+//! meshoptimizer can leave an edge shared by three triangles; the cage must be a manifold
+//! surface, so then a few nearby targets (±2 %, ±4 %, … of the asked one) are tried in turn.
+//!
 //! Weak where the target is below what the topology allows (each closed piece needs at least a
 //! few triangles, locked borders keep all their vertices): the cage then has more faces than
 //! asked, and the report says so.
@@ -40,9 +43,38 @@ pub fn simplify(dense: &DenseMesh, target_faces: usize) -> Result<Simplified> {
     if !dense.closed {
         options |= meshopt::SimplifyOptions::LockBorder;
     }
+    // meshoptimizer keeps the topology of the surface but not always that of its edges: now and
+    // then a collapse leaves an edge with three triangles (seen on Blender's monkey at 300
+    // faces). Such a cage cannot be subdivided; a slightly different target collapses other
+    // edges, so nearby targets are tried in turn, nearest first.
+    let mut failure = None;
+    for attempt in 0..RETRIES {
+        let step = (attempt as f64 / 2.0).ceil() * RETRY_STEP * if attempt % 2 == 1 { -1.0 } else { 1.0 };
+        let target = ((target_faces as f64) * (1.0 + step)).round().max(1.0) as usize;
+        match simplify_to(dense, &indices, &adapter, options, target) {
+            Ok(simplified) => return Ok(simplified),
+            Err(e @ Error::Topology(_)) => failure = Some(e),
+            Err(e) => return Err(e),
+        }
+    }
+    Err(failure.unwrap_or_else(|| Error::Solver("the simplifier gave no cage".into())))
+}
+
+/// Targets tried when a simplified cage is not manifold (the asked one first).
+const RETRIES: usize = 9;
+/// How far apart the targets tried are, as a fraction of the asked one.
+const RETRY_STEP: f64 = 0.02;
+
+fn simplify_to(
+    dense: &DenseMesh,
+    indices: &[u32],
+    adapter: &meshopt::VertexDataAdapter<'_>,
+    options: meshopt::SimplifyOptions,
+    target_faces: usize,
+) -> Result<Simplified> {
     let mut error = 0.0f32;
     // No error bound (1 is the whole extent): the face count decides.
-    let kept = meshopt::simplify(&indices, &adapter, 3 * target_faces.max(1), 1.0, options, Some(&mut error));
+    let kept = meshopt::simplify(indices, adapter, 3 * target_faces.max(1), 1.0, options, Some(&mut error));
     if kept.is_empty() {
         return Err(Error::Solver("the simplifier removed every triangle; ask for more faces".into()));
     }

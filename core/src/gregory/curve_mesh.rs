@@ -72,6 +72,7 @@ pub struct Changed {
 /// The edit state of a curve mesh: every edited vertex and curve with its current values.
 /// Compact (only edited entities), serialisable, and exact: f64 values round-trip through JSON.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct CurveMeshEdits {
     /// Vertex, curve and patch counts of the curve mesh the edits belong to.
     pub shape: [u32; 3],
@@ -83,6 +84,7 @@ pub struct CurveMeshEdits {
 
 /// An edited vertex: its position and unit normal.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct VertexEdit {
     /// Vertex index.
     pub vertex: u32,
@@ -95,11 +97,26 @@ pub struct VertexEdit {
 /// An edited curve: its two inner control points, for the direction of its edge's first
 /// halfedge (from the edge's first vertex to its second).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct CurveEdit {
     /// Curve (edge) index.
     pub curve: u32,
     /// `[P1, P2]`.
     pub inner: [[f64; 3]; 2],
+}
+
+impl CurveMeshEdits {
+    /// True when nothing is edited (the curve mesh as built). [`CurveMeshEdits::default`] is the
+    /// empty state of any curve mesh: [`CurveMesh::set_edits`] takes it whatever the shape.
+    pub fn is_empty(&self) -> bool {
+        self.vertices.is_empty() && self.curves.is_empty()
+    }
+
+    /// [`CurveMeshEdits::default`] when nothing is edited, else `self`: one value for "no edits"
+    /// whatever the curve mesh, so two empty states compare equal.
+    pub fn normalized(self) -> Self {
+        if self.is_empty() { CurveMeshEdits::default() } else { self }
+    }
 }
 
 impl CurveMesh {
@@ -181,6 +198,18 @@ impl CurveMesh {
     /// Bumped by every edit that changed something.
     pub fn generation(&self) -> u64 {
         self.generation
+    }
+    /// True when the vertex's position or tangent plane was edited (it is in [`CurveMesh::edits`]).
+    pub fn is_vertex_edited(&self, v: VertexId) -> bool {
+        self.edited_vertices.contains(&v.0)
+    }
+    /// The position and unit normal of a vertex as built, before any edit.
+    pub fn built_vertex(&self, v: VertexId) -> (DVec3, DVec3) {
+        (self.base.positions[v.index()], self.base.normals[v.index()])
+    }
+    /// The inner points `[P1, P2]` of a curve as built (for the direction of `edge.halfedge(0)`).
+    pub fn built_inner_points(&self, e: EdgeId) -> [DVec3; 2] {
+        self.base.inner[e.index()]
     }
     /// Position of a vertex.
     pub fn vertex_position(&self, v: VertexId) -> DVec3 {
@@ -400,15 +429,18 @@ impl CurveMesh {
         }
     }
 
-    fn shape(&self) -> [u32; 3] {
+    /// Vertex, curve and patch counts: the `shape` its edit states carry.
+    pub fn shape(&self) -> [u32; 3] {
         [self.vertex_count() as u32, self.curve_count() as u32, self.patch_count() as u32]
     }
 
     /// Sets the edit state: vertices and curves listed take the listed values, every other one
-    /// returns to its value as built. Used to reopen a saved curve mesh (on a fresh build from
+    /// returns to its value as built ([`CurveMeshEdits::default`] clears every edit). Used to reopen a saved curve mesh (on a fresh build from
     /// the same cage) and for undo and redo. Checks everything first (counts, indices, finite
     /// values, unit normals, inner points in their tangent planes) and changes nothing on error.
     pub fn set_edits(&mut self, edits: &CurveMeshEdits) -> Result<Changed> {
+        let none = CurveMeshEdits { shape: self.shape(), ..CurveMeshEdits::default() };
+        let edits = if *edits == CurveMeshEdits::default() { &none } else { edits };
         if edits.shape != self.shape() {
             return Err(Error::Input(format!(
                 "the curve-mesh edits are for {} vertices, {} curves and {} patches, this curve mesh has {}, {} and {}; rebuild from the cage they were made on",

@@ -18,13 +18,18 @@
 //! - [`tessellate`]: crack-free `K × K` sampling into one polygon mesh with analytic normals.
 //! - [`export`]: OBJ and GLB of the tessellated patches, JSON of the curves and control points.
 //! - [`continuity`]: G1 angles and G2 jumps along shared boundaries of any patch network.
+//! - [`document`]: the curve mesh of a document: its saved edit state, the core edits of it, a
+//!   cache of the built curve mesh.
+//! - [`carry`]: how curve-mesh edits follow a change of the cage they were made on.
 
 pub mod bezier;
 pub mod build;
+pub mod carry;
 pub mod chiyokura_kimura;
 pub mod closeness;
 pub mod continuity;
 pub mod curve_mesh;
+pub mod document;
 pub mod export;
 pub mod patch;
 pub mod tessellate;

@@ -14,7 +14,13 @@ pub fn distances_to(from: &PolyMesh, to: &PolyMesh) -> Vec<f64> {
     let Ok(index) = SurfaceIndex::new(to.positions(), &triangles) else {
         return vec![0.0; from.vertex_count()];
     };
-    from.positions().par_iter().with_min_len(1024).map(|&p| index.distance(p)).collect()
+    distances_from(from.positions(), &index)
+}
+
+/// Per point: its distance to the surface `index` holds (the editor's distance to the original
+/// of a fitted cage, whose index is built once).
+pub fn distances_from(points: &[crate::DVec3], index: &SurfaceIndex) -> Vec<f64> {
+    points.par_iter().with_min_len(1024).map(|&p| index.distance(p)).collect()
 }
 
 #[cfg(test)]

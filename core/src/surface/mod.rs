@@ -9,9 +9,11 @@
 //! surface's curves along the cage edges, and named per-vertex fields (NUSD's |R|).
 //!
 //! The schemes: [`nusd`] (nonuniform spline diffusion, interpolating the fixed cage vertices),
-//! [`subdivision`] (Catmull–Clark and Loop with creases, the exact limit surface). [`build`]
-//! makes the one a document asks for.
+//! [`subdivision`] (Catmull–Clark and Loop with creases, the exact limit surface),
+//! [`curve_mesh`] (a curve mesh on the Catmull–Clark limit surface filled with G1 Gregory
+//! patches, with its edits). [`build`] makes the one a document asks for.
 
+pub mod curve_mesh;
 pub mod distance;
 pub mod nusd;
 pub mod subdivision;
@@ -34,11 +36,15 @@ pub enum SchemeKind {
     CatmullClark,
     /// Loop subdivision (triangle cages), with creases.
     Loop,
+    /// A curve mesh on the Catmull–Clark limit surface filled with G1 Gregory patches, edited
+    /// vertex by vertex.
+    CurveMesh,
 }
 
 impl SchemeKind {
     /// Every scheme, in the order the editor lists them.
-    pub const ALL: [SchemeKind; 3] = [SchemeKind::Nusd, SchemeKind::CatmullClark, SchemeKind::Loop];
+    pub const ALL: [SchemeKind; 4] =
+        [SchemeKind::Nusd, SchemeKind::CatmullClark, SchemeKind::Loop, SchemeKind::CurveMesh];
 
     /// The name a designer reads.
     pub fn display_name(self) -> &'static str {
@@ -46,6 +52,7 @@ impl SchemeKind {
             SchemeKind::Nusd => "NUSD",
             SchemeKind::CatmullClark => "Catmull–Clark",
             SchemeKind::Loop => "Loop",
+            SchemeKind::CurveMesh => "Curve mesh",
         }
     }
 
@@ -55,6 +62,7 @@ impl SchemeKind {
             SchemeKind::Nusd => "nusd",
             SchemeKind::CatmullClark => "catmull-clark",
             SchemeKind::Loop => "loop",
+            SchemeKind::CurveMesh => "curve-mesh",
         }
     }
 
@@ -70,7 +78,7 @@ impl std::str::FromStr for SchemeKind {
         SchemeKind::ALL
             .into_iter()
             .find(|k| k.cli_name() == s)
-            .ok_or_else(|| format!("unknown scheme '{s}' (use nusd, catmull-clark or loop)"))
+            .ok_or_else(|| format!("unknown scheme '{s}' (use nusd, catmull-clark, loop or curve-mesh)"))
     }
 }
 
@@ -184,6 +192,7 @@ pub fn fields_of(scheme: SchemeKind) -> &'static [FieldInfo] {
     match scheme {
         SchemeKind::Nusd => nusd::FIELDS,
         SchemeKind::CatmullClark | SchemeKind::Loop => &[],
+        SchemeKind::CurveMesh => curve_mesh::FIELDS,
     }
 }
 
@@ -212,6 +221,10 @@ pub trait SurfaceScheme: std::fmt::Debug + Send {
     fn field(&self, key: &str) -> Option<Vec<f64>>;
     /// What the latest work did, a line each (the command line prints them).
     fn report(&self) -> Vec<String>;
+    /// The curve-mesh scheme, for what only it has (its curves, vertices and patches to edit).
+    fn as_curve_mesh(&self) -> Option<&curve_mesh::CurveMeshSurface> {
+        None
+    }
 }
 
 /// The scheme a document asks for, built for it (nothing advanced yet).
@@ -219,6 +232,7 @@ pub fn build(doc: &Document) -> Result<Box<dyn SurfaceScheme>> {
     Ok(match doc.scheme {
         SchemeKind::Nusd => Box::new(nusd::NusdSurface::new(doc)?),
         SchemeKind::CatmullClark | SchemeKind::Loop => Box::new(subdivision::SubdivSurface::new(doc, true)?),
+        SchemeKind::CurveMesh => Box::new(curve_mesh::CurveMeshSurface::new(doc)?),
     })
 }
 

@@ -80,6 +80,8 @@ pub struct SurfacePass {
     ghost_pipeline: wgpu::RenderPipeline,
     ghost_style_buffer: wgpu::Buffer,
     ghost_bind_group: wgpu::BindGroup,
+    second_ghost_style_buffer: wgpu::Buffer,
+    second_ghost_bind_group: wgpu::BindGroup,
 }
 
 /// The style of a ghost of colour `color` (linear RGBA; alpha is its opacity).
@@ -209,6 +211,12 @@ impl SurfacePass {
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
         });
         let ghost_bind_group = group(&ghost_style_buffer, ColorMap::Sequential);
+        let second_ghost_style_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("surface second ghost style"),
+            contents: bytemuck::bytes_of(&ghost_style(GHOST)),
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        });
+        let second_ghost_bind_group = group(&second_ghost_style_buffer, ColorMap::Sequential);
         SurfacePass {
             pipeline,
             style_buffer,
@@ -217,6 +225,8 @@ impl SurfacePass {
             ghost_pipeline,
             ghost_style_buffer,
             ghost_bind_group,
+            second_ghost_style_buffer,
+            second_ghost_bind_group,
         }
     }
 
@@ -225,14 +235,39 @@ impl SurfacePass {
         queue.write_buffer(&self.ghost_style_buffer, 0, bytemuck::bytes_of(&ghost_style(color)));
     }
 
+    /// Sets the colour of the second ghost.
+    pub fn set_second_ghost(&mut self, queue: &wgpu::Queue, color: [f32; 4]) {
+        queue.write_buffer(&self.second_ghost_style_buffer, 0, bytemuck::bytes_of(&ghost_style(color)));
+    }
+
     /// Draws a second surface as a translucent ghost over what is drawn.
     pub fn draw_ghost(&self, pass: &mut wgpu::RenderPass<'_>, frame: &wgpu::BindGroup, mesh: &crate::GpuSurface) {
+        self.draw_ghost_with(pass, frame, mesh, &self.ghost_bind_group);
+    }
+
+    /// Draws another surface as a ghost in the second ghost's colour.
+    pub fn draw_second_ghost(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        frame: &wgpu::BindGroup,
+        mesh: &crate::GpuSurface,
+    ) {
+        self.draw_ghost_with(pass, frame, mesh, &self.second_ghost_bind_group);
+    }
+
+    fn draw_ghost_with(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        frame: &wgpu::BindGroup,
+        mesh: &crate::GpuSurface,
+        style: &wgpu::BindGroup,
+    ) {
         if mesh.index_count == 0 {
             return;
         }
         pass.set_pipeline(&self.ghost_pipeline);
         pass.set_bind_group(0, frame, &[]);
-        pass.set_bind_group(1, &self.ghost_bind_group, &[]);
+        pass.set_bind_group(1, style, &[]);
         pass.set_vertex_buffer(0, mesh.vertices.slice(..));
         pass.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
         pass.draw_indexed(0..mesh.index_count, 0, 0..1);
