@@ -10,7 +10,9 @@ use taut_core::io::UpAxis;
 
 /// What the mouse and the keys during a drag do, for Help ▸ Keyboard shortcuts.
 const MOUSE_AND_DRAG_KEYS: &[(&str, &str)] = &[
-    ("Left click", "Select a cage vertex or edge (Shift adds or removes)"),
+    ("Left click", "Select a cage vertex or edge, or in face mode a face (Shift adds or removes)"),
+    ("Alt + left click on an edge", "Select its edge loop (Shift+Alt adds; face mode: the loop of faces)"),
+    ("Ctrl + Alt + left click on an edge", "Select its edge ring"),
     ("Left drag on a vertex", "Move the selection in the view plane"),
     ("X, Y or Z while dragging", "Lock the move to that axis (again: unlock)"),
     ("Esc while dragging", "Cancel the move"),
@@ -105,6 +107,7 @@ impl EditorState {
                 self.run_action(Action::SelectNone, ui_state);
             }
         });
+        self.mesh_menu(ui, ui_state);
         ui.menu_button("View", |ui| {
             for action in [Action::ViewFront, Action::ViewRight, Action::ViewTop, Action::ViewPerspective] {
                 if ui.button(item(action)).clicked() {

@@ -10,12 +10,16 @@ pub mod files;
 pub mod interaction;
 pub mod live;
 pub mod menus;
+pub mod mesh_ops;
+#[cfg(test)]
+mod mesh_ops_tests;
 #[cfg(test)]
 mod panel_tests;
 mod panels;
 pub mod primitives;
 #[cfg(test)]
 mod scheme_tests;
+pub mod select_modes;
 pub mod shortcuts;
 pub mod state;
 pub mod ui;

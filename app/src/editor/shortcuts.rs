@@ -7,6 +7,7 @@
 //! current file; here every key event is compared with the whole modifier set it came with.
 //! (Ctrl is the platform's command key: ⌘ on a Mac.)
 
+use super::mesh_ops::MeshOp;
 use egui::{Event, Key, Modifiers};
 
 /// What a shortcut does.
@@ -29,6 +30,13 @@ pub enum Action {
     ShowShortcuts,
     /// Subdivision schemes: drag the crease sharpness of the selected edges with the mouse.
     Crease,
+    /// Vertex → edge → face select mode.
+    CycleSelectMode,
+    SelectLinked,
+    SelectMore,
+    SelectLess,
+    /// A cage-modelling operation (Mesh menu).
+    Mesh(MeshOp),
 }
 
 /// A key with the exact modifiers it needs.
@@ -71,13 +79,25 @@ pub const SHORTCUTS: &[Shortcut] = &[
     plain(Key::Escape, Action::SelectNone),
     plain(Key::Home, Action::FrameAll),
     plain(Key::A, Action::FrameAll),
-    plain(Key::F, Action::FrameSelection),
+    plain(Key::Period, Action::FrameSelection),
     plain(Key::Num1, Action::ViewFront),
     plain(Key::Num3, Action::ViewRight),
     plain(Key::Num7, Action::ViewTop),
     plain(Key::Num5, Action::ViewPerspective),
     plain(Key::F1, Action::ShowShortcuts),
     shift(Key::E, Action::Crease),
+    plain(Key::Tab, Action::CycleSelectMode),
+    ctrl(Key::L, Action::SelectLinked),
+    ctrl(Key::Plus, Action::SelectMore),
+    ctrl(Key::Equals, Action::SelectMore),
+    ctrl(Key::Minus, Action::SelectLess),
+    plain(Key::E, Action::Mesh(MeshOp::Extrude)),
+    plain(Key::I, Action::Mesh(MeshOp::Inset)),
+    ctrl(Key::R, Action::Mesh(MeshOp::LoopCut)),
+    plain(Key::X, Action::Mesh(MeshOp::Delete)),
+    plain(Key::Delete, Action::Mesh(MeshOp::Delete)),
+    plain(Key::M, Action::Mesh(MeshOp::MergeAtCentre)),
+    plain(Key::F, Action::Mesh(MeshOp::Fill)),
 ];
 
 impl Shortcut {
@@ -110,6 +130,10 @@ fn key_name(key: Key) -> &'static str {
         Key::Num5 => "5",
         Key::Num7 => "7",
         Key::Escape => "Esc",
+        Key::Period => ".",
+        Key::Plus => "Plus",
+        Key::Equals => "=",
+        Key::Minus => "Minus",
         other => other.name(),
     }
 }
@@ -143,6 +167,11 @@ pub fn describe(action: Action) -> &'static str {
         Action::ViewPerspective => "Perspective view",
         Action::ShowShortcuts => "Keyboard shortcuts",
         Action::Crease => "Crease the selected edges (move the mouse, click or Enter to set, Esc cancels)",
+        Action::CycleSelectMode => "Select mode: vertex, edge, face in turn",
+        Action::SelectLinked => "Select linked (everything connected to the selection)",
+        Action::SelectMore => "Select more (one ring of neighbours)",
+        Action::SelectLess => "Select less",
+        Action::Mesh(op) => op.label(),
     }
 }
 

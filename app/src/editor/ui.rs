@@ -8,6 +8,7 @@
 use super::document::{Edit, EditorDocument};
 use super::files::Recovery;
 use super::interaction::Axis;
+use super::select_modes;
 use super::shortcuts::{self, Action};
 use super::state::EditorState;
 use egui::Key;
@@ -224,6 +225,8 @@ impl EditorState {
             Action::SelectAll => {
                 self.selection.clear();
                 self.selection.vertices = self.document.doc().cage.vertices().collect();
+                let mode = self.selection.mode;
+                select_modes::set_mode(&self.document.doc().cage, &mut self.selection, mode);
             }
             Action::SelectNone => {
                 self.selection.clear();
@@ -237,6 +240,15 @@ impl EditorState {
             Action::ViewPerspective => self.camera.set_view(StandardView::Perspective),
             Action::ShowShortcuts => ui_state.show_shortcuts = true,
             Action::Crease => self.start_crease_drag(ctx_pointer_x(ui_state), ui_state),
+            Action::CycleSelectMode => {
+                let mode = self.selection.mode.next();
+                select_modes::set_mode(&self.document.doc().cage, &mut self.selection, mode);
+                self.notify(format!("{} select mode", mode.name()), false);
+            }
+            Action::SelectLinked => select_modes::select_linked(&self.document.doc().cage, &mut self.selection),
+            Action::SelectMore => select_modes::select_more(&self.document.doc().cage, &mut self.selection),
+            Action::SelectLess => select_modes::select_less(&self.document.doc().cage, &mut self.selection),
+            Action::Mesh(op) => self.mesh_op(op),
         }
     }
 
