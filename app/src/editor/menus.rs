@@ -42,6 +42,8 @@ impl EditorState {
                         self.request(Pending::New(make), ui_state);
                     }
                 }
+                ui.separator();
+                self.new_primitive_items(ui, ui_state);
             });
             if ui.button(item(Action::Open)).clicked() {
                 self.run_action(Action::Open, ui_state);
@@ -183,6 +185,7 @@ impl EditorState {
     pub(super) fn dialogs(&mut self, ctx: &egui::Context, ui_state: &mut UiState) {
         self.shortcuts_window(ctx, ui_state);
         self.messages_window(ctx, ui_state);
+        self.new_primitive_dialog(ctx, ui_state);
         if let Some((purpose, mut text)) = ui_state.path_dialog.take() {
             let mut keep = true;
             let mut chosen = None;

@@ -55,6 +55,8 @@ pub type MakeDocument = fn() -> taut_core::Document;
 #[derive(Clone, Debug)]
 pub enum Pending {
     New(MakeDocument),
+    /// A new document made already (File ▸ New with counts).
+    NewDocument(Box<taut_core::Document>),
     Open(Option<PathBuf>),
     Recover,
     Quit,
@@ -111,6 +113,8 @@ pub struct UiState {
     pub(super) crease_drag: Option<CreaseDrag>,
     /// The pointer's last position over the viewport, in points.
     pub(super) pointer: Option<glam::Vec2>,
+    /// File ▸ New with counts: the open dialog.
+    pub(super) new_primitive: Option<super::new_primitive::NewPrimitive>,
 }
 
 /// A crease being set with the mouse (Shift+E, as in Blender).
@@ -162,6 +166,7 @@ impl EditorState {
             || ui_state.path_dialog.is_some()
             || ui_state.pending.is_some()
             || ui_state.recovery.is_some()
+            || ui_state.new_primitive.is_some()
         {
             return;
         }
@@ -276,6 +281,7 @@ impl EditorState {
     pub(super) fn run_pending(&mut self, action: Pending, ui_state: &mut UiState) {
         match action {
             Pending::New(make) => self.replace_document(EditorDocument::new(make(), None)),
+            Pending::NewDocument(doc) => self.replace_document(EditorDocument::new(*doc, None)),
             Pending::Open(Some(path)) => self.open(&path),
             Pending::Open(None) => self.ask_path(PathPurpose::Open, ui_state),
             Pending::Recover => {
