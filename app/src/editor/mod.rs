@@ -23,6 +23,7 @@ mod scheme_tests;
 pub mod select_modes;
 pub mod shortcuts;
 pub mod state;
+pub mod transform;
 pub mod ui;
 mod viewport;
 pub mod window;

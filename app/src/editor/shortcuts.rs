@@ -8,6 +8,7 @@
 //! (Ctrl is the platform's command key: ⌘ on a Mac.)
 
 use super::mesh_ops::MeshOp;
+use super::transform::TransformKind;
 use egui::{Event, Key, Modifiers};
 
 /// What a shortcut does.
@@ -37,6 +38,8 @@ pub enum Action {
     SelectLess,
     /// A cage-modelling operation (Mesh menu).
     Mesh(MeshOp),
+    /// G, R, S: move, rotate or scale the selection.
+    Transform(TransformKind),
 }
 
 /// A key with the exact modifiers it needs.
@@ -98,6 +101,9 @@ pub const SHORTCUTS: &[Shortcut] = &[
     plain(Key::Delete, Action::Mesh(MeshOp::Delete)),
     plain(Key::M, Action::Mesh(MeshOp::MergeAtCentre)),
     plain(Key::F, Action::Mesh(MeshOp::Fill)),
+    plain(Key::G, Action::Transform(TransformKind::Grab)),
+    plain(Key::R, Action::Transform(TransformKind::Rotate)),
+    plain(Key::S, Action::Transform(TransformKind::Scale)),
 ];
 
 impl Shortcut {
@@ -172,6 +178,9 @@ pub fn describe(action: Action) -> &'static str {
         Action::SelectMore => "Select more (one ring of neighbours)",
         Action::SelectLess => "Select less",
         Action::Mesh(op) => op.label(),
+        Action::Transform(TransformKind::Grab) => "Move the selection (X, Y, Z lock, type a distance, Enter sets)",
+        Action::Transform(TransformKind::Rotate) => "Rotate the selection (X, Y, Z axis, type degrees, Enter sets)",
+        Action::Transform(TransformKind::Scale) => "Scale the selection (X, Y, Z axis, type a factor, Enter sets)",
     }
 }
 

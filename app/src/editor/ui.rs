@@ -115,6 +115,8 @@ pub struct UiState {
     pub(super) pointer: Option<glam::Vec2>,
     /// File ▸ New with counts: the open dialog.
     pub(super) new_primitive: Option<super::new_primitive::NewPrimitive>,
+    /// G, R or S under way.
+    pub(super) transform: Option<super::transform::Transform>,
 }
 
 /// A crease being set with the mouse (Shift+E, as in Blender).
@@ -168,6 +170,10 @@ impl EditorState {
             || ui_state.recovery.is_some()
             || ui_state.new_primitive.is_some()
         {
+            return;
+        }
+        if ui_state.transform.is_some() {
+            self.transform_keys(ctx, ui_state);
             return;
         }
         if ui_state.crease_drag.is_some() {
@@ -254,6 +260,7 @@ impl EditorState {
             Action::SelectMore => select_modes::select_more(&self.document.doc().cage, &mut self.selection),
             Action::SelectLess => select_modes::select_less(&self.document.doc().cage, &mut self.selection),
             Action::Mesh(op) => self.mesh_op(op),
+            Action::Transform(kind) => self.start_transform(kind, ui_state),
         }
     }
 

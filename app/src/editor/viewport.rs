@@ -48,6 +48,10 @@ impl EditorState {
         if mouse.is_some() {
             ui_state.pointer = mouse;
         }
+        if ui_state.transform.is_some() {
+            self.transform_viewport(ui, &response, &view, mouse, ui_state);
+            return;
+        }
         let cage = self.display_cage();
         if ui_state.crease_drag.is_some() {
             // Shift+E: the mouse sets the crease; a click sets it, a right click cancels.
