@@ -74,6 +74,31 @@ fn e_extrudes_the_top_face_and_keeps_it_selected_above_the_old_one() {
 }
 
 #[test]
+fn an_extruded_cap_keeps_the_fixed_flags_of_the_corners_it_was_lifted_from() {
+    // Free two corners of the top face: their copies on the cap are free, the other two fixed,
+    // and the corners left behind keep their flags too (the carry rule of the core's provenance).
+    let mut h = top_face_selected();
+    let cage = h.state().editor.document.doc().cage.clone();
+    let corners: Vec<VertexId> = cage.face_vertices(top_face(&cage)).collect();
+    let free = [corners[0], corners[2]];
+    h.state_mut().editor.edit(taut_core::Edit::SetFixed(free.to_vec(), false));
+    h.key_press(Key::E);
+    frames(&mut h);
+    let editor = &h.state().editor;
+    let (doc, cap) = (editor.document.doc(), editor.selection.faces[0]);
+    for v in doc.cage.face_vertices(cap) {
+        // The copy sits straight above its source corner.
+        let source = corners
+            .iter()
+            .copied()
+            .find(|&c| (doc.cage.position(c).truncate() - doc.cage.position(v).truncate()).length() < 1e-12)
+            .unwrap();
+        assert_eq!(doc.fixed[v.index()], !free.contains(&source), "{v:?} above {source:?}");
+        assert_eq!(doc.fixed[source.index()], !free.contains(&source));
+    }
+}
+
+#[test]
 fn each_modelling_key_reaches_its_operation_and_undoes_in_one_step() {
     // I: an inset quad inside the top face with a ring of 4 quads.
     check_key(top_face_selected(), Modifiers::NONE, Key::I, (12, 20, 10));
