@@ -19,7 +19,7 @@
 use crate::colormap::ColorMap;
 use crate::display::DisplayFrame;
 use glam::Vec3;
-use taut_core::{DVec3, EdgeId, PolyMesh, VertexId};
+use taut_core::{DVec3, EdgeId, FaceId, PolyMesh, VertexId};
 
 /// One straight piece of line, drawn `width_px` wide with round ends.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -81,8 +81,15 @@ pub struct CageSelection {
     pub selected_edges: Vec<EdgeId>,
     pub hovered_vertex: Option<VertexId>,
     pub hovered_edge: Option<EdgeId>,
+    /// Selected faces: their edges are drawn selected and a dot marks each centre.
+    pub selected_faces: Vec<FaceId>,
+    pub hovered_face: Option<FaceId>,
+    /// Face select mode: a small dot at the centre of every face, the handle a click picks.
+    pub face_dots: bool,
 }
 
+/// Radius of a face's centre dot, in pixels.
+pub const FACE_DOT: f32 = 3.0;
 /// Tension at which edge width, vertex size and the warm colour stop growing.
 pub const TENSION_SATURATION: f64 = 4.0;
 /// Cage edge colour at τ = 0: a neutral grey-blue (sRGB ≈ 149, 170, 203).
@@ -183,6 +190,18 @@ pub fn cage_overlay(
         }
     }
 
+    let mut hovered_face_edge = vec![false; cage.edge_count()];
+    for (faces, flags) in [
+        (selection.selected_faces.as_slice(), &mut selected_edge),
+        (selection.hovered_face.as_slice(), &mut hovered_face_edge),
+    ] {
+        for &f in faces.iter().filter(|f| f.index() < cage.face_count()) {
+            for h in cage.face_halfedges(f) {
+                flags[h.edge().index()] = true;
+            }
+        }
+    }
+
     let mut lines: Vec<(Emphasis, LineSegment)> = cage
         .edges()
         .map(|e| {
@@ -205,7 +224,7 @@ pub fn cage_overlay(
                 line.color = SELECTED;
                 line.width_px += 1.0;
             }
-            if selection.hovered_edge == Some(e) {
+            if selection.hovered_edge == Some(e) || hovered_face_edge[e.index()] {
                 emphasis = Emphasis::Hovered;
                 line.color = hover(line.color);
                 line.width_px = line.width_px * 1.5 + 1.0;
@@ -241,6 +260,32 @@ pub fn cage_overlay(
         let halo = if is_fixed || emphasis != Emphasis::Plain { HALO_LIGHT } else { HALO_DARK };
         points.push(mark(halo, radius_px + 1.5, style));
         points.push(mark(color, radius_px, style));
+    }
+
+    if selection.face_dots || !selection.selected_faces.is_empty() || selection.hovered_face.is_some() {
+        let mut selected_face = vec![false; cage.face_count()];
+        for f in selection.selected_faces.iter().filter(|f| f.index() < cage.face_count()) {
+            selected_face[f.index()] = true;
+        }
+        for f in cage.faces() {
+            let (selected, hovered) = (selected_face[f.index()], selection.hovered_face == Some(f));
+            if !(selection.face_dots || selected || hovered) {
+                continue;
+            }
+            let ring: Vec<_> = cage.face_vertices(f).map(|v| cage.position(v)).collect();
+            let centre = ring.iter().copied().sum::<DVec3>() / ring.len().max(1) as f64;
+            let (emphasis, color) = match (selected, hovered) {
+                (_, true) => (Emphasis::Hovered, hover(if selected { SELECTED } else { EDGE_NEUTRAL })),
+                (true, false) => (Emphasis::Selected, SELECTED),
+                (false, false) => (Emphasis::Plain, EDGE_NEUTRAL),
+            };
+            let position = frame.point(centre);
+            points.push((
+                emphasis,
+                PointMark { position, color: HALO_DARK, radius_px: FACE_DOT + 1.5, style: PointStyle::Filled },
+            ));
+            points.push((emphasis, PointMark { position, color, radius_px: FACE_DOT, style: PointStyle::Filled }));
+        }
     }
 
     // A stable sort keeps the order within each emphasis and puts highlighted ones last.
@@ -492,6 +537,34 @@ mod tests {
         assert!(hovered.color != plain.color && hovered.color != selected.color);
         let (a, b) = cage.edge_vertices(EdgeId(1));
         assert_eq!((hovered.a, hovered.b), (cage.position(a).as_vec3(), cage.position(b).as_vec3()));
+    }
+
+    #[test]
+    fn selected_and_hovered_faces_light_their_edges_and_mark_their_centres() {
+        let cage = cube();
+        let (f, g) = (FaceId(0), FaceId(1));
+        let selection = CageSelection { selected_faces: vec![f], hovered_face: Some(g), ..Default::default() };
+        let controls = nusd(&[false; 8], &[0.0; 8], &[0.0; 12]);
+        let (lines, points) = cage_overlay(&cage, controls, &selection, &DisplayFrame::IDENTITY);
+        let centre = |f: FaceId| {
+            let ring: Vec<DVec3> = cage.face_vertices(f).map(|v| cage.position(v)).collect();
+            (ring.iter().copied().sum::<DVec3>() / ring.len() as f64).as_vec3()
+        };
+        // Every edge of the selected face is drawn selected; no other edge is.
+        let face_edge = |face: FaceId, l: &LineSegment| {
+            let corners: Vec<Vec3> = cage.face_vertices(face).map(|v| cage.position(v).as_vec3()).collect();
+            corners.contains(&l.a) && corners.contains(&l.b)
+        };
+        for l in &lines {
+            assert_eq!(l.color == SELECTED, face_edge(f, l) && !face_edge(g, l), "{l:?}");
+        }
+        let dot = |f: FaceId| points.iter().rev().find(|p| p.position == centre(f)).copied();
+        assert_eq!(dot(f).map(|p| p.color), Some(SELECTED));
+        assert!(dot(g).is_some_and(|p| p.color != SELECTED && p.color != EDGE_NEUTRAL), "the hovered face is lit");
+        assert!(dot(FaceId(2)).is_none(), "no dots outside face mode");
+        let dots = CageSelection { face_dots: true, ..Default::default() };
+        let (_, points) = cage_overlay(&cage, nusd(&[false; 8], &[0.0; 8], &[0.0; 12]), &dots, &DisplayFrame::IDENTITY);
+        assert_eq!(points.len(), 8 * 2 + 6 * 2, "a halo and a mark per vertex and per face");
     }
 
     #[test]

@@ -529,6 +529,7 @@ mod tests {
             selected_edges: vec![EdgeId(3)],
             hovered_vertex: Some(VertexId(18)),
             hovered_edge: Some(EdgeId(20)),
+            ..Default::default()
         };
         let identity = crate::DisplayFrame::IDENTITY;
         let (on_top_lines, points) = cage_overlay(

@@ -321,3 +321,35 @@ fn dragging_a_control_point_moves_only_it_in_the_segments_plane_as_one_undo_step
     harness.state_mut().editor.undo();
     assert_eq!(harness.state().editor.curve_set().curves[0].segment.unwrap(), before, "one undo step");
 }
+
+#[test]
+fn cage_keys_do_nothing_in_the_curves_workspace() {
+    // The cage and its selection are out of sight here: Delete, X, E, G, Tab and Ctrl+A must not
+    // touch them, and the Mesh menu is not offered.
+    let mut harness = editor_on(primitives::cube());
+    harness.state_mut().editor.selection.click_vertex(taut_core::VertexId(7), false);
+    harness.run_steps(2);
+    harness.get_by_label("Curves workspace").click();
+    harness.run_steps(2);
+    let before = harness.state().editor.document.doc().clone();
+    for key in [egui::Key::Delete, egui::Key::X, egui::Key::E, egui::Key::M, egui::Key::Tab] {
+        harness.key_press(key);
+        harness.run_steps(2);
+    }
+    harness.key_press(egui::Key::G);
+    harness.run_steps(2);
+    harness.key_press(egui::Key::Enter);
+    harness.key_press_modifiers(Modifiers::COMMAND, egui::Key::A);
+    harness.run_steps(2);
+    let editor = &harness.state().editor;
+    assert_eq!(editor.document.doc(), &before, "the cage is unchanged");
+    assert!(!editor.document.can_undo(), "no undo step was made");
+    assert_eq!(editor.selection.vertices, vec![taut_core::VertexId(7)], "the cage selection stays");
+    assert!(harness.query(By::new().label("Mesh")).is_none(), "no Mesh menu here");
+    // Back in the Surface workspace the same key works on the selection.
+    harness.get_by_label("Surface workspace").click();
+    harness.run_steps(2);
+    harness.key_press(egui::Key::X);
+    harness.run_steps(2);
+    assert_eq!(harness.state().editor.document.doc().cage.vertex_count(), 7, "X deletes the vertex there");
+}

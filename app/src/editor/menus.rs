@@ -10,7 +10,9 @@ use taut_core::io::UpAxis;
 
 /// What the mouse and the keys during a drag do, for Help ▸ Keyboard shortcuts.
 const MOUSE_AND_DRAG_KEYS: &[(&str, &str)] = &[
-    ("Left click", "Select a cage vertex or edge (Shift adds or removes)"),
+    ("Left click", "Select a cage vertex or edge, or in face mode a face (Shift adds or removes)"),
+    ("Alt + left click on an edge", "Select its edge loop (Shift+Alt adds; face mode: the loop of faces)"),
+    ("Ctrl + Alt + left click on an edge", "Select its edge ring"),
     ("Left drag on a vertex", "Move the selection in the view plane"),
     ("X, Y or Z while dragging", "Lock the move to that axis (again: unlock)"),
     ("Esc while dragging", "Cancel the move"),
@@ -40,6 +42,8 @@ impl EditorState {
                         self.request(Pending::New(make), ui_state);
                     }
                 }
+                ui.separator();
+                self.new_primitive_items(ui, ui_state);
             });
             if ui.button(item(Action::Open)).clicked() {
                 self.run_action(Action::Open, ui_state);
@@ -93,6 +97,7 @@ impl EditorState {
                 self.run_action(Action::Quit, ui_state);
             }
         });
+        let surface = self.curves.workspace == taut_core::curve::Workspace::Surface;
         ui.menu_button("Edit", |ui| {
             if ui.add_enabled(self.document.can_undo(), egui::Button::new(item(Action::Undo))).clicked() {
                 self.run_action(Action::Undo, ui_state);
@@ -100,14 +105,20 @@ impl EditorState {
             if ui.add_enabled(self.document.can_redo(), egui::Button::new(item(Action::Redo))).clicked() {
                 self.run_action(Action::Redo, ui_state);
             }
-            ui.separator();
-            if ui.button(item(Action::SelectAll)).clicked() {
-                self.run_action(Action::SelectAll, ui_state);
-            }
-            if ui.button(format!("Select none  {}", shortcuts::label(Action::SelectNone))).clicked() {
-                self.run_action(Action::SelectNone, ui_state);
+            if surface {
+                ui.separator();
+                if ui.button(item(Action::SelectAll)).clicked() {
+                    self.run_action(Action::SelectAll, ui_state);
+                }
+                if ui.button(format!("Select none  {}", shortcuts::label(Action::SelectNone))).clicked() {
+                    self.run_action(Action::SelectNone, ui_state);
+                }
             }
         });
+        // The cage is edited in the Surface workspace only.
+        if surface {
+            self.mesh_menu(ui, ui_state);
+        }
         ui.menu_button("View", |ui| {
             for action in [Action::ViewFront, Action::ViewRight, Action::ViewTop, Action::ViewPerspective] {
                 if ui.button(item(action)).clicked() {
@@ -183,6 +194,7 @@ impl EditorState {
     pub(super) fn dialogs(&mut self, ctx: &egui::Context, ui_state: &mut UiState) {
         self.shortcuts_window(ctx, ui_state);
         self.messages_window(ctx, ui_state);
+        self.new_primitive_dialog(ctx, ui_state);
         if let Some((purpose, mut text)) = ui_state.path_dialog.take() {
             let mut keep = true;
             let mut chosen = None;

@@ -19,14 +19,20 @@ pub mod files;
 pub mod interaction;
 pub mod live;
 pub mod menus;
+pub mod mesh_ops;
+#[cfg(test)]
+mod mesh_ops_tests;
+pub mod new_primitive;
 #[cfg(test)]
 mod panel_tests;
 mod panels;
 pub mod primitives;
 #[cfg(test)]
 mod scheme_tests;
+pub mod select_modes;
 pub mod shortcuts;
 pub mod state;
+pub mod transform;
 pub mod ui;
 mod viewport;
 pub mod window;

@@ -7,6 +7,8 @@
 //! current file; here every key event is compared with the whole modifier set it came with.
 //! (Ctrl is the platform's command key: ⌘ on a Mac.)
 
+use super::mesh_ops::MeshOp;
+use super::transform::TransformKind;
 use egui::{Event, Key, Modifiers};
 
 /// What a shortcut does.
@@ -29,6 +31,36 @@ pub enum Action {
     ShowShortcuts,
     /// Subdivision schemes: drag the crease sharpness of the selected edges with the mouse.
     Crease,
+    /// Vertex → edge → face select mode.
+    CycleSelectMode,
+    SelectLinked,
+    SelectMore,
+    SelectLess,
+    /// A cage-modelling operation (Mesh menu).
+    Mesh(MeshOp),
+    /// G, R, S: move, rotate or scale the selection.
+    Transform(TransformKind),
+}
+
+impl Action {
+    /// Whether the action works on the cage and its selection, which only the Surface workspace
+    /// shows: in the Curves workspace its key does nothing (Delete there must not delete cage
+    /// vertices nobody can see).
+    pub fn acts_on_the_cage(self) -> bool {
+        matches!(
+            self,
+            Action::SelectAll
+                | Action::SelectNone
+                | Action::FrameSelection
+                | Action::Crease
+                | Action::CycleSelectMode
+                | Action::SelectLinked
+                | Action::SelectMore
+                | Action::SelectLess
+                | Action::Mesh(_)
+                | Action::Transform(_)
+        )
+    }
 }
 
 /// A key with the exact modifiers it needs.
@@ -71,13 +103,28 @@ pub const SHORTCUTS: &[Shortcut] = &[
     plain(Key::Escape, Action::SelectNone),
     plain(Key::Home, Action::FrameAll),
     plain(Key::A, Action::FrameAll),
-    plain(Key::F, Action::FrameSelection),
+    plain(Key::Period, Action::FrameSelection),
     plain(Key::Num1, Action::ViewFront),
     plain(Key::Num3, Action::ViewRight),
     plain(Key::Num7, Action::ViewTop),
     plain(Key::Num5, Action::ViewPerspective),
     plain(Key::F1, Action::ShowShortcuts),
     shift(Key::E, Action::Crease),
+    plain(Key::Tab, Action::CycleSelectMode),
+    ctrl(Key::L, Action::SelectLinked),
+    ctrl(Key::Plus, Action::SelectMore),
+    ctrl(Key::Equals, Action::SelectMore),
+    ctrl(Key::Minus, Action::SelectLess),
+    plain(Key::E, Action::Mesh(MeshOp::Extrude)),
+    plain(Key::I, Action::Mesh(MeshOp::Inset)),
+    ctrl(Key::R, Action::Mesh(MeshOp::LoopCut)),
+    plain(Key::X, Action::Mesh(MeshOp::Delete)),
+    plain(Key::Delete, Action::Mesh(MeshOp::Delete)),
+    plain(Key::M, Action::Mesh(MeshOp::MergeAtCentre)),
+    plain(Key::F, Action::Mesh(MeshOp::Fill)),
+    plain(Key::G, Action::Transform(TransformKind::Grab)),
+    plain(Key::R, Action::Transform(TransformKind::Rotate)),
+    plain(Key::S, Action::Transform(TransformKind::Scale)),
 ];
 
 impl Shortcut {
@@ -110,6 +157,10 @@ fn key_name(key: Key) -> &'static str {
         Key::Num5 => "5",
         Key::Num7 => "7",
         Key::Escape => "Esc",
+        Key::Period => ".",
+        Key::Plus => "Plus",
+        Key::Equals => "=",
+        Key::Minus => "Minus",
         other => other.name(),
     }
 }
@@ -143,6 +194,14 @@ pub fn describe(action: Action) -> &'static str {
         Action::ViewPerspective => "Perspective view",
         Action::ShowShortcuts => "Keyboard shortcuts",
         Action::Crease => "Crease the selected edges (move the mouse, click or Enter to set, Esc cancels)",
+        Action::CycleSelectMode => "Select mode: vertex, edge, face in turn",
+        Action::SelectLinked => "Select linked (everything connected to the selection)",
+        Action::SelectMore => "Select more (one ring of neighbours)",
+        Action::SelectLess => "Select less",
+        Action::Mesh(op) => op.label(),
+        Action::Transform(TransformKind::Grab) => "Move the selection (X, Y, Z lock, type a distance, Enter sets)",
+        Action::Transform(TransformKind::Rotate) => "Rotate the selection (X, Y, Z axis, type degrees, Enter sets)",
+        Action::Transform(TransformKind::Scale) => "Scale the selection (X, Y, Z axis, type a factor, Enter sets)",
     }
 }
 

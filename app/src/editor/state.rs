@@ -6,12 +6,13 @@
 use super::document::{Edit, EditorDocument};
 use super::files::{Autosave, RecentFiles};
 use super::live::{CompareMode, Comparison, SurfaceView};
+use super::select_modes::SelectMode;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 use taut_core::curvature::CurvatureQuantity;
 use taut_core::io::UpAxis;
 use taut_core::surface::{ColourBy, Progress};
-use taut_core::{EdgeId, VertexId};
+use taut_core::{EdgeId, FaceId, VertexId};
 use taut_render::colormap::ColorMap;
 use taut_render::overlay::{self, CageControls, CageSelection, CombStyle, Legend, OverlayData};
 use taut_render::passes::surface::SurfaceMode;
@@ -77,16 +78,34 @@ pub struct Selection {
     pub edges: Vec<EdgeId>,
     pub hovered_vertex: Option<VertexId>,
     pub hovered_edge: Option<EdgeId>,
+    /// Selected faces (face select mode).
+    pub faces: Vec<FaceId>,
+    pub hovered_face: Option<FaceId>,
+    /// What a click picks (Tab cycles).
+    pub mode: SelectMode,
 }
 
 impl Selection {
     pub fn clear(&mut self) {
         self.vertices.clear();
         self.edges.clear();
+        self.faces.clear();
     }
 
     pub fn is_empty(&self) -> bool {
-        self.vertices.is_empty() && self.edges.is_empty()
+        self.vertices.is_empty() && self.edges.is_empty() && self.faces.is_empty()
+    }
+
+    /// Selects a face; with `add`, toggles it.
+    pub fn click_face(&mut self, f: FaceId, add: bool) {
+        if !add {
+            self.clear();
+            self.faces.push(f);
+        } else if let Some(k) = self.faces.iter().position(|&x| x == f) {
+            self.faces.remove(k);
+        } else {
+            self.faces.push(f);
+        }
     }
 
     /// Selects a vertex; with `add`, toggles it in the current selection instead.
@@ -341,6 +360,9 @@ impl EditorState {
                 selected_edges: self.selection.edges.clone(),
                 hovered_vertex: self.selection.hovered_vertex,
                 hovered_edge: self.selection.hovered_edge,
+                selected_faces: self.selection.faces.clone(),
+                hovered_face: self.selection.hovered_face,
+                face_dots: self.selection.mode == SelectMode::Face,
             };
             let controls = if doc.scheme.is_subdivision() {
                 CageControls::Creases { sharpness: &doc.crease }
@@ -408,6 +430,9 @@ impl EditorState {
             let (a, b) = cage.edge_vertices(e);
             points.extend([cage.position(a), cage.position(b)]);
         }
+        for &f in &self.selection.faces {
+            points.extend(cage.face_vertices(f).map(|v| cage.position(v)));
+        }
         match taut_core::mesh::bounding_box(&points) {
             Some((lo, hi)) => {
                 // A lone vertex is framed with some of the model around it.
@@ -448,28 +473,22 @@ impl EditorState {
         }
     }
 
-    /// The cage vertices an edit of the selection applies to: selected vertices, and the ends
-    /// of selected edges.
+    /// The cage vertices an edit of the selection applies to: selected vertices, the ends of
+    /// selected edges and the corners of selected faces.
     pub fn selected_vertices_with_edge_ends(&self) -> Vec<VertexId> {
-        let cage = &self.document.doc().cage;
-        let mut out = self.selection.vertices.clone();
-        for &e in &self.selection.edges {
-            let (a, b) = cage.edge_vertices(e);
-            for v in [a, b] {
-                if !out.contains(&v) {
-                    out.push(v);
-                }
-            }
-        }
-        out
+        super::select_modes::selected_vertex_set(&self.document.doc().cage, &self.selection)
     }
 
     /// Drops selected elements that no longer exist (after undo of a document replacement).
     pub fn prune_selection(&mut self) {
         let cage = &self.document.doc().cage;
-        let (nv, ne) = (cage.vertex_count(), cage.edge_count());
+        let (nv, ne, nf) = (cage.vertex_count(), cage.edge_count(), cage.face_count());
         self.selection.vertices.retain(|v| v.index() < nv);
         self.selection.edges.retain(|e| e.index() < ne);
+        self.selection.faces.retain(|f| f.index() < nf);
+        if self.selection.hovered_face.is_some_and(|f| f.index() >= nf) {
+            self.selection.hovered_face = None;
+        }
         if self.selection.hovered_vertex.is_some_and(|v| v.index() >= nv) {
             self.selection.hovered_vertex = None;
         }

@@ -8,6 +8,7 @@
 use super::document::{Edit, EditorDocument};
 use super::files::Recovery;
 use super::interaction::Axis;
+use super::select_modes;
 use super::shortcuts::{self, Action};
 use super::state::EditorState;
 use egui::Key;
@@ -64,6 +65,8 @@ pub type MakeDocument = fn() -> taut_core::Document;
 #[derive(Clone, Debug)]
 pub enum Pending {
     New(MakeDocument),
+    /// A new document made already (File ▸ New with counts).
+    NewDocument(Box<taut_core::Document>),
     Open(Option<PathBuf>),
     Recover,
     Quit,
@@ -122,6 +125,10 @@ pub struct UiState {
     pub(super) pointer: Option<glam::Vec2>,
     /// Drags and questions of the curve-mesh scheme.
     pub curve_mesh: super::curve_mesh_edit::CurveMeshUi,
+    /// File ▸ New with counts: the open dialog.
+    pub(super) new_primitive: Option<super::new_primitive::NewPrimitive>,
+    /// G, R or S under way.
+    pub(super) transform: Option<super::transform::Transform>,
 }
 
 /// A crease being set with the mouse (Shift+E, as in Blender).
@@ -184,7 +191,12 @@ impl EditorState {
             || ui_state.path_dialog.is_some()
             || ui_state.pending.is_some()
             || ui_state.recovery.is_some()
+            || ui_state.new_primitive.is_some()
         {
+            return;
+        }
+        if ui_state.transform.is_some() {
+            self.transform_keys(ctx, ui_state);
             return;
         }
         if ui_state.crease_drag.is_some() {
@@ -235,6 +247,9 @@ impl EditorState {
             ui_state.action_log.remove(0);
         }
         ui_state.action_log.push(action);
+        if action.acts_on_the_cage() && self.curves.workspace == taut_core::curve::Workspace::Curves {
+            return;
+        }
         match action {
             Action::Undo => self.undo(),
             Action::Redo => self.redo(),
@@ -250,6 +265,8 @@ impl EditorState {
             Action::SelectAll => {
                 self.selection.clear();
                 self.selection.vertices = self.document.doc().cage.vertices().collect();
+                let mode = self.selection.mode;
+                select_modes::set_mode(&self.document.doc().cage, &mut self.selection, mode);
             }
             Action::SelectNone => {
                 self.selection.clear();
@@ -263,6 +280,16 @@ impl EditorState {
             Action::ViewPerspective => self.camera.set_view(StandardView::Perspective),
             Action::ShowShortcuts => ui_state.show_shortcuts = true,
             Action::Crease => self.start_crease_drag(ctx_pointer_x(ui_state), ui_state),
+            Action::CycleSelectMode => {
+                let mode = self.selection.mode.next();
+                select_modes::set_mode(&self.document.doc().cage, &mut self.selection, mode);
+                self.notify(format!("{} select mode", mode.name()), false);
+            }
+            Action::SelectLinked => select_modes::select_linked(&self.document.doc().cage, &mut self.selection),
+            Action::SelectMore => select_modes::select_more(&self.document.doc().cage, &mut self.selection),
+            Action::SelectLess => select_modes::select_less(&self.document.doc().cage, &mut self.selection),
+            Action::Mesh(op) => self.mesh_op(op),
+            Action::Transform(kind) => self.start_transform(kind, ui_state),
         }
     }
 
@@ -292,6 +319,7 @@ impl EditorState {
     pub(super) fn run_pending(&mut self, action: Pending, ui_state: &mut UiState) {
         match action {
             Pending::New(make) => self.replace_document(EditorDocument::new(make(), None)),
+            Pending::NewDocument(doc) => self.replace_document(EditorDocument::new(*doc, None)),
             Pending::Open(Some(path)) => self.open(&path),
             Pending::Open(None) => self.ask_path(PathPurpose::Open, ui_state),
             Pending::Recover => {

@@ -48,6 +48,10 @@ impl EditorState {
         if mouse.is_some() {
             ui_state.pointer = mouse;
         }
+        if ui_state.transform.is_some() {
+            self.transform_viewport(ui, &response, &view, mouse, ui_state);
+            return;
+        }
         let cage = self.display_cage();
         if ui_state.crease_drag.is_some() {
             // Shift+E: the mouse sets the crease; a click sets it, a right click cancels.
@@ -75,12 +79,7 @@ impl EditorState {
         // Hover.
         if ui_state.drag.is_none() {
             let hovered = response.hovered().then_some(mouse).flatten();
-            self.selection.hovered_vertex =
-                hovered.and_then(|m| interaction::pick_vertex(&self.camera, &view, cage.positions(), m, 8.0));
-            self.selection.hovered_edge = match (hovered, self.selection.hovered_vertex) {
-                (Some(m), None) => interaction::pick_edge(&self.camera, &view, &cage, m, 5.0),
-                _ => None,
-            };
+            self.hover_in_mode(&view, &cage, hovered);
         }
 
         // Navigation.
@@ -110,11 +109,8 @@ impl EditorState {
         if response.drag_started_by(PointerButton::Primary) {
             let origin = ui.ctx().input(|i| i.pointer.press_origin()).map(|p| glam::Vec2::new(p.x, p.y)).or(mouse);
             if let Some(origin) = origin {
-                match interaction::pick_vertex(&self.camera, &view, cage.positions(), origin, 8.0) {
-                    Some(v) => {
-                        if !self.selection.vertices.contains(&v) {
-                            self.selection.click_vertex(v, shift);
-                        }
+                match self.drag_handle(&view, &cage, origin, shift) {
+                    Some(()) => {
                         let model = &self.document.doc().cage;
                         let start: Vec<(VertexId, DVec3)> = self
                             .selected_vertices_with_edge_ends()
@@ -149,14 +145,13 @@ impl EditorState {
                 if !band.add {
                     self.selection.clear();
                 }
-                for v in interaction::box_select(&self.camera, &view, cage.positions(), band.from, band.to) {
-                    if !self.selection.vertices.contains(&v) {
-                        self.selection.vertices.push(v);
-                    }
-                }
+                let boxed = interaction::box_select(&self.camera, &view, cage.positions(), band.from, band.to);
+                self.box_select_in_mode(boxed);
             }
         }
-        if response.clicked_by(PointerButton::Primary) {
+        if response.clicked_by(PointerButton::Primary)
+            && !self.click_in_mode(ui.ctx().input(|i| i.modifiers), &view, mouse)
+        {
             match (self.selection.hovered_vertex, self.selection.hovered_edge) {
                 (Some(v), _) => self.selection.click_vertex(v, shift),
                 (None, Some(e)) => self.selection.click_edge(e, shift),
@@ -238,7 +233,7 @@ impl EditorState {
     }
 
     /// The cage in display coordinates, for picking.
-    fn display_cage(&self) -> PolyMesh {
+    pub(super) fn display_cage(&self) -> PolyMesh {
         let mut cage = self.document.doc().cage.clone();
         let frame = self.display_frame;
         for p in cage.positions_mut() {

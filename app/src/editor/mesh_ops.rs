@@ -1,0 +1,359 @@
+//! The Mesh menu, toolbar and keys of cage modelling: extrude (E), inset (I), loop cut (Ctrl+R),
+//! delete and dissolve (X, Delete), merge (M), fill (F), subdivide and connect, flip normals,
+//! triangulate and join triangles, each on the current selection and select mode.
+//!
+//! Each operation calls one topological edit of the core (`taut_core::mesh::edit`), carries
+//! fixed flags, tensions and creases to the new cage with `Document::with_edited_cage`, and sends
+//! the new document as one `Edit::Replace`: one undo step, checked completely before anything
+//! changes. A refused request (nothing suitable selected, or the core refusing the edit) shows
+//! the one-line message and leaves the document and the selection as they were. The selection
+//! follows the edit through the provenance: an element stays selected when it came from a
+//! selected one (the lifted cap of an extrusion, the inner faces of an inset).
+//!
+//! Where Blender differs: E extrudes by a fixed distance (a fifth of the mean length of the
+//! selected edges) along the normal and leaves the cap selected, so a drag or G then moves it;
+//! Blender's extrude starts that move at once. Ctrl+R cuts the ring of the edge under the mouse
+//! (or the one selected edge) at its middle, with no preview of the ring. The surface re-solves
+//! from the new cage from the start (no warm start through the provenance).
+
+use super::document::Edit;
+use super::select_modes::{SelectMode, selected_vertex_set};
+use super::state::EditorState;
+use taut_core::mesh::edit::{self, Edited, FaceGrouping, JoinParams, MergeAt, Provenance, Triangulation};
+use taut_core::{EdgeId, FaceId, PolyMesh, VertexId};
+
+/// A cage-modelling operation on the selection.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum MeshOp {
+    /// Faces as one region (face mode), or boundary edges (edge mode).
+    Extrude,
+    Inset,
+    /// The ring through the hovered edge (or the one selected edge), at its middle.
+    LoopCut,
+    /// Whatever the select mode selects: vertices, edges or faces, and what leans on them.
+    Delete,
+    DeleteVertices,
+    DeleteEdges,
+    DeleteFaces,
+    DissolveVertices,
+    DissolveEdges,
+    DissolveFaces,
+    MergeAtCentre,
+    MergeByDistance,
+    /// A face on a closed run of boundary edges (or vertices).
+    Fill,
+    /// Split the selected edges at their middles.
+    Subdivide,
+    /// An edge across a face between the two selected vertices.
+    Connect,
+    FlipNormals,
+    Triangulate,
+    JoinTriangles,
+}
+
+impl MeshOp {
+    /// Every operation, in the order the Mesh menu lists them.
+    pub const ALL: [MeshOp; 18] = [
+        MeshOp::Extrude,
+        MeshOp::Inset,
+        MeshOp::LoopCut,
+        MeshOp::Delete,
+        MeshOp::DeleteVertices,
+        MeshOp::DeleteEdges,
+        MeshOp::DeleteFaces,
+        MeshOp::DissolveVertices,
+        MeshOp::DissolveEdges,
+        MeshOp::DissolveFaces,
+        MeshOp::MergeAtCentre,
+        MeshOp::MergeByDistance,
+        MeshOp::Fill,
+        MeshOp::Subdivide,
+        MeshOp::Connect,
+        MeshOp::FlipNormals,
+        MeshOp::Triangulate,
+        MeshOp::JoinTriangles,
+    ];
+
+    /// The menu label.
+    pub fn label(self) -> &'static str {
+        match self {
+            MeshOp::Extrude => "Extrude",
+            MeshOp::Inset => "Inset faces",
+            MeshOp::LoopCut => "Loop cut (edge under the mouse)",
+            MeshOp::Delete => "Delete",
+            MeshOp::DeleteVertices => "Delete vertices",
+            MeshOp::DeleteEdges => "Delete edges",
+            MeshOp::DeleteFaces => "Delete faces",
+            MeshOp::DissolveVertices => "Dissolve vertices",
+            MeshOp::DissolveEdges => "Dissolve edges",
+            MeshOp::DissolveFaces => "Dissolve faces",
+            MeshOp::MergeAtCentre => "Merge at centre",
+            MeshOp::MergeByDistance => "Merge by distance",
+            MeshOp::Fill => "Fill",
+            MeshOp::Subdivide => "Subdivide edges",
+            MeshOp::Connect => "Connect two vertices",
+            MeshOp::FlipNormals => "Flip normals",
+            MeshOp::Triangulate => "Triangulate",
+            MeshOp::JoinTriangles => "Join triangles",
+        }
+    }
+}
+
+/// Merge by distance: vertices closer than this fraction of the cage's diagonal become one.
+pub const MERGE_DISTANCE_FRACTION: f64 = 1e-3;
+/// Extrude and inset: the distance as a fraction of the mean length of the selected edges.
+pub const OFFSET_FRACTION: f64 = 0.2;
+
+/// What the selection holds for an operation, as element lists of the cage.
+struct Picked {
+    vertices: Vec<VertexId>,
+    edges: Vec<EdgeId>,
+    faces: Vec<FaceId>,
+}
+
+fn picked(cage: &PolyMesh, state: &EditorState) -> Picked {
+    let s = &state.selection;
+    let vertices = selected_vertex_set(cage, s);
+    let mut covered = vec![false; cage.vertex_count()];
+    vertices.iter().for_each(|v| covered[v.index()] = true);
+    // Edges and faces: what is selected in their mode, else what the selected vertices span.
+    let edges = if s.edges.is_empty() {
+        cage.edges()
+            .filter(|&e| {
+                let (a, b) = cage.edge_vertices(e);
+                covered[a.index()] && covered[b.index()]
+            })
+            .collect()
+    } else {
+        s.edges.clone()
+    };
+    let faces = if s.faces.is_empty() {
+        cage.faces().filter(|&f| cage.face_vertices(f).all(|v| covered[v.index()])).collect()
+    } else {
+        s.faces.clone()
+    };
+    Picked { vertices, edges, faces }
+}
+
+fn mean_edge_length(cage: &PolyMesh, edges: &[EdgeId]) -> f64 {
+    let n = edges.len().max(1) as f64;
+    let mean = edges.iter().map(|&e| cage.edge_length(e)).sum::<f64>() / n;
+    if mean.is_finite() && mean > 0.0 { mean } else { 0.1 * cage.bounding_diagonal().max(1e-9) }
+}
+
+fn face_edges(cage: &PolyMesh, faces: &[FaceId]) -> Vec<EdgeId> {
+    faces.iter().flat_map(|&f| cage.face_halfedges(f).map(|h| h.edge())).collect()
+}
+
+fn need<T>(items: &[T], what: &str) -> Result<(), String> {
+    if items.is_empty() { Err(format!("select {what} first")) } else { Ok(()) }
+}
+
+impl EditorState {
+    /// Runs a modelling operation on the selection: one undo step, or a message and no change.
+    pub fn mesh_op(&mut self, op: MeshOp) {
+        match self.try_mesh_op(op) {
+            Ok(()) => {}
+            Err(message) => self.notify(message, true),
+        }
+    }
+
+    fn try_mesh_op(&mut self, op: MeshOp) -> Result<(), String> {
+        let doc = self.document.doc();
+        let cage = &doc.cage;
+        let p = picked(cage, self);
+        let mode = self.selection.mode;
+        let err = |e: taut_core::Error| e.to_string();
+        let edited: Edited = match op {
+            MeshOp::Extrude => {
+                if mode == SelectMode::Edge || p.faces.is_empty() {
+                    let boundary: Vec<EdgeId> = p.edges.iter().copied().filter(|&e| cage.is_boundary_edge(e)).collect();
+                    need(&boundary, "faces (Tab to face mode) or open-boundary edges to extrude")?;
+                    edit::extrude_boundary_edges(cage, &boundary, OFFSET_FRACTION * mean_edge_length(cage, &boundary))
+                        .map_err(err)?
+                } else {
+                    let d = OFFSET_FRACTION * mean_edge_length(cage, &face_edges(cage, &p.faces));
+                    edit::extrude_faces(cage, &p.faces, FaceGrouping::Region, d).map_err(err)?
+                }
+            }
+            MeshOp::Inset => {
+                need(&p.faces, "the faces to inset")?;
+                let d = OFFSET_FRACTION * mean_edge_length(cage, &face_edges(cage, &p.faces));
+                edit::inset_faces(cage, &p.faces, FaceGrouping::Region, d).map_err(err)?
+            }
+            MeshOp::LoopCut => {
+                let edge = self.selection.hovered_edge.or(match self.selection.edges.as_slice() {
+                    [e] => Some(*e),
+                    _ => None,
+                });
+                let edge =
+                    edge.ok_or_else(|| "point at an edge (or select one edge) to cut the ring across it".to_string())?;
+                edit::loop_cut(cage, edge, 0.5).map_err(err)?
+            }
+            MeshOp::Delete => match mode {
+                SelectMode::Vertex => {
+                    need(&p.vertices, "the vertices to delete")?;
+                    edit::delete_vertices(cage, &p.vertices).map_err(err)?
+                }
+                SelectMode::Edge => {
+                    need(&p.edges, "the edges to delete")?;
+                    edit::delete_edges(cage, &p.edges).map_err(err)?
+                }
+                SelectMode::Face => {
+                    need(&p.faces, "the faces to delete")?;
+                    edit::delete_faces(cage, &p.faces).map_err(err)?
+                }
+            },
+            MeshOp::DeleteVertices => {
+                need(&p.vertices, "the vertices to delete")?;
+                edit::delete_vertices(cage, &p.vertices).map_err(err)?
+            }
+            MeshOp::DeleteEdges => {
+                need(&p.edges, "the edges to delete")?;
+                edit::delete_edges(cage, &p.edges).map_err(err)?
+            }
+            MeshOp::DeleteFaces => {
+                need(&p.faces, "the faces to delete")?;
+                edit::delete_faces(cage, &p.faces).map_err(err)?
+            }
+            MeshOp::DissolveVertices => {
+                need(&p.vertices, "the vertices to dissolve")?;
+                edit::dissolve_vertices(cage, &p.vertices).map_err(err)?
+            }
+            MeshOp::DissolveEdges => {
+                need(&p.edges, "the edges to dissolve")?;
+                edit::dissolve_edges(cage, &p.edges).map_err(err)?
+            }
+            MeshOp::DissolveFaces => {
+                need(&p.faces, "the faces to dissolve")?;
+                edit::dissolve_faces(cage, &p.faces).map_err(err)?
+            }
+            MeshOp::MergeAtCentre => {
+                if p.vertices.len() < 2 {
+                    return Err("select two or more vertices to merge".to_string());
+                }
+                edit::merge_vertices(cage, &p.vertices, MergeAt::Centre).map_err(err)?
+            }
+            MeshOp::MergeByDistance => {
+                let all: Vec<VertexId> =
+                    if p.vertices.is_empty() { cage.vertices().collect() } else { p.vertices.clone() };
+                let threshold = MERGE_DISTANCE_FRACTION * cage.bounding_diagonal();
+                edit::merge_by_distance(cage, &all, threshold).map_err(err)?
+            }
+            MeshOp::Fill => {
+                if mode == SelectMode::Vertex && !self.selection.vertices.is_empty() {
+                    edit::fill_vertices(cage, &p.vertices).map_err(err)?
+                } else {
+                    let boundary: Vec<EdgeId> = p.edges.iter().copied().filter(|&e| cage.is_boundary_edge(e)).collect();
+                    need(&boundary, "a closed run of open-boundary edges to fill")?;
+                    edit::fill_edges(cage, &boundary).map_err(err)?
+                }
+            }
+            MeshOp::Subdivide => {
+                need(&p.edges, "the edges to subdivide")?;
+                edit::split_edges(cage, &p.edges, 0.5).map_err(err)?
+            }
+            MeshOp::Connect => match p.vertices.as_slice() {
+                [a, b] => edit::connect_vertices(cage, *a, *b).map_err(err)?,
+                _ => return Err("select exactly two vertices of one face to connect".to_string()),
+            },
+            MeshOp::FlipNormals => {
+                let faces = (!p.faces.is_empty()).then_some(p.faces.as_slice());
+                edit::flip_normals(cage, faces).map_err(err)?
+            }
+            MeshOp::Triangulate => {
+                let faces = (!p.faces.is_empty()).then_some(p.faces.as_slice());
+                edit::triangulate(cage, faces, Triangulation::ShortestDiagonal).map_err(err)?
+            }
+            MeshOp::JoinTriangles => {
+                let edges = (!p.edges.is_empty()).then_some(p.edges.as_slice());
+                edit::join_triangles(cage, edges, &JoinParams::default()).map_err(err)?
+            }
+        };
+        let provenance = edited.provenance.clone();
+        let new_doc = doc.with_edited_cage(edited).map_err(err)?;
+        let revision = self.document.revision();
+        self.document.apply(Edit::Replace(Box::new(new_doc)))?;
+        if self.document.revision() != revision {
+            if matches!(op, MeshOp::Extrude | MeshOp::Inset) && !p.faces.is_empty() && mode != SelectMode::Edge {
+                // The lifted faces stay selected, in the current mode's elements.
+                self.selection.clear();
+                self.selection.faces = p.faces;
+                self.map_selection(&provenance);
+                let selection = &mut self.selection;
+                super::select_modes::set_mode(&self.document.doc().cage, selection, mode);
+            } else {
+                self.map_selection(&provenance);
+            }
+        }
+        Ok(())
+    }
+
+    /// The selection after an edit: the new elements whose source was selected.
+    fn map_selection(&mut self, provenance: &Provenance) {
+        let (nv, ne, nf) = provenance.old_counts;
+        let mut was_vertex = vec![false; nv];
+        let mut was_edge = vec![false; ne];
+        let mut was_face = vec![false; nf];
+        let s = &mut self.selection;
+        s.vertices.iter().filter(|v| v.index() < nv).for_each(|v| was_vertex[v.index()] = true);
+        s.edges.iter().filter(|e| e.index() < ne).for_each(|e| was_edge[e.index()] = true);
+        s.faces.iter().filter(|f| f.index() < nf).for_each(|f| was_face[f.index()] = true);
+        let hit = |flags: &[bool], i: Option<usize>| i.is_some_and(|i| flags.get(i).copied().unwrap_or(false));
+        s.vertices = (0..provenance.vertices.len() as u32)
+            .map(VertexId)
+            .filter(|v| hit(&was_vertex, provenance.vertices[v.index()].source().map(|o| o.index())))
+            .collect();
+        s.edges = (0..provenance.edges.len() as u32)
+            .map(EdgeId)
+            .filter(|e| hit(&was_edge, provenance.edges[e.index()].source().map(|o| o.index())))
+            .collect();
+        s.faces = (0..provenance.faces.len() as u32)
+            .map(FaceId)
+            .filter(|f| hit(&was_face, provenance.faces[f.index()].source().map(|o| o.index())))
+            .collect();
+        s.hovered_vertex = None;
+        s.hovered_edge = None;
+        s.hovered_face = None;
+        self.prune_selection();
+    }
+}
+
+impl EditorState {
+    /// The Mesh menu: the select modes, selection helpers and every operation, with their keys.
+    pub(super) fn mesh_menu(&mut self, ui: &mut egui::Ui, ui_state: &mut super::ui::UiState) {
+        use super::shortcuts::{self, Action};
+        let item = |action: Action| {
+            let key = shortcuts::label(action);
+            if key.is_empty() {
+                shortcuts::describe(action).to_string()
+            } else {
+                format!("{}  {key}", shortcuts::describe(action))
+            }
+        };
+        ui.menu_button("Mesh", |ui| {
+            ui.menu_button("Select mode", |ui| {
+                for mode in [SelectMode::Vertex, SelectMode::Edge, SelectMode::Face] {
+                    let label = format!("{} select", mode.name());
+                    if ui.radio(self.selection.mode == mode, label).clicked() {
+                        super::select_modes::set_mode(&self.document.doc().cage, &mut self.selection, mode);
+                    }
+                }
+            });
+            for action in [Action::SelectLinked, Action::SelectMore, Action::SelectLess] {
+                if ui.button(item(action)).clicked() {
+                    self.run_action(action, ui_state);
+                }
+            }
+            ui.separator();
+            for op in MeshOp::ALL {
+                if matches!(op, MeshOp::Delete | MeshOp::MergeAtCentre | MeshOp::Subdivide | MeshOp::FlipNormals) {
+                    ui.separator();
+                }
+                if ui.button(item(Action::Mesh(op))).clicked() {
+                    self.run_action(Action::Mesh(op), ui_state);
+                }
+            }
+        });
+    }
+}
