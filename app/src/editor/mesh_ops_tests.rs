@@ -207,3 +207,11 @@ fn the_mesh_menu_reaches_every_operation_and_tab_cycles_the_modes() {
     frames(&mut h);
     assert_eq!(h.state().ui.action_log.last(), Some(&Action::FrameSelection));
 }
+
+#[test]
+fn the_status_bar_and_the_cage_panel_count_selected_faces() {
+    let h = top_face_selected();
+    let label = |text: &str| h.query(egui_kittest::kittest::By::new().label(text).include_labels()).is_some();
+    assert!(label("0 vertices, 0 edges, 1 face selected"), "the status bar counts the face");
+    assert!(label("0 vertices, 0 edges, 1 face"), "the cage panel counts the face");
+}

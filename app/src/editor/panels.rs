@@ -45,6 +45,18 @@ pub(super) fn mixed<T: PartialOrd + Copy>(values: impl IntoIterator<Item = T>) -
 }
 
 impl EditorState {
+    /// "2 vertices, 1 edge", with the faces too when any are selected.
+    fn selection_summary(&self) -> String {
+        let count = |n: usize, one: &str, many: &str| format!("{n} {}", if n == 1 { one } else { many });
+        let s = &self.selection;
+        let mut text =
+            format!("{}, {}", count(s.vertices.len(), "vertex", "vertices"), count(s.edges.len(), "edge", "edges"));
+        if !s.faces.is_empty() {
+            text += &format!(", {}", count(s.faces.len(), "face", "faces"));
+        }
+        text
+    }
+
     pub(super) fn status_bar(&mut self, ui: &mut egui::Ui, ui_state: &mut UiState) {
         ui.horizontal(|ui| {
             ui.label(self.document.title());
@@ -68,11 +80,7 @@ impl EditorState {
             let ms = self.frame_time.as_secs_f64() * 1e3;
             ui.label(format!("frame {ms:.1} ms ({:.0} fps)", if ms > 0.0 { 1e3 / ms } else { 0.0 }));
             ui.separator();
-            ui.label(format!(
-                "{} vertices, {} edges selected",
-                self.selection.vertices.len(),
-                self.selection.edges.len()
-            ));
+            ui.label(format!("{} selected", self.selection_summary()));
             ui.separator();
             if ui
                 .small_button(format!("messages ({})", self.messages.len()))
@@ -157,7 +165,7 @@ impl EditorState {
                 self.gesture_end(r, ui_state);
             }
         } else {
-            ui.label(format!("{} vertices, {} edges", self.selection.vertices.len(), self.selection.edges.len()));
+            ui.label(self.selection_summary());
         }
         ui.separator();
         if self.document.doc().scheme.is_subdivision() {
