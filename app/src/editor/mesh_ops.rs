@@ -271,10 +271,15 @@ impl EditorState {
             }
         };
         let provenance = edited.provenance.clone();
-        let new_doc = doc.with_edited_cage(edited).map_err(err)?;
+        let (new_doc, carried) = doc.with_edited_cage_reported(edited).map_err(err)?;
         let revision = self.document.revision();
         self.document.apply(Edit::Replace(Box::new(new_doc)))?;
         if self.document.revision() != revision {
+            // Curve-mesh edits whose vertices did not survive the operation are said, not lost
+            // silently (undo brings them back).
+            if let Some(message) = carried.message() {
+                self.notify(message, false);
+            }
             if matches!(op, MeshOp::Extrude | MeshOp::Inset) && !p.faces.is_empty() && mode != SelectMode::Edge {
                 // The lifted faces stay selected, in the current mode's elements.
                 self.selection.clear();

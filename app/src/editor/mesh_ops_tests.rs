@@ -215,3 +215,30 @@ fn the_status_bar_and_the_cage_panel_count_selected_faces() {
     assert!(label("0 vertices, 0 edges, 1 face selected"), "the status bar counts the face");
     assert!(label("0 vertices, 0 edges, 1 face"), "the cage panel counts the face");
 }
+
+#[test]
+fn a_mesh_operation_says_which_curve_mesh_edits_it_dropped() {
+    use taut_core::surface::SchemeKind;
+    use taut_core::{DVec3, Edit};
+    let mut h = cube_editor();
+    {
+        let editor = &mut h.state_mut().editor;
+        let mut doc = editor.document.doc().clone().with_scheme(SchemeKind::CurveMesh);
+        let p = doc.curve_mesh().unwrap().0.vertex_position(VertexId(5));
+        doc.apply(Edit::MoveCurveMeshVertices(vec![(VertexId(5), p + DVec3::Z * 0.1)])).unwrap();
+        // The cage is edited in the other schemes; the curve-mesh edits stay in the document.
+        let doc = doc.with_scheme(SchemeKind::Nusd);
+        assert_eq!(doc.curve_mesh.vertices.len(), 1);
+        editor.document.apply(Edit::Replace(Box::new(doc))).unwrap();
+        editor.selection.clear();
+        editor.selection.vertices = vec![VertexId(5)];
+    }
+    frames(&mut h);
+    h.key_press(Key::X);
+    frames(&mut h);
+    let editor = &h.state().editor;
+    assert_eq!(editor.document.doc().cage.vertex_count(), 7, "X deleted the vertex");
+    assert!(editor.document.doc().curve_mesh.vertices.is_empty(), "its curve-mesh edit could not follow");
+    let notice = editor.notice.as_ref().expect("a message says so");
+    assert!(notice.text.contains("dropped") && !notice.is_error, "{}", notice.text);
+}
