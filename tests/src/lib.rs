@@ -1,6 +1,7 @@
 //! Shared fixtures for Taut's cross-crate tests: small cages built in code, so every test states
 //! exactly what it runs on.
 
+pub mod files;
 pub mod golden;
 
 use taut_core::{DVec3, Document, PolyMesh};

@@ -10,54 +10,10 @@ use taut_core::io::{
 };
 use taut_core::nusd::Spacing;
 use taut_core::{Document, PolyMesh, VertexId};
+use taut_tests::files::{
+    PlyKind, TempDir, ascii_stl_text, awkward_prism, binary_stl, bits, ply_bytes, refused, signed_volume,
+};
 use taut_tests::{cube, prism};
-
-/// A fresh folder for one test, removed when the test ends.
-struct TempDir(PathBuf);
-
-impl TempDir {
-    fn new(test: &str) -> Self {
-        let dir = std::env::temp_dir().join(format!("taut-files-{}-{test}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).unwrap();
-        TempDir(dir)
-    }
-
-    fn file(&self, name: &str, contents: impl AsRef<[u8]>) -> PathBuf {
-        let path = self.0.join(name);
-        std::fs::write(&path, contents).unwrap();
-        path
-    }
-
-    fn path(&self, name: &str) -> PathBuf {
-        self.0.join(name)
-    }
-}
-
-impl Drop for TempDir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
-
-fn bits(points: &[DVec3]) -> Vec<[u64; 3]> {
-    points.iter().map(|p| p.to_array().map(f64::to_bits)).collect()
-}
-
-/// Signed volume enclosed by a closed mesh (sum of fan tetrahedra): positive when every face
-/// winds counter-clockwise seen from outside.
-fn signed_volume(mesh: &PolyMesh) -> f64 {
-    let p = mesh.positions();
-    mesh.triangles().iter().map(|&[a, b, c]| p[a as usize].dot(p[b as usize].cross(p[c as usize])) / 6.0).sum()
-}
-
-/// A prism with awkward coordinates (thirds, tiny and huge values): quads and two 7-gons.
-fn awkward_prism() -> PolyMesh {
-    let mut mesh = prism(7, 1.0 / 3.0, 0.1);
-    mesh.positions_mut()[0] += DVec3::new(1e-17, -0.0, 0.0);
-    mesh.positions_mut()[8] *= 12345.678901234567;
-    mesh
-}
 
 #[test]
 fn obj_round_trip_is_exact_and_keeps_quads_and_ngons() {
@@ -241,19 +197,6 @@ fn taut_documents_round_trip_exactly() {
     assert_eq!(bits(back.cage.positions()), bits(doc.cage.positions()));
     assert_eq!(back.to_json(), doc.to_json());
     assert!(!back.fixed[3] && back.fixed[2]);
-}
-
-/// Imports `path` and checks the error names the file and says `expected`.
-fn refused(path: &Path, expected: &str) {
-    let name = path.file_name().unwrap().to_string_lossy();
-    match import_mesh(path) {
-        Ok((mesh, report)) => panic!("{name} was accepted: {} vertices, {report}", mesh.vertex_count()),
-        Err(e) => {
-            let message = e.to_string();
-            assert!(message.contains(&*name), "the error does not name {name}: {message}");
-            assert!(message.contains(expected), "expected '{expected}' for {name}: {message}");
-        }
-    }
 }
 
 #[test]
@@ -586,148 +529,4 @@ fn written_files_are_y_up_and_read_back_in_place() {
     for (a, b) in back.positions().iter().zip(tall.positions()) {
         assert!((*a - *b).length() < 1e-5, "{a} vs {b}");
     }
-}
-
-/// Binary STL written here, independently of Taut's reader: one record per fan triangle.
-fn binary_stl(mesh: &PolyMesh) -> Vec<u8> {
-    let triangles = mesh.triangles();
-    let mut bytes = b"solid binary files often start like this".to_vec();
-    bytes.resize(80, 0);
-    bytes.extend((triangles.len() as u32).to_le_bytes());
-    for t in &triangles {
-        bytes.extend([0u8; 12]);
-        for &i in t {
-            bytes.extend(mesh.positions()[i as usize].as_vec3().to_array().iter().flat_map(|c| c.to_le_bytes()));
-        }
-        bytes.extend([0u8; 2]);
-    }
-    bytes
-}
-
-/// ASCII STL with exact (shortest round-trip) coordinates.
-fn ascii_stl_text(mesh: &PolyMesh) -> String {
-    let mut text = String::from("solid test\n");
-    for t in mesh.triangles() {
-        text += "  facet normal 0 0 0\n    outer loop\n";
-        for i in t {
-            let p = mesh.positions()[i as usize];
-            text += &format!("      vertex {:?} {:?} {:?}\n", p.x, p.y, p.z);
-        }
-        text += "    endloop\n  endfacet\n";
-    }
-    text + "endsolid test\n"
-}
-
-#[derive(Clone, Copy, PartialEq)]
-enum PlyKind {
-    Ascii,
-    Little,
-    Big,
-}
-
-/// PLY with the polygons as they are, an extra colour property and an extra element.
-fn ply_bytes(mesh: &PolyMesh, kind: PlyKind) -> Vec<u8> {
-    let format = match kind {
-        PlyKind::Ascii => "ascii",
-        PlyKind::Little => "binary_little_endian",
-        PlyKind::Big => "binary_big_endian",
-    };
-    let position = if kind == PlyKind::Big { "float" } else { "double" };
-    let mut bytes = format!(
-        "ply\nformat {format} 1.0\ncomment written by the test\nelement vertex {}\nproperty {position} x\n\
-         property uchar red\nproperty {position} y\nproperty {position} z\nelement face {}\n\
-         property list uchar int vertex_indices\nelement extra 1\nproperty short value\nend_header\n",
-        mesh.vertex_count(),
-        mesh.face_count()
-    )
-    .into_bytes();
-    let big = kind == PlyKind::Big;
-    let put = |bytes: &mut Vec<u8>, v: f64| match kind {
-        PlyKind::Ascii => bytes.extend(format!("{v:?} ").into_bytes()),
-        PlyKind::Little => bytes.extend(v.to_le_bytes()),
-        PlyKind::Big => bytes.extend((v as f32).to_be_bytes()),
-    };
-    for p in mesh.positions() {
-        put(&mut bytes, p.x);
-        if kind == PlyKind::Ascii {
-            bytes.extend(b"200 ")
-        } else {
-            bytes.push(200)
-        }
-        put(&mut bytes, p.y);
-        put(&mut bytes, p.z);
-        if kind == PlyKind::Ascii {
-            bytes.push(b'\n');
-        }
-    }
-    for face in mesh.polygons() {
-        if kind == PlyKind::Ascii {
-            let list: Vec<String> = face.iter().map(|v| v.to_string()).collect();
-            bytes.extend(format!("{} {}\n", face.len(), list.join(" ")).into_bytes());
-        } else {
-            bytes.push(face.len() as u8);
-            for v in face {
-                bytes.extend(if big { (v as i32).to_be_bytes() } else { (v as i32).to_le_bytes() });
-            }
-        }
-    }
-    match kind {
-        PlyKind::Ascii => bytes.extend(b"-7\n"),
-        PlyKind::Little => bytes.extend((-7i16).to_le_bytes()),
-        PlyKind::Big => bytes.extend((-7i16).to_be_bytes()),
-    }
-    bytes
-}
-
-#[test]
-fn stl_round_trips_binary_and_ascii() {
-    let dir = TempDir::new("stl");
-    let mesh = awkward_prism();
-    let triangles = mesh.triangles();
-    let as_corners = |m: &PolyMesh| -> Vec<[[u64; 3]; 3]> {
-        m.triangles().iter().map(|t| t.map(|i| m.positions()[i as usize].to_array().map(f64::to_bits))).collect()
-    };
-    // ASCII: exact coordinates; welding restores the shared corners and the numbering.
-    let (back, report) = import_mesh(&dir.file("prism.stl", ascii_stl_text(&mesh))).unwrap();
-    assert_eq!(report.welded, 3 * triangles.len() - mesh.vertex_count());
-    assert_eq!(as_corners(&back), as_corners(&PolyMesh::from_polygons(mesh.positions().to_vec(), &triangles).unwrap()));
-    assert!(back.is_closed());
-    assert!((signed_volume(&back) - signed_volume(&mesh)).abs() < 1e-12);
-    // Binary: f32 corners, even though the header starts with "solid".
-    let (back, _) = import_mesh(&dir.file("binary.stl", binary_stl(&mesh))).unwrap();
-    assert_eq!(back.face_count(), triangles.len());
-    for (a, t) in back.triangles().iter().zip(&triangles) {
-        for k in 0..3 {
-            assert_eq!(back.positions()[a[k] as usize], mesh.positions()[t[k] as usize].as_vec3().as_dvec3());
-        }
-    }
-    // A binary file cut short, and one with trailing bytes (read, with a warning).
-    let bytes = binary_stl(&mesh);
-    refused(&dir.file("cut.stl", &bytes[..bytes.len() - 10]), "truncated binary STL");
-    let mut longer = bytes.clone();
-    longer.extend([0u8; 7]);
-    let (_, report) = import_mesh(&dir.file("long.stl", &longer)).unwrap();
-    assert!(report.warnings.iter().any(|w| w.contains("ignored 7 bytes")), "{:?}", report.warnings);
-    // Not a regular file.
-    std::fs::create_dir_all(dir.path("folder.stl")).unwrap();
-    refused(&dir.path("folder.stl"), "a folder");
-}
-
-#[test]
-fn ply_round_trips_ascii_and_both_byte_orders() {
-    let dir = TempDir::new("ply");
-    let mesh = awkward_prism();
-    for (kind, name) in [(PlyKind::Ascii, "a.ply"), (PlyKind::Little, "le.ply"), (PlyKind::Big, "be.ply")] {
-        let (back, report) = import_mesh(&dir.file(name, ply_bytes(&mesh, kind))).unwrap();
-        assert!(report.is_clean(), "{name}: {report}");
-        assert_eq!(back.polygons(), mesh.polygons(), "{name}");
-        if kind == PlyKind::Big {
-            let f32s: Vec<DVec3> = mesh.positions().iter().map(|p| p.as_vec3().as_dvec3()).collect();
-            assert_eq!(bits(back.positions()), bits(&f32s));
-        } else {
-            assert_eq!(bits(back.positions()), bits(mesh.positions()), "{name}");
-        }
-    }
-    let bytes = ply_bytes(&mesh, PlyKind::Little);
-    refused(&dir.file("cut.ply", &bytes[..bytes.len() - 40]), "truncated PLY");
 }
