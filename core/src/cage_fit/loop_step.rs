@@ -3,7 +3,7 @@
 //! The fitter needs one step for the paper's volume measure (Table 1: the volume of the cage
 //! after one subdivision) and a few steps to sample the limit surface. Every triangle is split
 //! into four through new points on its edges; with `k` the valence and `β_k` Loop's weight
-//! ([`loop_beta`]):
+//! ([`loop_beta`](crate::subdiv::loop_limit::loop_beta)):
 //! ```text
 //! old interior vertex   (1 − kβ_k) v + β_k Σ ring
 //! old boundary vertex   (v_prev + 6 v + v_next) / 8
@@ -11,16 +11,14 @@
 //! boundary edge a–b     (a + b) / 2
 //! ```
 //! The boundary rules make each open border a cubic B-spline curve, matching the boundary limit
-//! mask of [`loop_limit_matrix`](crate::subdiv::loop_limit_matrix). The refined mesh numbers the
-//! old vertices first (vertex `i` stays `i`), then one vertex per edge in [`EdgeId`] order.
-//!
-//! This is the only Loop refinement in Taut until the subdivision module has its own (being
-//! written on another branch); then this file should give way to it. Creases are not handled.
+//! mask of [`loop_limit_matrix`](crate::subdiv::loop_limit_matrix). The rules are the
+//! subdivision module's ([`Refinement`] in the Loop scheme, no creases); this file only gives
+//! the fitter the one step it needs with its stencil matrix, and the refined mesh of a few steps.
+//! The refined mesh numbers the old vertices first (vertex `i` stays `i`), then the edge points.
 
-use crate::mesh::{EdgeId, PolyMesh};
-use crate::subdiv::SparseRows;
-use crate::subdiv::loop_limit::loop_beta;
-use crate::{Error, Result};
+use crate::Result;
+use crate::mesh::PolyMesh;
+use crate::subdiv::{RefinedPositions, Refinement, Scheme, SparseRows};
 
 /// One refinement step: the refined mesh (positions included) and the stencil matrix `S` with
 /// `refined = S · cage` (rows: refined vertices, columns: cage vertices).
@@ -34,66 +32,18 @@ pub struct LoopStep {
 
 /// Refines a triangle cage once; an error naming the first face that is not a triangle.
 pub fn loop_step(cage: &PolyMesh) -> Result<LoopStep> {
-    if let Some(f) = cage.faces().find(|&f| cage.face_valence(f) != 3) {
-        return Err(Error::Topology(format!(
-            "Loop subdivision needs a triangle cage, but face {} has {} sides; triangulate the cage first",
-            f.0,
-            cage.face_valence(f)
-        )));
-    }
-    let n = cage.vertex_count();
-    let mut stencil = SparseRows::with_columns(n);
-    for v in cage.vertices() {
-        if cage.is_isolated(v) {
-            stencil.push_row([(v.0, 1.0)]);
-        } else if cage.is_boundary_vertex(v) {
-            let out = cage.vertex_halfedge(v);
-            let next = cage.to_vertex(out);
-            let prev = cage.from_vertex(cage.prev(out));
-            stencil.push_row([(prev.0, 1.0 / 8.0), (v.0, 6.0 / 8.0), (next.0, 1.0 / 8.0)]);
-        } else {
-            let k = cage.valence(v);
-            let beta = loop_beta(k);
-            stencil.push_row(
-                std::iter::once((v.0, 1.0 - k as f64 * beta)).chain(cage.vertex_neighbors(v).map(|u| (u.0, beta))),
-            );
-        }
-    }
-    for e in cage.edges() {
-        let (a, b) = cage.edge_vertices(e);
-        if cage.is_boundary_edge(e) {
-            stencil.push_row([(a.0, 0.5), (b.0, 0.5)]);
-        } else {
-            // The corner opposite the edge in each of its two triangles.
-            let opposite = |side| cage.from_vertex(cage.prev(e.halfedge(side))).0;
-            stencil.push_row([(a.0, 0.375), (b.0, 0.375), (opposite(0), 0.125), (opposite(1), 0.125)]);
-        }
-    }
-
-    let edge_vertex = |e: EdgeId| (n + e.index()) as u32;
-    let mut indices = Vec::with_capacity(cage.face_count() * 12);
-    for f in cage.faces() {
-        let hs: Vec<_> = cage.face_halfedges(f).collect();
-        let corner = |k: usize| cage.from_vertex(hs[k]).0;
-        // Edge k of the face runs from corner k to corner k + 1.
-        let mid = |k: usize| edge_vertex(hs[k].edge());
-        let (a, b, c) = (corner(0), corner(1), corner(2));
-        let (ab, bc, ca) = (mid(0), mid(1), mid(2));
-        indices.extend_from_slice(&[a, ab, ca, ab, b, bc, ca, bc, c, ab, bc, ca]);
-    }
-    let offsets: Vec<u32> = (0..=indices.len() as u32 / 3).map(|k| 3 * k).collect();
-    let positions = stencil.apply(cage.positions());
-    let mesh = PolyMesh::from_face_list(positions, &offsets, &indices)?;
+    let refinement = Refinement::new(cage, Scheme::Loop, &[], 1)?;
+    let stencil = refinement.stencils(1).clone();
+    let mesh = refinement.surface(&stencil.apply(cage.positions()));
     Ok(LoopStep { mesh, stencil })
 }
 
 /// Refines `levels` times and returns the finest mesh.
 pub fn refine(cage: &PolyMesh, levels: u32) -> Result<PolyMesh> {
-    let mut mesh = cage.clone();
-    for _ in 0..levels {
-        mesh = loop_step(&mesh)?.mesh;
-    }
-    Ok(mesh)
+    let refinement = Refinement::new(cage, Scheme::Loop, &[], levels)?;
+    let mut positions = RefinedPositions::default();
+    refinement.evaluate_levels(cage.positions(), &mut positions)?;
+    Ok(refinement.surface(positions.finest()))
 }
 
 #[cfg(test)]
