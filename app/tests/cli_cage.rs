@@ -29,65 +29,12 @@ fn assert_clean_failure(out: &Output, expected: &str) {
     assert_eq!(stderr.trim().lines().count(), 1, "more than one line: {stderr}");
 }
 
-/// A bumpy closed blob: an icosphere split `levels` times, pushed in and out.
+/// A bumpy closed blob: the unit icosphere split `levels` times (the core's primitive), pushed
+/// in and out.
 fn blob(levels: u32) -> (Vec<DVec3>, Vec<[u32; 3]>) {
-    let t = (1.0 + 5f64.sqrt()) / 2.0;
-    let mut p: Vec<DVec3> = [
-        [-1.0, t, 0.0],
-        [1.0, t, 0.0],
-        [-1.0, -t, 0.0],
-        [1.0, -t, 0.0],
-        [0.0, -1.0, t],
-        [0.0, 1.0, t],
-        [0.0, -1.0, -t],
-        [0.0, 1.0, -t],
-        [t, 0.0, -1.0],
-        [t, 0.0, 1.0],
-        [-t, 0.0, -1.0],
-        [-t, 0.0, 1.0],
-    ]
-    .iter()
-    .map(|&c| DVec3::from_array(c).normalize())
-    .collect();
-    let mut f: Vec<[u32; 3]> = vec![
-        [0, 11, 5],
-        [0, 5, 1],
-        [0, 1, 7],
-        [0, 7, 10],
-        [0, 10, 11],
-        [1, 5, 9],
-        [5, 11, 4],
-        [11, 10, 2],
-        [10, 7, 6],
-        [7, 1, 8],
-        [3, 9, 4],
-        [3, 4, 2],
-        [3, 2, 6],
-        [3, 6, 8],
-        [3, 8, 9],
-        [4, 9, 5],
-        [2, 4, 11],
-        [6, 2, 10],
-        [8, 6, 7],
-        [9, 8, 1],
-    ];
-    for _ in 0..levels {
-        let mut mid = std::collections::HashMap::new();
-        let mut next = Vec::with_capacity(f.len() * 4);
-        for [a, b, c] in f {
-            let mut m = |x: u32, y: u32| {
-                *mid.entry((x.min(y), x.max(y))).or_insert_with(|| {
-                    p.push(((p[x as usize] + p[y as usize]) / 2.0).normalize());
-                    (p.len() - 1) as u32
-                })
-            };
-            let (ab, bc, ca) = (m(a, b), m(b, c), m(c, a));
-            next.extend([[a, ab, ca], [ab, b, bc], [ca, bc, c], [ab, bc, ca]]);
-        }
-        f = next;
-    }
-    let p = p.into_iter().map(|d| d * (1.0 + 0.3 * (3.0 * d.x).sin() * (2.0 * d.y + 1.0).sin())).collect();
-    (p, f)
+    let mesh = taut_core::mesh::primitives::icosphere(levels, 1.0).expect("a valid icosphere");
+    let bump = |d: DVec3| d * (1.0 + 0.3 * (3.0 * d.x).sin() * (2.0 * d.y + 1.0).sin());
+    (mesh.positions().iter().map(|&d| bump(d)).collect(), mesh.triangles())
 }
 
 /// Binary STL written here, independently of Taut's readers.
