@@ -32,12 +32,14 @@ pub struct State {
     pub r: Vec<DVec3>,
     p_next: Vec<DVec3>,
     r_next: Vec<DVec3>,
+    /// The previous step of each vertex of a region iterated alone (in region order).
+    region_steps: Vec<DVec3>,
 }
 
 impl State {
     pub fn new(p: Vec<DVec3>, r: Vec<DVec3>) -> Self {
         let n = p.len();
-        State { p, r, p_next: vec![DVec3::ZERO; n], r_next: vec![DVec3::ZERO; n] }
+        State { p, r, p_next: vec![DVec3::ZERO; n], r_next: vec![DVec3::ZERO; n], region_steps: Vec::new() }
     }
 }
 
@@ -75,7 +77,12 @@ pub fn update_fixed(op: &Operator, state: &mut State) {
 
 /// Recomputes `R = ΔP/K − f` of the fixed vertices.
 pub fn update_fixed_forced(op: &Operator, state: &mut State, forcing: Option<&Forcing>) {
-    for &i in &op.fixed {
+    update_fixed_of(op, state, forcing, &op.fixed);
+}
+
+/// Recomputes `R = ΔP/K − f` of the listed fixed vertices.
+fn update_fixed_of(op: &Operator, state: &mut State, forcing: Option<&Forcing>, fixed: &[u32]) {
+    for &i in fixed {
         let i = i as usize;
         let f = forcing.map_or(DVec3::ZERO, |f| f.r[i]);
         state.r[i] = laplacian(op, &state.p, i) / op.k[i] - f;
@@ -169,7 +176,7 @@ pub fn iterate_forced(
     forcing: Option<&Forcing>,
 ) -> Sweep {
     update_fixed_forced(op, state, forcing);
-    let State { p, r, p_next, r_next } = state;
+    let State { p, r, p_next, r_next, .. } = state;
     let (p, r) = (&p[..], &r[..]);
     let n = p.len();
     let run = |start: usize, pn: &mut [DVec3], rn: &mut [DVec3]| -> Sweep {
@@ -182,20 +189,10 @@ pub fn iterate_forced(
                 *ri_out = r[i];
                 continue;
             }
-            let (avg_p, avg_r) = averages(op, mesh, p, r, i);
-            let (r_new, delta) = match forcing {
-                None => {
-                    let r_new = r[i] + lambda * (avg_r - r[i]);
-                    (r_new, lambda * (avg_p - p[i]) - lambda * op.k[i] * r_new)
-                }
-                Some(f) => {
-                    let r_new = r[i] + lambda * (avg_r - r[i] - op.k[i] * f.r[i]);
-                    (r_new, lambda * (avg_p - p[i]) - lambda * op.k[i] * (r_new + f.p[i]))
-                }
-            };
+            let (p_new, r_new, delta) = moved(op, mesh, p, r, i, lambda, forcing);
             // The second buffer still holds the previous iterate.
             let previous = p[i] - *pi_out;
-            *pi_out = p[i] + delta;
+            *pi_out = p_new;
             *ri_out = r_new;
             let d = delta.length();
             step = max_nan(step, d);
@@ -221,6 +218,95 @@ pub fn iterate_forced(
     std::mem::swap(&mut state.p, &mut state.p_next);
     std::mem::swap(&mut state.r, &mut state.r_next);
     sweep
+}
+
+/// The new `P`, `R` and step of a moving vertex `i` (see [`iterate_forced`]).
+#[inline]
+fn moved(
+    op: &Operator,
+    mesh: &PolyMesh,
+    p: &[DVec3],
+    r: &[DVec3],
+    i: usize,
+    lambda: f64,
+    forcing: Option<&Forcing>,
+) -> (DVec3, DVec3, DVec3) {
+    let (avg_p, avg_r) = averages(op, mesh, p, r, i);
+    let (r_new, delta) = match forcing {
+        None => {
+            let r_new = r[i] + lambda * (avg_r - r[i]);
+            (r_new, lambda * (avg_p - p[i]) - lambda * op.k[i] * r_new)
+        }
+        Some(f) => {
+            let r_new = r[i] + lambda * (avg_r - r[i] - op.k[i] * f.r[i]);
+            (r_new, lambda * (avg_p - p[i]) - lambda * op.k[i] * (r_new + f.p[i]))
+        }
+    };
+    (p[i] + delta, r_new, delta)
+}
+
+/// One iteration of the vertices of `region` only, the others held (a local solve, see
+/// [`super::local`]): the same arithmetic per vertex as [`iterate_forced`], so bit-identical
+/// for any number of threads.
+pub fn iterate_on(
+    op: &Operator,
+    mesh: &PolyMesh,
+    state: &mut State,
+    lambda: f64,
+    forcing: Option<&Forcing>,
+    region: &super::local::Region,
+) -> Sweep {
+    update_fixed_of(op, state, forcing, &region.fixed);
+    if state.region_steps.len() != region.len() {
+        state.region_steps = vec![DVec3::ZERO; region.len()];
+    }
+    let (p, r) = (&state.p[..], &state.r[..]);
+    let new = super::local::map_vertices(&region.vertices, |i| {
+        (op.role[i as usize] == Role::Moving).then(|| moved(op, mesh, p, r, i as usize, lambda, forcing))
+    });
+    let mut sweep = Sweep { step: 0.0, reversing: 0.0 };
+    for ((&i, value), previous) in region.vertices.iter().zip(new).zip(&mut state.region_steps) {
+        let Some((p_new, r_new, delta)) = value else { continue };
+        state.p[i as usize] = p_new;
+        state.r[i as usize] = r_new;
+        let d = delta.length();
+        sweep.step = max_nan(sweep.step, d);
+        if delta.dot(*previous) < 0.0 {
+            sweep.reversing = sweep.reversing.max(d);
+        }
+        *previous = delta;
+    }
+    sweep
+}
+
+/// [`residual`] of the vertices of `region` only; `out` is written there only.
+pub fn residual_on(
+    op: &Operator,
+    mesh: &PolyMesh,
+    state: &mut State,
+    forcing: Option<&Forcing>,
+    out: &mut Forcing,
+    region: &super::local::Region,
+) -> f64 {
+    update_fixed_of(op, state, forcing, &region.fixed);
+    let (p, r) = (&state.p[..], &state.r[..]);
+    let values = super::local::map_vertices(&region.vertices, |i| {
+        let i = i as usize;
+        if op.role[i] != Role::Moving {
+            return (DVec3::ZERO, DVec3::ZERO);
+        }
+        let (avg_p, avg_r) = averages(op, mesh, p, r, i);
+        let (fr, fp) = forcing.map_or((DVec3::ZERO, DVec3::ZERO), |f| (f.r[i], f.p[i]));
+        let ki = op.k[i];
+        (fr - (avg_r - r[i]) / ki, fp - ((avg_p - p[i]) / ki - r[i]))
+    });
+    let mut largest = 0.0f64;
+    for (&i, (vr, vp)) in region.vertices.iter().zip(values) {
+        out.r[i as usize] = vr;
+        out.p[i as usize] = vp;
+        largest = max_nan(largest, (op.k[i as usize] * vp).length());
+    }
+    largest
 }
 
 /// The residual `f − N(x)` of every equation (see [`Forcing`]), written into `out`; fixed

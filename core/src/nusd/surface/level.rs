@@ -10,11 +10,11 @@
 
 use super::hierarchy::LevelTopology;
 use super::kernel::{Forcing, State};
+use super::local::{Children, Region, Touched};
 use super::multigrid::{Grid, Transfer, Work};
 use super::operator::{Controls, Operator, Role};
 use crate::DVec3;
 use crate::mesh::PolyMesh;
-use rayon::prelude::*;
 
 /// A level: connectivity, domain, operator, its own solution, and the scratch it needs as a
 /// coarse grid.
@@ -39,6 +39,16 @@ pub(super) struct Level {
     /// Multigrid diverged on this level (strong tension): it is solved by the plain iteration
     /// until the tensions or fixed flags change.
     pub multigrid_failed: bool,
+    /// The vertices a local solve iterates (see [`super::local`]); `None`: all.
+    pub region: Option<Region>,
+    /// The local solve's epoch this level's region belongs to.
+    pub epoch: u64,
+    /// Where the residual buffer may be nonzero (a region's grids need it zero outside).
+    pub residual_support: Touched,
+    /// Which vertices may differ from what the next finer level last absorbed.
+    pub touched: Touched,
+    /// The children of each coarser vertex at this level, made on first use.
+    pub children: Option<Children>,
 }
 
 /// The contraction per V-cycle assumed until one is measured.
@@ -66,6 +76,11 @@ impl Level {
             residual: Forcing::default(),
             cycle_rate: PRIOR_CYCLE_RATE,
             multigrid_failed: false,
+            region: None,
+            epoch: 0,
+            residual_support: Touched::default(),
+            touched: Touched::All,
+            children: None,
         }
     }
 
@@ -93,6 +108,11 @@ impl Level {
             residual: Forcing::default(),
             cycle_rate: PRIOR_CYCLE_RATE,
             multigrid_failed: false,
+            region: None,
+            epoch: 0,
+            residual_support: Touched::default(),
+            touched: Touched::All,
+            children: None,
         })
     }
 
@@ -109,50 +129,78 @@ impl Level {
         let n = self.vertex_count();
         if self.residual.r.len() != n {
             self.residual = Forcing::zeros(n);
+            self.residual_support = Touched::Some(self.region.as_ref().map_or_else(Vec::new, |r| r.vertices.clone()));
         }
-        let Level { topology, operator, transfer, state, work, residual, .. } = self;
+        if self.region.is_none() {
+            self.residual_support = Touched::All;
+        }
+        let Level { topology, operator, transfer, state, work, residual, region, epoch, .. } = self;
         let work = if is_top { None } else { Some(work.get_or_insert_with(|| Work::new(n))) };
-        Grid { topology, operator, transfer: transfer.as_ref(), state, work, residual }
+        Grid {
+            topology,
+            operator,
+            transfer: transfer.as_ref(),
+            state,
+            work,
+            residual,
+            region: region.as_ref(),
+            epoch: *epoch,
+        }
+    }
+
+    /// Sets the region a local solve iterates (`None`: the whole level) and its epoch; the
+    /// residual buffer is cleared outside it.
+    pub fn set_region(&mut self, region: Option<Region>, epoch: u64) {
+        if let Some(region) = &region
+            && self.residual.r.len() == self.vertex_count()
+        {
+            match &self.residual_support {
+                Touched::All => self.residual = Forcing::zeros(self.vertex_count()),
+                Touched::Some(list) => {
+                    for &v in list {
+                        self.residual.r[v as usize] = DVec3::ZERO;
+                        self.residual.p[v as usize] = DVec3::ZERO;
+                    }
+                }
+            }
+            self.residual_support = Touched::Some(region.vertices.clone());
+        }
+        self.region = region;
+        self.epoch = epoch;
     }
 }
 
 /// Brings every level's domain and operator up to date with a cage whose positions changed at
-/// the vertices flagged in `moved` (none, after a change of tension values). `rebuild` forces
-/// full operator builds (a fixed flag, the spacing or the pattern of tensions changed).
+/// the vertices listed in `moved` (none, after a change of tension values). `rebuild` forces
+/// full operator builds (a fixed flag, the spacing or the pattern of tensions changed). Only the
+/// descendants of the moved vertices are visited (their domain is an average of their parents').
 pub(super) fn refresh_levels(
     levels: &mut [Level],
     cage: &PolyMesh,
     controls: &Controls<'_>,
-    moved: &[bool],
+    moved: &[u32],
     rebuild: bool,
 ) {
     let mut dirty = moved.to_vec();
-    for (v, d) in levels[0].domain.iter_mut().enumerate() {
-        if dirty[v] {
-            *d = cage.positions()[v];
-        }
+    for &v in &dirty {
+        levels[0].domain[v as usize] = cage.positions()[v as usize];
     }
     for l in 0..levels.len() {
         if l > 0 {
             let (coarse, fine) = levels.split_at_mut(l);
             let (coarse, fine) = (&coarse[l - 1], &mut fine[0]);
+            let count = coarse.vertex_count();
+            let children = fine.children.get_or_insert_with(|| Children::of(&fine.topology, count));
+            let fine_dirty = children.of_set(&dirty);
             let topology = &fine.topology;
-            let parents = |v: usize| {
-                &topology.parents[topology.parent_offsets[v] as usize..topology.parent_offsets[v + 1] as usize]
-            };
-            let fine_dirty: Vec<bool> = (0..topology.vertex_count())
-                .into_par_iter()
-                .with_min_len(4096)
-                .map(|v| parents(v).iter().any(|&c| dirty[c as usize]))
-                .collect();
-            // The same average as the prolongation that made the domain, so bit for bit equal.
-            fine.domain.par_iter_mut().enumerate().with_min_len(4096).for_each(|(v, d)| {
-                if fine_dirty[v] {
-                    let ps = parents(v);
-                    let sum: DVec3 = ps.iter().map(|&c| coarse.domain[c as usize]).sum();
-                    *d = sum / ps.len() as f64;
-                }
-            });
+            for &v in &fine_dirty {
+                let v = v as usize;
+                let ps =
+                    &topology.parents[topology.parent_offsets[v] as usize..topology.parent_offsets[v + 1] as usize];
+                // The same average as the prolongation that made the domain, so bit for bit equal.
+                let sum: DVec3 = ps.iter().map(|&c| coarse.domain[c as usize]).sum();
+                fine.domain[v] = sum / ps.len() as f64;
+            }
             dirty = fine_dirty;
         }
         let level = &mut levels[l];
@@ -214,9 +262,7 @@ mod tests {
             let before: Vec<Operator> = levels.iter().map(|l| l.operator.clone()).collect();
             let p = cage.position(crate::VertexId(v as u32)) + DVec3::new(0.05, -0.03, 0.08 * step as f64);
             cage.set_position(crate::VertexId(v as u32), p);
-            let mut moved = vec![false; 12];
-            moved[v] = true;
-            refresh_levels(&mut levels, &cage, &c, &moved, false);
+            refresh_levels(&mut levels, &cage, &c, &[v as u32], false);
             for (l, level) in levels.iter().enumerate() {
                 let full = Operator::build(&level.topology, &level.domain, &cage, &c);
                 assert!(same(&level.operator, &full), "drag {step}, level {l}: refresh differs from a full build");
@@ -232,7 +278,7 @@ mod tests {
         // A new tension value with the same pattern refreshes the overrides only.
         let vt2: &'static [f64] = Vec::leak(vt.iter().map(|t| t * 2.0).collect());
         let c2 = controls(vt2, et, fixed);
-        refresh_levels(&mut levels, &cage, &c2, &[false; 12], false);
+        refresh_levels(&mut levels, &cage, &c2, &[], false);
         for level in &levels {
             assert!(same(&level.operator, &Operator::build(&level.topology, &level.domain, &cage, &c2)));
         }
@@ -241,7 +287,6 @@ mod tests {
         vt3[0] = 1.0;
         let c3 = controls(Vec::leak(vt3), et, fixed);
         let top = levels.last_mut().unwrap();
-        let unmoved = vec![false; top.vertex_count()];
-        assert!(!top.operator.refresh(&top.topology, &top.domain, &cage, &c3, &unmoved));
+        assert!(!top.operator.refresh(&top.topology, &top.domain, &cage, &c3, &[]));
     }
 }

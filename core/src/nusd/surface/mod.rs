@@ -35,6 +35,7 @@ pub mod frame;
 pub mod hierarchy;
 pub mod kernel;
 mod level;
+pub mod local;
 pub mod multigrid;
 pub mod operator;
 mod solver;

@@ -38,6 +38,7 @@
 
 use super::hierarchy::{LevelTopology, NOT_ON_CAGE_EDGE};
 use super::kernel::{self, Forcing, State};
+use super::local::{self, Region};
 use super::operator::{Operator, Role};
 use crate::DVec3;
 use rayon::prelude::*;
@@ -168,6 +169,35 @@ impl Transfer {
     }
 }
 
+impl Transfer {
+    /// [`right_hand_side`](Self::right_hand_side) at the vertices of a region only (the fine
+    /// residual must be zero outside the fine region).
+    fn right_hand_side_on(&self, fine: &Forcing, coarse_role: &[Role], coarse: &mut Forcing, region: &Region) {
+        let gather = |offsets: &[u32], entries: &[(u32, f64)], values: &[DVec3], c: usize| {
+            let mut sum = DVec3::ZERO;
+            for &(v, w) in &entries[offsets[c] as usize..offsets[c + 1] as usize] {
+                sum += w * values[v as usize];
+            }
+            sum
+        };
+        let values = local::map_vertices(&region.vertices, |c| {
+            let c = c as usize;
+            if coarse_role[c] == Role::Moving {
+                (
+                    gather(&self.r_offsets, &self.r_entries, &fine.r, c) - coarse.r[c],
+                    gather(&self.p_offsets, &self.p_entries, &fine.p, c) - coarse.p[c],
+                )
+            } else {
+                (DVec3::ZERO, DVec3::ZERO)
+            }
+        });
+        for (&c, (r, p)) in region.vertices.iter().zip(values) {
+            coarse.r[c as usize] = r;
+            coarse.p[c as usize] = p;
+        }
+    }
+}
+
 /// A level's scratch for its role as a coarse grid: its iterate, the state it started from, and
 /// its right-hand side.
 #[derive(Clone, Debug, Default)]
@@ -176,6 +206,10 @@ pub struct Work {
     pub start_p: Vec<DVec3>,
     pub start_r: Vec<DVec3>,
     pub forcing: Forcing,
+    /// The local-solve epoch in which the whole iterate was last injected (0: none): within
+    /// it, vertices outside the region keep their injected values and only the region's are
+    /// injected again.
+    pub injected: u64,
 }
 
 impl Work {
@@ -185,6 +219,7 @@ impl Work {
             start_p: vec![DVec3::ZERO; n],
             start_r: vec![DVec3::ZERO; n],
             forcing: Forcing::zeros(n),
+            injected: 0,
         }
     }
 }
@@ -240,6 +275,11 @@ pub struct Grid<'a> {
     /// The coarse-grid scratch: present below the top.
     pub work: Option<&'a mut Work>,
     pub residual: &'a mut Forcing,
+    /// The vertices iterated in a local solve (see [`local`]); `None`: all. The residual
+    /// buffer is zero outside it.
+    pub region: Option<&'a Region>,
+    /// The local solve's epoch (see [`Work::injected`]).
+    pub epoch: u64,
 }
 
 impl Grid<'_> {
@@ -253,29 +293,79 @@ impl Grid<'_> {
 
 /// One smoothing sweep of `grid` (the plain iteration at the top, forced below).
 pub fn smooth(grid: &mut Grid<'_>, lambda: f64) -> kernel::Sweep {
-    let (operator, mesh) = (grid.operator, &grid.topology.mesh);
+    let (operator, mesh, region) = (grid.operator, &grid.topology.mesh, grid.region);
     let (state, forcing) = grid.iterate_and_forcing();
-    kernel::iterate_forced(operator, mesh, state, lambda, forcing)
+    match region {
+        Some(region) => kernel::iterate_on(operator, mesh, state, lambda, forcing, region),
+        None => kernel::iterate_forced(operator, mesh, state, lambda, forcing),
+    }
 }
 
 /// The fine residual restricted to `coarse`, which starts from the injected fine iterate.
 pub fn restrict(fine: &mut Grid<'_>, coarse: &mut Grid<'_>) {
-    let (operator, mesh, transfer) = (fine.operator, &fine.topology.mesh, fine.transfer);
+    let (operator, mesh, transfer, fine_region) = (fine.operator, &fine.topology.mesh, fine.transfer, fine.region);
     let Grid { state, work, residual, .. } = fine;
     let (source, forcing) = match work {
         Some(work) => (&mut work.state, Some(&work.forcing)),
         None => (&mut **state, None),
     };
-    kernel::residual(operator, mesh, source, forcing, residual);
+    match fine_region {
+        Some(region) => kernel::residual_on(operator, mesh, source, forcing, residual, region),
+        None => kernel::residual(operator, mesh, source, forcing, residual),
+    };
     let n = coarse.topology.vertex_count();
+    let (epoch, coarse_region) = (coarse.epoch, coarse.region);
     let target = coarse.work.as_deref_mut().expect("a coarse grid has scratch");
-    target.state.p.copy_from_slice(&source.p[..n]);
-    target.state.r.copy_from_slice(&source.r[..n]);
-    kernel::residual(coarse.operator, &coarse.topology.mesh, &mut target.state, None, &mut target.forcing);
-    target.start_p.copy_from_slice(&target.state.p);
-    target.start_r.copy_from_slice(&target.state.r);
     let transfer = transfer.expect("a level above the coarsest has a transfer");
-    transfer.right_hand_side(residual, &coarse.operator.role, &mut target.forcing);
+    match coarse_region {
+        Some(region) if epoch != 0 && target.injected == epoch => {
+            for &c in &region.vertices {
+                let c = c as usize;
+                target.state.p[c] = source.p[c];
+                target.state.r[c] = source.r[c];
+            }
+            kernel::residual_on(
+                coarse.operator,
+                &coarse.topology.mesh,
+                &mut target.state,
+                None,
+                &mut target.forcing,
+                region,
+            );
+            for &c in &region.vertices {
+                let c = c as usize;
+                target.start_p[c] = target.state.p[c];
+                target.start_r[c] = target.state.r[c];
+            }
+            transfer.right_hand_side_on(residual, &coarse.operator.role, &mut target.forcing, region);
+        }
+        Some(region) => {
+            target.state.p.copy_from_slice(&source.p[..n]);
+            target.state.r.copy_from_slice(&source.r[..n]);
+            kernel::update_fixed(coarse.operator, &mut target.state);
+            kernel::residual_on(
+                coarse.operator,
+                &coarse.topology.mesh,
+                &mut target.state,
+                None,
+                &mut target.forcing,
+                region,
+            );
+            target.start_p.copy_from_slice(&target.state.p);
+            target.start_r.copy_from_slice(&target.state.r);
+            transfer.right_hand_side_on(residual, &coarse.operator.role, &mut target.forcing, region);
+            target.injected = epoch;
+        }
+        None => {
+            target.state.p.copy_from_slice(&source.p[..n]);
+            target.state.r.copy_from_slice(&source.r[..n]);
+            kernel::residual(coarse.operator, &coarse.topology.mesh, &mut target.state, None, &mut target.forcing);
+            target.start_p.copy_from_slice(&target.state.p);
+            target.start_r.copy_from_slice(&target.state.r);
+            transfer.right_hand_side(residual, &coarse.operator.role, &mut target.forcing);
+            target.injected = 0;
+        }
+    }
 }
 
 /// Adds the prolonged coarse correction `x_c − x_c⁰` to the fine iterate.
@@ -283,12 +373,43 @@ pub fn correct(coarse: &mut Grid<'_>, fine: &mut Grid<'_>) {
     let work = coarse.work.as_deref_mut().expect("a coarse grid has scratch");
     // The coarse residual buffer is free now: it holds the correction.
     let Forcing { r: dr, p: dp } = &mut *coarse.residual;
-    dp.par_iter_mut().zip(&work.state.p).zip(&work.start_p).for_each(|((d, a), b)| *d = *a - *b);
-    dr.par_iter_mut().zip(&work.state.r).zip(&work.start_r).for_each(|((d, a), b)| *d = *a - *b);
-    let topology = fine.topology;
+    match coarse.region {
+        // Zero outside the region already (the residual buffer's invariant).
+        Some(region) => {
+            for &c in &region.vertices {
+                let c = c as usize;
+                dp[c] = work.state.p[c] - work.start_p[c];
+                dr[c] = work.state.r[c] - work.start_r[c];
+            }
+        }
+        None => {
+            dp.par_iter_mut().zip(&work.state.p).zip(&work.start_p).for_each(|((d, a), b)| *d = *a - *b);
+            dr.par_iter_mut().zip(&work.state.r).zip(&work.start_r).for_each(|((d, a), b)| *d = *a - *b);
+        }
+    }
+    let (topology, fine_region) = (fine.topology, fine.region);
     let (target, _) = fine.iterate_and_forcing();
-    topology.prolong_add(dp, &mut target.p);
-    topology.prolong_add(dr, &mut target.r);
+    match fine_region {
+        Some(region) => {
+            local::prolong_add_on(topology, &region.vertices, dp, &mut target.p);
+            local::prolong_add_on(topology, &region.vertices, dr, &mut target.r);
+        }
+        None => {
+            topology.prolong_add(dp, &mut target.p);
+            topology.prolong_add(dr, &mut target.r);
+        }
+    }
+}
+
+/// Largest change of a moving vertex of `region` between `before` (in region order) and
+/// `after`.
+pub fn largest_change_on(operator: &Operator, region: &Region, before: &[DVec3], after: &[DVec3]) -> f64 {
+    region
+        .vertices
+        .iter()
+        .zip(before)
+        .map(|(&v, b)| if operator.role[v as usize] == Role::Moving { (after[v as usize] - *b).length() } else { 0.0 })
+        .fold(0.0, |a, b| if a.is_nan() || b.is_nan() { f64::NAN } else { a.max(b) })
 }
 
 /// Largest change of a moving vertex between `before` and `after`.

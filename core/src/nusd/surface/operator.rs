@@ -100,7 +100,10 @@ struct Context<'a> {
 
 impl Context<'_> {
     fn new<'a>(level: &'a LevelTopology, domain: &'a [DVec3], cage: &PolyMesh, controls: &Controls<'_>) -> Context<'a> {
-        let diagonal = crate::mesh::bounding_box(domain).map_or(0.0, |(lo, hi)| crate::mesh::diagonal_length(lo, hi));
+        // The domain is made of averages of the cage's positions, so its box is the cage's:
+        // computed from the cage vertices (the first of every level), not the whole level.
+        let corners = &domain[..level.cage_vertices.min(domain.len())];
+        let diagonal = crate::mesh::bounding_box(corners).map_or(0.0, |(lo, hi)| crate::mesh::diagonal_length(lo, hi));
         Context {
             level,
             domain,
@@ -242,7 +245,7 @@ impl Operator {
         op
     }
 
-    /// Brings the operator up to date after the domain moved at the vertices flagged in
+    /// Brings the operator up to date after the domain moved at the vertices listed in
     /// `moved` (same connectivity, fixed flags and tension *pattern*: which tensions are zero).
     /// Only the rows that see a moved vertex are recomputed, and every tension override
     /// (there are few). The result is bit for bit what [`build`](Self::build) gives. Returns
@@ -254,7 +257,7 @@ impl Operator {
         domain: &[DVec3],
         cage: &PolyMesh,
         controls: &Controls<'_>,
-        moved: &[bool],
+        moved: &[u32],
     ) -> bool {
         let cx = Context::new(level, domain, cage, controls);
         if cx.min_spacing != self.min_spacing && self.smallest_spacing <= cx.min_spacing.max(self.min_spacing) {
@@ -282,12 +285,13 @@ impl Operator {
             }
             self.overrides = fresh;
         }
-        let stale: Vec<u32> = (0..mesh.vertex_count() as u32)
-            .filter(|&v| {
-                let (a, b) = (self.offsets[v as usize] as usize, self.offsets[v as usize + 1] as usize);
-                moved[v as usize] || self.neighbors[a..b].iter().any(|&j| moved[j as usize])
-            })
-            .collect();
+        // A row sees its own vertex and its neighbours: the moved vertices and their rings.
+        let mut stale: Vec<u32> = moved.to_vec();
+        for &v in moved {
+            stale.extend(mesh.outgoing(VertexId(v)).map(|h| mesh.to_vertex(h).0));
+        }
+        stale.sort_unstable();
+        stale.dedup();
         for v in stale {
             let v = VertexId(v);
             self.smallest_spacing = self.smallest_spacing.min(cx.slots(v, &mut slots));

@@ -82,12 +82,23 @@ impl SurfaceSolver {
         if self.cycle.next >= self.cycle.ops.len() {
             self.cycle.ops = multigrid::cycle(top, self.coarsest(), multigrid::GAMMA);
             self.cycle.next = 0;
-            let p = &self.levels[top].state.p;
-            self.cycle.start_p.clone_from(p);
+            let level = &self.levels[top];
+            match &level.region {
+                Some(region) => {
+                    self.cycle.start_p.clear();
+                    self.cycle.start_p.extend(region.vertices.iter().map(|&v| level.state.p[v as usize]));
+                }
+                None => self.cycle.start_p.clone_from(&level.state.p),
+            }
         }
         let op = self.cycle.ops[self.cycle.next];
-        let size = |solver: &Self, k: usize| solver.levels[k].vertex_count() as f64;
-        let share = |solver: &Self, k: usize| size(solver, k) / size(solver, top);
+        // Work in sweeps of the top level: a region's sweep costs its share of the level.
+        let size = |solver: &Self, k: usize| {
+            let level = &solver.levels[k];
+            level.region.as_ref().map_or(level.vertex_count(), |r| r.len()) as f64
+        };
+        let whole = self.levels[top].vertex_count() as f64;
+        let share = |solver: &Self, k: usize| size(solver, k) / whole;
         let lambda = self.lambda;
         let mut counted = 0;
         let work;
@@ -146,9 +157,9 @@ impl SurfaceSolver {
     /// one ring of vertices, twice as wide on the coarser level, so the coarse problem's response
     /// near them is off by that much and the correction overshoots.
     fn abandon_multigrid(&mut self, why: &str) {
-        let (p, r) = self.snapshot.clone().expect("a level being iterated has a snapshot");
+        let snapshot = self.snapshot.as_ref().expect("a level being iterated has a snapshot");
         let level = &mut self.levels[self.active];
-        level.state = crate::nusd::surface::kernel::State::new(p, r);
+        snapshot.restore(&mut level.state);
         level.multigrid_failed = true;
         self.cycle.reset();
         self.monitor.reset();
@@ -171,7 +182,10 @@ impl SurfaceSolver {
     fn end_cycle(&mut self) {
         let top = self.active;
         let level = &self.levels[top];
-        let change = multigrid::largest_change(&level.operator, &self.cycle.start_p, &level.state.p);
+        let change = match &level.region {
+            Some(region) => multigrid::largest_change_on(&level.operator, region, &self.cycle.start_p, &level.state.p),
+            None => multigrid::largest_change(&level.operator, &self.cycle.start_p, &level.state.p),
+        };
         self.cycle.changes.push(change);
         self.timing(top).cycles += 1;
         let why = if !change.is_finite() {
@@ -191,7 +205,9 @@ impl SurfaceSolver {
         }
         let remaining = self.cycle.remaining(self.levels[top].cycle_rate);
         if change < self.threshold && remaining < self.threshold {
-            self.finish_level(true);
+            if self.local_accepts(remaining) {
+                self.finish_level(true);
+            }
         } else if self.level_iterations >= self.settings.max_iterations {
             self.finish_level(false);
         }

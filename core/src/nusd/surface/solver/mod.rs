@@ -1,11 +1,13 @@
 //! [`SurfaceSolver`]: levels, warm starts, budgets and divergence handling.
 
 mod cycle;
+mod local_solve;
 
 use super::anchoring::check_anchoring;
 use super::frame::Frame;
 use super::kernel;
 use super::level::{Level, refresh_levels};
+use super::local::Touched;
 use super::operator::Controls;
 use super::status::{Budget, LevelReport, LevelTiming, Phase, Status};
 use super::{DIVERGENCE_GROWTH, MIN_LAMBDA, OSCILLATION_ITERATIONS};
@@ -14,6 +16,7 @@ use crate::mesh::PolyMesh;
 use crate::nusd::SolverSettings;
 use crate::nusd::convergence::ConvergenceMonitor;
 use crate::{DVec3, Error, Result};
+use local_solve::{LocalSolve, Snapshot};
 use std::time::Instant;
 
 /// The hierarchical solver; see the [module docs](super).
@@ -36,12 +39,23 @@ pub struct SurfaceSolver {
     diagonal: f64,
     /// Levels from 2 up are solved by multigrid cycles unless this is off.
     multigrid: bool,
+    /// Drags are re-solved locally unless this is off.
+    local_allowed: bool,
     monitor: ConvergenceMonitor,
     /// The V-cycle in progress and the cycles of the level being solved.
     cycle: cycle::CycleRun,
     level_iterations: usize,
     total_iterations: usize,
-    snapshot: Option<(Vec<DVec3>, Vec<DVec3>)>,
+    snapshot: Option<Snapshot>,
+    /// The local re-solve under way (see [`super::local`]), if any.
+    local: Option<LocalSolve>,
+    /// Counts the sets of regions made (each level's scratch knows the epoch it was injected in).
+    epoch: u64,
+    /// The estimated change beyond the region of the level just accepted.
+    truncation: f64,
+    /// Scratch for sparse propagation: zero except while in use.
+    delta_p: Vec<DVec3>,
+    delta_r: Vec<DVec3>,
     reports: Vec<LevelReport>,
     timings: Vec<LevelTiming>,
     events: Vec<String>,
@@ -82,11 +96,17 @@ impl SurfaceSolver {
             threshold: doc.settings.tol * diagonal,
             diagonal,
             multigrid: true,
+            local_allowed: true,
             monitor: ConvergenceMonitor::default(),
             cycle: cycle::CycleRun::default(),
             level_iterations: 0,
             total_iterations: 0,
             snapshot: None,
+            local: None,
+            epoch: 0,
+            truncation: 0.0,
+            delta_p: Vec::new(),
+            delta_r: Vec::new(),
             reports: Vec::new(),
             timings: Vec::new(),
             events: Vec::new(),
@@ -121,6 +141,12 @@ impl SurfaceSolver {
         self.multigrid = on;
     }
 
+    /// Local re-solves after drags on (the default) or off: off, every level is re-solved whole
+    /// (for comparisons; see [`super::local`]). Takes effect from the next edit.
+    pub fn set_local(&mut self, on: bool) {
+        self.local_allowed = on;
+    }
+
     /// True when levels from 2 up are solved by multigrid cycles.
     pub fn multigrid(&self) -> bool {
         self.multigrid
@@ -151,11 +177,12 @@ impl SurfaceSolver {
             let level = &mut self.levels[self.active];
             if !level.has_moving() {
                 kernel::update_fixed(&level.operator, &mut level.state);
+                level.touched = Touched::All;
                 self.finish_level(true);
                 continue;
             }
             if self.snapshot.is_none() {
-                self.snapshot = Some((level.state.p.clone(), level.state.r.clone()));
+                self.start_level();
                 self.monitor.reset();
                 self.cycle.reset();
                 self.level_iterations = 0;
@@ -175,14 +202,20 @@ impl SurfaceSolver {
     /// One plain iteration of the active level, with the stopping and divergence rules.
     /// Returns the iterations counted.
     fn plain_step(&mut self) -> usize {
+        let n = self.levels[self.active].vertex_count();
         let level = &mut self.levels[self.active];
-        let sweep = kernel::iterate(&level.operator, &level.topology.mesh, &mut level.state, self.lambda);
+        let (op, mesh) = (&level.operator, &level.topology.mesh);
+        let sweep = match &level.region {
+            Some(region) => kernel::iterate_on(op, mesh, &mut level.state, self.lambda, None, region),
+            None => kernel::iterate(op, mesh, &mut level.state, self.lambda),
+        };
         let step = sweep.step;
         self.level_iterations += 1;
         self.total_iterations += 1;
+        let work = self.levels[self.active].region.as_ref().map_or(1.0, |r| r.len() as f64 / n as f64);
         let timing = self.timing(self.active);
         timing.sweeps += 1;
-        timing.work += 1.0;
+        timing.work += work;
         self.monitor.push_sweep(step, sweep.reversing);
         let oscillating = self.monitor.oscillating(OSCILLATION_ITERATIONS) && step > self.threshold;
         if !step.is_finite()
@@ -199,7 +232,9 @@ impl SurfaceSolver {
             };
             self.roll_back(why);
         } else if self.monitor.converged(self.threshold) {
-            self.finish_level(true);
+            if self.local_accepts(self.monitor.remaining()) {
+                self.finish_level(true);
+            }
         } else if self.level_iterations >= self.settings.max_iterations {
             self.finish_level(false);
         }
@@ -443,11 +478,14 @@ impl SurfaceSolver {
                 edge_tension: &self.edge_tension,
                 spacing: self.settings.spacing,
             };
-            refresh_levels(&mut self.levels, &self.cage, &controls, &moved_flags, rebuild);
+            let moved_list: Vec<u32> =
+                moved_flags.iter().enumerate().filter(|(_, m)| **m).map(|(v, _)| v as u32).collect();
+            refresh_levels(&mut self.levels, &self.cage, &controls, &moved_list, rebuild);
         }
         if controls_changed {
             self.levels.iter_mut().for_each(|l| l.multigrid_failed = false);
         }
+        self.choose_local(moved && !controls_changed && !settings_changed, &moved_flags);
         self.propagate_from(0);
         // Fixed cage vertices are interpolated at every level, whatever the levels held before.
         // (Each finer level's record of its coarser level follows, so no later propagation
@@ -480,21 +518,6 @@ impl SurfaceSolver {
         self.timings.clear();
     }
 
-    /// Adds the change of level `k` since the finer levels last absorbed it to every finer
-    /// level, level by level.
-    fn propagate_from(&mut self, k: usize) {
-        for l in k + 1..self.levels.len() {
-            let (coarse, fine) = self.levels.split_at_mut(l);
-            let (coarse, fine) = (&coarse[l - 1], &mut fine[0]);
-            let delta_p: Vec<DVec3> = coarse.state.p.iter().zip(&fine.synced_p).map(|(a, b)| *a - *b).collect();
-            let delta_r: Vec<DVec3> = coarse.state.r.iter().zip(&fine.synced_r).map(|(a, b)| *a - *b).collect();
-            fine.topology.prolong_add(&delta_p, &mut fine.state.p);
-            fine.topology.prolong_add(&delta_r, &mut fine.state.r);
-            fine.synced_p.clone_from(&coarse.state.p);
-            fine.synced_r.clone_from(&coarse.state.r);
-        }
-    }
-
     /// Makes sure the active level exists, refining the finest one if needed.
     fn ensure_active_level(&mut self) -> Result<()> {
         while self.levels.len() <= self.active {
@@ -505,6 +528,8 @@ impl SurfaceSolver {
                 spacing: self.settings.spacing,
             };
             let finer = self.levels.last().expect("level 0 always exists").refine(&self.cage, &controls)?;
+            // The new level starts from all of the coarser one.
+            self.levels.last_mut().expect("level 0 always exists").touched = Touched::default();
             self.levels.push(finer);
         }
         Ok(())
@@ -522,6 +547,7 @@ impl SurfaceSolver {
         } else {
             (self.monitor.last_step().unwrap_or(0.0), self.monitor.remaining())
         };
+        let remaining = if converged { remaining + std::mem::take(&mut self.truncation) } else { remaining };
         let level = &self.levels[self.active];
         let out = |x: f64| self.frame.length_out(x);
         let report = LevelReport {
@@ -548,9 +574,8 @@ impl SurfaceSolver {
     }
 
     fn roll_back(&mut self, why: &str) {
-        let (p, r) = self.snapshot.clone().expect("a level being iterated has a snapshot");
-        let level = &mut self.levels[self.active];
-        level.state = kernel::State::new(p, r);
+        let snapshot = self.snapshot.as_ref().expect("a level being iterated has a snapshot");
+        snapshot.restore(&mut self.levels[self.active].state);
         self.cycle.reset();
         let reduced = self.lambda * 0.5;
         self.monitor.reset();
