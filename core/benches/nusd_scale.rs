@@ -5,10 +5,11 @@
 //!   the time of each.
 //! - After a drag of one cage vertex by 1 % of the diagonal: the time to re-converge the finest
 //!   level of a curved torus cage at level 3 (2 048 faces → 131 k vertices) and at level 5
-//!   (1 024 faces → 1 M vertices), as a ratio to one plain iteration of that level and to a sparse
-//!   LU solve (faer) of the same level's linear system (the fixed point without tension is
-//!   linear in P and R: assembled here, factorised and solved for x, y and z), whose answer is
-//!   checked against the multigrid one.
+//!   (1 024 faces → 1 M vertices), re-solved locally (the default, `nusd::surface::local`) and
+//!   with every level re-solved whole, as a ratio to one plain iteration of that level and to a
+//!   sparse LU solve (faer) of the same level's linear system (the fixed point without tension
+//!   is linear in P and R: assembled here, factorised and solved for x, y and z), whose answer is
+//!   checked against the local one.
 //!
 //! Run with `cargo bench -p taut-core --bench nusd_scale`. `TAUT_BENCH_QUICK=1` runs fewer
 //! repeats; `TAUT_BENCH_NO_1M=1` skips the million-vertex case.
@@ -190,29 +191,52 @@ fn drag_bench(label: &str, doc: &Document, repeats: usize, direct: bool) {
             .collect(),
     );
 
-    // Drags: one cage vertex back and forth by 1 % of the diagonal, re-converged warm.
-    let mut dragged = doc.clone();
-    let mut times = Vec::new();
-    let mut sweeps = Vec::new();
-    for k in 0..repeats {
-        let sign = if k % 2 == 0 { 1.0 } else { -1.0 };
-        let v = VertexId(0);
-        dragged.cage.set_position(v, doc.cage.position(v) + sign * 0.01 * diagonal * DVec3::new(0.6, 0.0, 0.8));
-        let t = Instant::now();
-        solver.update(&dragged).unwrap();
-        solver.solve().unwrap();
-        times.push(t.elapsed());
-        sweeps.push(solver.timings()[top].sweeps);
-    }
-    let warm = median(times);
+    // Drags: one cage vertex back and forth by 1 % of the diagonal, re-converged warm: locally
+    // (the default) and, for comparison, re-solving every level whole.
+    let drags = |solver: &mut SurfaceSolver| {
+        let mut dragged = doc.clone();
+        let mut times = Vec::new();
+        let mut sweeps = Vec::new();
+        let mut work = Vec::new();
+        for k in 0..repeats {
+            let sign = if k % 2 == 0 { 1.0 } else { -1.0 };
+            let v = VertexId(0);
+            dragged.cage.set_position(v, doc.cage.position(v) + sign * 0.01 * diagonal * DVec3::new(0.6, 0.0, 0.8));
+            let t = Instant::now();
+            solver.update(&dragged).unwrap();
+            solver.solve().unwrap();
+            times.push(t.elapsed());
+            sweeps.push(solver.timings()[top].sweeps);
+            work.push((solver.timings()[top].work * 10.0).round() / 10.0);
+        }
+        (median(times), sweeps, work, dragged)
+    };
+    let mut whole_solver = solver.clone();
+    whole_solver.set_local(false);
+    let (whole, whole_sweeps, _, _) = drags(&mut whole_solver);
+    let (warm, sweeps, work, dragged) = drags(&mut solver);
+    let whole_difference = whole_solver
+        .surface_positions()
+        .iter()
+        .zip(solver.surface_positions())
+        .map(|(a, b)| (*a - *b).length())
+        .fold(0.0, f64::max)
+        / diagonal;
     println!(
         "{label}: {vertices} vertices at level {top}; fresh multigrid solve {:.0} ms ({fresh_sweeps} sweeps of level {top}); \
-         after a 1 % drag re-converged in {:.1} ms (sweeps of level {top} per drag {sweeps:?}); one plain iteration {:.2} ms; \
-         re-converge = {:.1} plain iterations",
+         one plain iteration {:.2} ms",
         ms(fresh),
-        ms(warm),
         ms(one),
-        warm.as_secs_f64() / one.as_secs_f64()
+    );
+    println!(
+        "{label}: after a 1 % drag, re-converged locally in {:.1} ms = {:.1} plain iterations (sweeps of level {top} per \
+         drag {sweeps:?}, work in sweeps of the whole level {work:?}); re-solving every level whole {:.1} ms = {:.1} plain \
+         iterations (sweeps {whole_sweeps:?}): local is {:.1}x faster, {whole_difference:.1e} of the diagonal apart",
+        ms(warm),
+        warm.as_secs_f64() / one.as_secs_f64(),
+        ms(whole),
+        whole.as_secs_f64() / one.as_secs_f64(),
+        whole.as_secs_f64() / warm.as_secs_f64(),
     );
     if direct {
         let (_, _, op) = finest_level(&dragged);

@@ -34,12 +34,23 @@ pub struct State {
     r_next: Vec<DVec3>,
     /// The previous step of each vertex of a region iterated alone (in region order).
     region_steps: Vec<DVec3>,
+    /// Scratch of a region's sweep and residual, kept between calls.
+    region_moves: Vec<Option<(DVec3, DVec3, DVec3)>>,
+    region_residuals: Vec<(DVec3, DVec3)>,
 }
 
 impl State {
     pub fn new(p: Vec<DVec3>, r: Vec<DVec3>) -> Self {
         let n = p.len();
-        State { p, r, p_next: vec![DVec3::ZERO; n], r_next: vec![DVec3::ZERO; n], region_steps: Vec::new() }
+        State {
+            p,
+            r,
+            p_next: vec![DVec3::ZERO; n],
+            r_next: vec![DVec3::ZERO; n],
+            region_steps: Vec::new(),
+            region_moves: Vec::new(),
+            region_residuals: Vec::new(),
+        }
     }
 }
 
@@ -260,15 +271,16 @@ pub fn iterate_on(
     if state.region_steps.len() != region.len() {
         state.region_steps = vec![DVec3::ZERO; region.len()];
     }
-    let (p, r) = (&state.p[..], &state.r[..]);
-    let new = super::local::map_vertices(&region.vertices, |i| {
-        (op.role[i as usize] == Role::Moving).then(|| moved(op, mesh, p, r, i as usize, lambda, forcing))
+    let State { p, r, region_steps, region_moves, .. } = state;
+    let (pr, rr) = (&p[..], &r[..]);
+    super::local::map_vertices_into(&region.vertices, region_moves, |i| {
+        (op.role[i as usize] == Role::Moving).then(|| moved(op, mesh, pr, rr, i as usize, lambda, forcing))
     });
     let mut sweep = Sweep { step: 0.0, reversing: 0.0 };
-    for ((&i, value), previous) in region.vertices.iter().zip(new).zip(&mut state.region_steps) {
-        let Some((p_new, r_new, delta)) = value else { continue };
-        state.p[i as usize] = p_new;
-        state.r[i as usize] = r_new;
+    for ((&i, value), previous) in region.vertices.iter().zip(region_moves.iter()).zip(region_steps.iter_mut()) {
+        let Some((p_new, r_new, delta)) = *value else { continue };
+        p[i as usize] = p_new;
+        r[i as usize] = r_new;
         let d = delta.length();
         sweep.step = max_nan(sweep.step, d);
         if delta.dot(*previous) < 0.0 {
@@ -289,8 +301,9 @@ pub fn residual_on(
     region: &super::local::Region,
 ) -> f64 {
     update_fixed_of(op, state, forcing, &region.fixed);
-    let (p, r) = (&state.p[..], &state.r[..]);
-    let values = super::local::map_vertices(&region.vertices, |i| {
+    let State { p, r, region_residuals, .. } = state;
+    let (p, r) = (&p[..], &r[..]);
+    super::local::map_vertices_into(&region.vertices, region_residuals, |i| {
         let i = i as usize;
         if op.role[i] != Role::Moving {
             return (DVec3::ZERO, DVec3::ZERO);
@@ -301,7 +314,7 @@ pub fn residual_on(
         (fr - (avg_r - r[i]) / ki, fp - ((avg_p - p[i]) / ki - r[i]))
     });
     let mut largest = 0.0f64;
-    for (&i, (vr, vp)) in region.vertices.iter().zip(values) {
+    for (&i, &(vr, vp)) in region.vertices.iter().zip(region_residuals.iter()) {
         out.r[i as usize] = vr;
         out.p[i as usize] = vp;
         largest = max_nan(largest, (op.k[i as usize] * vp).length());

@@ -54,10 +54,19 @@ const CHUNK: usize = 4096;
 /// `f` of every listed vertex, in order: on several threads for long lists, with the same
 /// result for any number of threads.
 pub fn map_vertices<T: Send>(vertices: &[u32], f: impl Fn(u32) -> T + Sync + Send) -> Vec<T> {
+    let mut out = Vec::new();
+    map_vertices_into(vertices, &mut out, f);
+    out
+}
+
+/// [`map_vertices`] into a buffer kept between calls (a sweep of a large region would
+/// otherwise map fresh pages every time).
+pub fn map_vertices_into<T: Send>(vertices: &[u32], out: &mut Vec<T>, f: impl Fn(u32) -> T + Sync + Send) {
     if vertices.len() < 2 * CHUNK {
-        vertices.iter().map(|&v| f(v)).collect()
+        out.clear();
+        out.extend(vertices.iter().map(|&v| f(v)));
     } else {
-        vertices.par_iter().with_min_len(CHUNK).map(|&v| f(v)).collect()
+        vertices.par_iter().with_min_len(CHUNK).map(|&v| f(v)).collect_into_vec(out);
     }
 }
 

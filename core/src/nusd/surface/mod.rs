@@ -13,7 +13,11 @@
 //! (the domain and the operator rows that see a moved vertex, in `level.rs`) and *warm-starts*: the change
 //! of the cage is prolonged down to every finer level at once, so the finest surface follows the
 //! edit immediately, and the levels are then re-solved from coarse to fine, each starting from
-//! its previous solution plus the prolonged correction of the level above. Work is done in
+//! its previous solution plus the prolonged correction of the level above. After an edit that
+//! only moved cage vertices, each level is re-solved *locally* ([`local`]): only within a few cage
+//! rings of the moved vertices, the rest held, with the change beyond the region measured and the
+//! region grown until it is small (a drag of a million-vertex surface costs a few plain iterations
+//! of it instead of a whole re-solve). Work is done in
 //! [`SurfaceSolver::advance`] calls bounded by an iteration count and a time budget, checked
 //! after every step of at most one sweep; [`SurfaceSolver::converged_level`],
 //! [`SurfaceSolver::level_surface`] and [`SurfaceSolver::timings`] tell an editor which level has
