@@ -130,12 +130,14 @@ fn with_strong_tension_the_solve_still_converges_to_the_fixed_point() {
     tight.settings.max_iterations = 400_000;
     let reference = solved(&tight, true);
     let error = max_distance(solver.surface_positions(), reference.surface_positions());
-    // Multigrid diverges on levels 2 and 3 here and they are solved by the plain iteration,
-    // whose stopping estimate is low by up to a few times on this scene (see
-    // nusd::convergence): the bound is that, not the threshold itself.
+    // Multigrid diverges on levels 2–4 here and they are solved by the plain iteration, whose
+    // step estimate is low by a few times on this scene (see nusd::convergence); levels with
+    // tension also need the block estimate (nusd::surface::solver::blocks) under half the
+    // threshold, which brings it to within 1.15× of the threshold: the bound is 1.5×.
     let events = solver.take_events();
     assert!(events.iter().any(|e| e.contains("solving it by the plain iteration")), "{events:?}");
-    assert!(error < 4.0 * solver.status().threshold, "{error} from the fixed point");
+    let threshold = solver.status().threshold;
+    assert!(error < 1.5 * threshold, "{error:e} from the fixed point (threshold {threshold:e})");
 }
 
 #[test]

@@ -163,6 +163,7 @@ impl SurfaceSolver {
         level.multigrid_failed = true;
         self.cycle.reset();
         self.monitor.reset();
+        self.blocks.reset();
         self.level_iterations = 0;
         self.events.push(format!(
             "level {}: the multigrid cycles diverged ({why}); restored the last good state and solving it by the plain iteration",

@@ -206,6 +206,7 @@ impl SurfaceSolver {
         self.snapshot = Some(old.widened(&level.state, level.region.as_ref()));
         self.cycle.reset();
         self.monitor.reset();
+        self.blocks.reset();
         false
     }
 

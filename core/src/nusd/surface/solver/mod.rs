@@ -1,5 +1,6 @@
 //! [`SurfaceSolver`]: levels, warm starts, budgets and divergence handling.
 
+mod blocks;
 mod cycle;
 mod local_solve;
 
@@ -42,6 +43,8 @@ pub struct SurfaceSolver {
     /// Drags are re-solved locally unless this is off.
     local_allowed: bool,
     monitor: ConvergenceMonitor,
+    /// The block estimate of plain solves of levels with tension.
+    blocks: blocks::BlockMonitor,
     /// The V-cycle in progress and the cycles of the level being solved.
     cycle: cycle::CycleRun,
     level_iterations: usize,
@@ -98,6 +101,7 @@ impl SurfaceSolver {
             multigrid: true,
             local_allowed: true,
             monitor: ConvergenceMonitor::default(),
+            blocks: blocks::BlockMonitor::default(),
             cycle: cycle::CycleRun::default(),
             level_iterations: 0,
             total_iterations: 0,
@@ -184,6 +188,7 @@ impl SurfaceSolver {
             if self.snapshot.is_none() {
                 self.start_level();
                 self.monitor.reset();
+                self.blocks.reset();
                 self.cycle.reset();
                 self.level_iterations = 0;
             }
@@ -217,6 +222,11 @@ impl SurfaceSolver {
         timing.sweeps += 1;
         timing.work += work;
         self.monitor.push_sweep(step, sweep.reversing);
+        let tensioned = self.tensioned_level();
+        if tensioned {
+            let level = &self.levels[self.active];
+            self.blocks.push(self.level_iterations, &level.operator, level.region.as_ref(), &level.state.p);
+        }
         let oscillating = self.monitor.oscillating(OSCILLATION_ITERATIONS) && step > self.threshold;
         if !step.is_finite()
             || step > 10.0 * self.diagonal
@@ -231,14 +241,27 @@ impl SurfaceSolver {
                 "a value became infinite"
             };
             self.roll_back(why);
-        } else if self.monitor.converged(self.threshold) {
-            if self.local_accepts(self.monitor.remaining()) {
+        } else if self.monitor.converged(self.threshold)
+            && (!tensioned || self.blocks.remaining() < blocks::MARGIN * self.threshold)
+        {
+            if self.local_accepts(self.plain_remaining()) {
                 self.finish_level(true);
             }
         } else if self.level_iterations >= self.settings.max_iterations {
             self.finish_level(false);
         }
         1
+    }
+
+    /// True when the active level has tension (its plain solves also use the block estimate).
+    fn tensioned_level(&self) -> bool {
+        self.levels.get(self.active).is_some_and(|l| !l.operator.overrides.is_empty())
+    }
+
+    /// The plain iteration's estimate of the distance left on the active level.
+    fn plain_remaining(&self) -> f64 {
+        let steps = self.monitor.remaining();
+        if self.tensioned_level() { steps.max(self.blocks.remaining()) } else { steps }
     }
 
     /// The timing record of `level` in this solve.
@@ -311,7 +334,7 @@ impl SurfaceSolver {
         let (last_step, remaining) = if self.uses_multigrid(self.active) && self.cycle.cycles() > 0 {
             (self.cycle.last_change(), self.cycle.remaining(self.levels[self.active].cycle_rate))
         } else {
-            (self.monitor.last_step().unwrap_or(0.0), self.monitor.remaining())
+            (self.monitor.last_step().unwrap_or(0.0), self.plain_remaining())
         };
         Status {
             phase: self.phase,
@@ -511,6 +534,7 @@ impl SurfaceSolver {
         self.phase = Phase::Iterating;
         self.snapshot = None;
         self.monitor.reset();
+        self.blocks.reset();
         self.cycle.reset();
         self.level_iterations = 0;
         self.total_iterations = 0;
@@ -545,7 +569,7 @@ impl SurfaceSolver {
             }
             estimate
         } else {
-            (self.monitor.last_step().unwrap_or(0.0), self.monitor.remaining())
+            (self.monitor.last_step().unwrap_or(0.0), self.plain_remaining())
         };
         let remaining = if converged { remaining + std::mem::take(&mut self.truncation) } else { remaining };
         let level = &self.levels[self.active];
@@ -564,6 +588,7 @@ impl SurfaceSolver {
         self.propagate_from(self.active);
         self.snapshot = None;
         self.monitor.reset();
+        self.blocks.reset();
         self.cycle.reset();
         self.level_iterations = 0;
         if self.active >= self.settings.levels as usize {
@@ -579,6 +604,7 @@ impl SurfaceSolver {
         self.cycle.reset();
         let reduced = self.lambda * 0.5;
         self.monitor.reset();
+        self.blocks.reset();
         self.level_iterations = 0;
         if reduced < MIN_LAMBDA {
             self.events.push(format!(
