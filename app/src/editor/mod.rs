@@ -16,6 +16,9 @@ mod curves_viewport;
 mod defect_tests;
 pub mod document;
 pub mod files;
+pub mod gizmo;
+#[cfg(test)]
+mod gizmo_tests;
 pub mod interaction;
 pub mod live;
 pub mod menus;
@@ -26,12 +29,15 @@ pub mod new_primitive;
 #[cfg(test)]
 mod panel_tests;
 mod panels;
+pub mod pivot;
 pub mod primitives;
 #[cfg(test)]
 mod scheme_tests;
 pub mod select_modes;
 pub mod shortcuts;
+pub mod snapping;
 pub mod state;
+mod toolbar;
 pub mod transform;
 pub mod ui;
 mod viewport;

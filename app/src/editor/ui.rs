@@ -164,6 +164,7 @@ impl EditorState {
             self.dialogs(&ctx, ui_state);
             return;
         }
+        egui::Panel::top("transform toolbar").show(ui_root, |ui| self.transform_toolbar(ui));
         egui::Panel::bottom("status").show(ui_root, |ui| self.status_bar(ui, ui_state));
         if self.notice.is_some() {
             egui::Panel::bottom("notice").show(ui_root, |ui| self.notice_strip(ui, ui_state));
@@ -290,6 +291,8 @@ impl EditorState {
             Action::SelectLess => select_modes::select_less(&self.document.doc().cage, &mut self.selection),
             Action::Mesh(op) => self.mesh_op(op),
             Action::Transform(kind) => self.start_transform(kind, ui_state),
+            Action::ToggleGizmo => self.toggle_gizmo(),
+            Action::CyclePivot => self.cycle_pivot(),
         }
     }
 

@@ -105,6 +105,10 @@ impl EditorState {
             return;
         }
 
+        if self.gizmo_viewport(ui, &response, &view, mouse, ui_state) {
+            return;
+        }
+
         // Selection and dragging with the primary button.
         if response.drag_started_by(PointerButton::Primary) {
             let origin = ui.ctx().input(|i| i.pointer.press_origin()).map(|p| glam::Vec2::new(p.x, p.y)).or(mouse);
@@ -184,6 +188,7 @@ impl EditorState {
                 egui::Color32::WHITE,
             );
         }
+        self.draw_gizmo(&painter, &view, ui_state);
         if self.busy() {
             ui.ctx().request_repaint();
         }
