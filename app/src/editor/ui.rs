@@ -129,6 +129,8 @@ pub struct UiState {
     pub(super) new_primitive: Option<super::new_primitive::NewPrimitive>,
     /// G, R or S under way.
     pub(super) transform: Option<super::transform::Transform>,
+    /// Ctrl+R: the loop cut's preview or slide.
+    pub(super) loop_cut: Option<super::loop_slide::LoopCutTool>,
 }
 
 /// A crease being set with the mouse (Shift+E, as in Blender).
@@ -211,6 +213,9 @@ impl EditorState {
             }
             return;
         }
+        if self.loop_cut_keys(ctx, ui_state) {
+            return;
+        }
         if self.curve_mesh_drag_keys(ctx, ui_state) {
             return;
         }
@@ -289,6 +294,8 @@ impl EditorState {
             Action::SelectLinked => select_modes::select_linked(&self.document.doc().cage, &mut self.selection),
             Action::SelectMore => select_modes::select_more(&self.document.doc().cage, &mut self.selection),
             Action::SelectLess => select_modes::select_less(&self.document.doc().cage, &mut self.selection),
+            Action::Mesh(super::mesh_ops::MeshOp::Extrude) => self.extrude_and_move(ui_state),
+            Action::Mesh(super::mesh_ops::MeshOp::LoopCut) => self.start_loop_cut(ui_state),
             Action::Mesh(op) => self.mesh_op(op),
             Action::Transform(kind) => self.start_transform(kind, ui_state),
             Action::ToggleGizmo => self.toggle_gizmo(),

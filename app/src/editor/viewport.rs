@@ -98,6 +98,10 @@ impl EditorState {
             }
         }
 
+        if ui_state.loop_cut.is_some() {
+            self.loop_cut_viewport(ui, &response, &view, mouse, ui_state);
+            return;
+        }
         if self.curve_mesh_viewport(ui, &response, &view, mouse, ui_state) {
             if self.busy() {
                 ui.ctx().request_repaint();
