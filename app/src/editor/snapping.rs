@@ -41,20 +41,21 @@ impl SnapSettings {
     pub fn grid_step(&self, camera: &Camera, frame: &DisplayFrame) -> f64 {
         match self.fixed_step {
             Some(step) if step.is_finite() && step > 0.0 => step,
-            _ => view_grid_step(camera) * frame.scale,
+            _ => view_grid_step(camera, frame),
         }
     }
 }
 
-/// The view's grid step in display units: the power of ten nearest (in ratio) to a tenth of the
-/// height seen at the camera's target.
-pub fn view_grid_step(camera: &Camera) -> f64 {
-    let height = 2.0 * f64::from(camera.distance) * (f64::from(camera.fov_y).to_radians() * 0.5).tan();
+/// The view's grid step in model units: the power of ten nearest (in ratio) to a tenth of the
+/// height seen at the camera's target (the camera lives in display units, `frame.scale` model
+/// units each).
+pub fn view_grid_step(camera: &Camera, frame: &DisplayFrame) -> f64 {
+    let height = 2.0 * f64::from(camera.distance) * (f64::from(camera.fov_y).to_radians() * 0.5).tan() * frame.scale;
     let tenth = height / 10.0;
     if !(tenth.is_finite() && tenth > 0.0) {
         return 1.0;
     }
-    10f64.powf(tenth.log10().round())
+    10f64.powi(tenth.log10().round() as i32)
 }
 
 /// `x` rounded to the nearest multiple of `step` (unchanged for a step that is not positive).
@@ -74,10 +75,11 @@ mod tests {
     #[test]
     fn the_view_step_is_a_power_of_ten_near_a_tenth_of_the_view() {
         let mut camera = Camera::default();
+        let frame = DisplayFrame { origin: DVec3::ZERO, scale: 4.4 };
         for distance in [0.01f32, 0.3, 1.0, 5.0, 42.0, 1e4] {
             camera.distance = distance;
-            let step = view_grid_step(&camera);
-            let height = 2.0 * f64::from(distance) * (f64::from(camera.fov_y).to_radians() / 2.0).tan();
+            let step = view_grid_step(&camera, &frame);
+            let height = 4.4 * 2.0 * f64::from(distance) * (f64::from(camera.fov_y).to_radians() / 2.0).tan();
             assert!((step.log10() - step.log10().round()).abs() < 1e-12, "{step} is a power of ten");
             // Within a factor √10 of a tenth of the height.
             let ratio = step / (height / 10.0);
@@ -98,7 +100,7 @@ mod tests {
         assert!(s.active(false) && !s.active(true));
         let frame = DisplayFrame { origin: DVec3::ZERO, scale: 2.0 };
         let camera = Camera::default();
-        assert_eq!(s.grid_step(&camera, &frame), view_grid_step(&camera) * 2.0);
+        assert_eq!(s.grid_step(&camera, &frame), view_grid_step(&camera, &frame));
         let fixed = SnapSettings { fixed_step: Some(0.5), ..s };
         assert_eq!(fixed.grid_step(&camera, &frame), 0.5);
     }
