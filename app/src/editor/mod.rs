@@ -20,6 +20,7 @@ pub mod files;
 pub mod gizmo;
 #[cfg(test)]
 mod gizmo_tests;
+pub mod inset_drag;
 pub mod interaction;
 pub mod live;
 pub mod loop_slide;

@@ -216,3 +216,52 @@ fn esc_while_sliding_cancels_the_whole_cut_and_leaves_no_undo_step() {
     assert!(!h.state().editor.document.can_undo(), "nothing to undo");
     assert!(h.state().ui.loop_cut.is_none());
 }
+
+/// What the core's region inset of the top face gives at `thickness`.
+fn inset(doc: &Document, thickness: f64) -> Document {
+    let f = top_face(&doc.cage);
+    doc.with_edited_cage(edit::inset_faces(&doc.cage, &[f], FaceGrouping::Region, thickness).unwrap()).unwrap()
+}
+
+#[test]
+fn i_then_a_typed_or_dragged_thickness_lands_on_the_cores_inset_in_one_undo_step() {
+    // Typed: exactly the core's inset at 0.1.
+    let mut h = top_face_selected();
+    let before = h.state().editor.document.doc().clone();
+    for key in [Key::I, Key::Period, Key::Num1, Key::Enter] {
+        h.key_press(key);
+        frames(&mut h);
+    }
+    let reference = inset(&before, 0.1);
+    let doc = h.state().editor.document.doc().clone();
+    assert!(doc == reference && bits(&doc) == bits(&reference), "the inset at 0.1");
+    h.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+    frames(&mut h);
+    assert!(bits(h.state().editor.document.doc()) == bits(&before) && !h.state().editor.document.can_undo());
+
+    // The mouse: away from the face's centre on screen thickens it, by the ratio of distances.
+    let mut h = top_face_selected();
+    let centre = pixel_of(&h, DVec3::new(0.0, 0.0, 0.5));
+    let start = centre + glam::Vec2::new(40.0, 0.0);
+    h.hover_at(pos2(start.x, start.y));
+    frames(&mut h);
+    h.key_press(Key::I);
+    frames(&mut h);
+    let end = centre + glam::Vec2::new(60.0, 0.0);
+    h.hover_at(pos2(end.x, end.y));
+    frames(&mut h);
+    let thickness = h.state().ui.inset_drag.as_ref().expect("the thickness follows the mouse").thickness;
+    let base = OFFSET_FRACTION * 1.0;
+    let expected = base * f64::from((end - centre).length() / (start - centre).length());
+    assert!((thickness - expected).abs() < 1e-12, "{thickness} vs {expected}");
+    let reference = inset(&before, thickness);
+    assert!(bits(h.state().editor.document.doc()) == bits(&reference));
+    // Esc: back to the menu's thickness, the inset kept.
+    h.key_press(Key::Escape);
+    frames(&mut h);
+    let reference = inset(&before, base);
+    assert!(bits(h.state().editor.document.doc()) == bits(&reference) && h.state().ui.inset_drag.is_none());
+    h.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+    frames(&mut h);
+    assert!(bits(h.state().editor.document.doc()) == bits(&before), "one undo step");
+}

@@ -131,6 +131,8 @@ pub struct UiState {
     pub(super) transform: Option<super::transform::Transform>,
     /// Ctrl+R: the loop cut's preview or slide.
     pub(super) loop_cut: Option<super::loop_slide::LoopCutTool>,
+    /// I: the inset's thickness following the mouse.
+    pub(super) inset_drag: Option<super::inset_drag::InsetDrag>,
 }
 
 /// A crease being set with the mouse (Shift+E, as in Blender).
@@ -213,7 +215,7 @@ impl EditorState {
             }
             return;
         }
-        if self.loop_cut_keys(ctx, ui_state) {
+        if self.loop_cut_keys(ctx, ui_state) || self.inset_keys(ctx, ui_state) {
             return;
         }
         if self.curve_mesh_drag_keys(ctx, ui_state) {
@@ -296,6 +298,7 @@ impl EditorState {
             Action::SelectLess => select_modes::select_less(&self.document.doc().cage, &mut self.selection),
             Action::Mesh(super::mesh_ops::MeshOp::Extrude) => self.extrude_and_move(ui_state),
             Action::Mesh(super::mesh_ops::MeshOp::LoopCut) => self.start_loop_cut(ui_state),
+            Action::Mesh(super::mesh_ops::MeshOp::Inset) => self.inset_and_drag(ui_state),
             Action::Mesh(op) => self.mesh_op(op),
             Action::Transform(kind) => self.start_transform(kind, ui_state),
             Action::ToggleGizmo => self.toggle_gizmo(),

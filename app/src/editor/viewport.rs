@@ -102,6 +102,10 @@ impl EditorState {
             self.loop_cut_viewport(ui, &response, &view, mouse, ui_state);
             return;
         }
+        if ui_state.inset_drag.is_some() {
+            self.inset_viewport(ui, &response, &view, mouse, ui_state);
+            return;
+        }
         if self.curve_mesh_viewport(ui, &response, &view, mouse, ui_state) {
             if self.busy() {
                 ui.ctx().request_repaint();
