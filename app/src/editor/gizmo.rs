@@ -62,7 +62,7 @@ impl GizmoMode {
             GizmoMode::Move => "Move",
             GizmoMode::Rotate => "Rotate",
             GizmoMode::Scale => "Scale",
-            GizmoMode::All => "Move, rotate and scale",
+            GizmoMode::All => "All",
         }
     }
 

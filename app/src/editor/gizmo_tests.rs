@@ -202,7 +202,7 @@ fn each_pivot_scales_about_its_closed_form_and_shift_s_and_the_toolbar_choose_it
     h.get(By::new().role(Role::ComboBox).label("pivot (Shift+S)")).click();
     frames(&mut h);
     frames(&mut h);
-    h.get_by_label("Bounding box centre").click();
+    h.get_by_label(Pivot::BoundingBox.name()).click();
     frames(&mut h);
     assert_eq!(h.state().editor.gizmo.pivot, Pivot::BoundingBox);
 }
@@ -379,4 +379,29 @@ fn w_and_the_toolbar_show_and_hide_the_gizmo_and_choose_its_handles() {
     h.state_mut().editor.selection.clear();
     frames(&mut h);
     assert!(h.state().editor.gizmo_layout(&viewport(&h)).is_none());
+}
+
+#[test]
+fn the_gizmo_is_picked_before_the_cage_point_under_it() {
+    // Vertex 7 alone: the gizmo's centre sits on it. A drag there is the gizmo's uniform scale
+    // (of one point about itself: nothing moves), not the cage's drag of the point.
+    let v = VertexId(7);
+    let mut h = cube_in_view(StandardView::Perspective, vec![v]);
+    let p0 = h.state().editor.document.doc().cage.position(v);
+    let at = layout(&h).centre;
+    h.hover_at(pos2(at.x, at.y));
+    frames(&mut h);
+    assert_eq!(h.state().editor.gizmo.hovered, Some(Handle::Centre));
+    assert_eq!(h.state().editor.selection.hovered_vertex, None, "the cage point under the gizmo is not hovered");
+    let path: Vec<glam::Vec2> = (0..=4).map(|k| at + glam::Vec2::new(10.0 * k as f32, 5.0 * k as f32)).collect();
+    drag_along(&mut h, &path);
+    assert_eq!(bits(h.state().editor.document.doc().cage.position(v)), bits(p0));
+    assert!(!h.state().editor.document.can_undo(), "a scale that moved nothing records nothing");
+    // With the gizmo hidden (W) the same drag is the cage's: the point follows the mouse.
+    h.key_press(Key::W);
+    frames(&mut h);
+    drag_along(&mut h, &path);
+    let p1 = h.state().editor.document.doc().cage.position(v);
+    assert!((p1 - p0).length() > 1e-3, "dragged: {p0} -> {p1}");
+    assert_eq!(pixel_of(&h, p1).distance(*path.last().unwrap()).round(), 0.0, "under the cursor");
 }

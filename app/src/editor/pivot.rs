@@ -33,8 +33,8 @@ impl Pivot {
 
     pub fn name(self) -> &'static str {
         match self {
-            Pivot::Median => "Median centre",
-            Pivot::BoundingBox => "Bounding box centre",
+            Pivot::Median => "Median",
+            Pivot::BoundingBox => "Bounding box",
             Pivot::Cursor => "3D cursor",
             Pivot::Active => "Active vertex",
         }

@@ -207,9 +207,15 @@ pub fn describe(action: Action) -> &'static str {
         Action::SelectMore => "Select more (one ring of neighbours)",
         Action::SelectLess => "Select less",
         Action::Mesh(op) => op.label(),
-        Action::Transform(TransformKind::Grab) => "Move the selection (X, Y, Z lock, type a distance, Enter sets)",
-        Action::Transform(TransformKind::Rotate) => "Rotate the selection (X, Y, Z axis, type degrees, Enter sets)",
-        Action::Transform(TransformKind::Scale) => "Scale the selection (X, Y, Z axis, type a factor, Enter sets)",
+        Action::Transform(TransformKind::Grab) => {
+            "Move the selection (X, Y, Z lock an axis, Shift+X, Y, Z a plane, Ctrl snaps, type a distance)"
+        }
+        Action::Transform(TransformKind::Rotate) => {
+            "Rotate the selection about the pivot (X, Y, Z axis, Ctrl snaps to 5°, type degrees)"
+        }
+        Action::Transform(TransformKind::Scale) => {
+            "Scale the selection about the pivot (X, Y, Z axis, Shift+X, Y, Z a plane, Ctrl snaps, type a factor)"
+        }
         Action::ToggleGizmo => "Show or hide the transform gizmo",
         Action::CyclePivot => "Pivot: median, bounding box, 3D cursor, active vertex in turn",
     }

@@ -160,6 +160,9 @@ impl EditorState {
             egui::MenuBar::new().ui(ui, |ui| {
                 self.menu(ui, ui_state);
                 self.workspace_switch(ui);
+                if self.curves.workspace == taut_core::curve::Workspace::Surface {
+                    self.transform_toolbar(ui);
+                }
             });
         });
         if self.curves.workspace == taut_core::curve::Workspace::Curves {
@@ -168,7 +171,6 @@ impl EditorState {
             self.dialogs(&ctx, ui_state);
             return;
         }
-        egui::Panel::top("transform toolbar").show(ui_root, |ui| self.transform_toolbar(ui));
         egui::Panel::bottom("status").show(ui_root, |ui| self.status_bar(ui, ui_state));
         if self.notice.is_some() {
             egui::Panel::bottom("notice").show(ui_root, |ui| self.notice_strip(ui, ui_state));
