@@ -93,6 +93,7 @@ impl Transform {
                 TransformKind::Rotate => "about the view axis".to_string(),
                 _ => "along the normal".to_string(),
             },
+            (None, Some(a), _) if self.kind == TransformKind::Rotate => format!("about {a:?}"),
             (None, Some(a), _) => format!("along {a:?}"),
             (None, None, Some(a)) if self.kind == TransformKind::Rotate => format!("about {a:?}"),
             (None, None, Some(a)) => format!("in the plane normal to {a:?} ({a:?} locked)"),
