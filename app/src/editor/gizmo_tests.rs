@@ -351,6 +351,16 @@ fn snapping_lands_on_multiples_of_each_step() {
             assert!(factor > 1.05 && (factor / 0.1 - (factor / 0.1).round()).abs() < 1e-9, "factor {factor}");
         }
     }
+    // Typed values are never snapped: G X 0.37 moves by exactly 0.37 with snapping on.
+    let before = h.state().editor.document.doc().clone();
+    for key in [Key::G, Key::X, Key::Period, Key::Num3, Key::Num7, Key::Enter] {
+        h.key_press(key);
+        frames(&mut h);
+    }
+    let cage = &h.state().editor.document.doc().cage;
+    for &w in &corners {
+        assert_eq!(cage.position(w), before.cage.position(w) + DVec3::new(0.37, 0.0, 0.0));
+    }
 }
 
 #[test]
