@@ -35,6 +35,8 @@ pub struct InsetDrag {
     mouse_start: Option<Vec2>,
     typed: String,
     refusal: Option<String>,
+    /// The inset cage's topology: another one (a file opened meanwhile) ends the drag.
+    topology: u64,
 }
 
 impl EditorState {
@@ -73,6 +75,7 @@ impl EditorState {
             mouse_start: ui_state.pointer,
             typed: String::new(),
             refusal: None,
+            topology: self.document.doc().cage.topology_generation(),
         });
     }
 
@@ -104,6 +107,7 @@ impl EditorState {
 
     /// The keys while the thickness follows the mouse: digits, Enter, Esc; nothing else runs.
     pub(super) fn inset_keys(&mut self, ctx: &egui::Context, ui_state: &mut UiState) -> bool {
+        self.drop_stale_inset(ui_state);
         let Some(d) = &mut ui_state.inset_drag else { return false };
         let (mut enter, mut escape) = (false, false);
         ctx.input_mut(|i| {
@@ -143,6 +147,15 @@ impl EditorState {
         true
     }
 
+    /// Ends the drag without touching the cage when the cage was replaced under it.
+    fn drop_stale_inset(&mut self, ui_state: &mut UiState) {
+        let topology = self.document.doc().cage.topology_generation();
+        if ui_state.inset_drag.as_ref().is_some_and(|d| d.topology != topology) {
+            ui_state.inset_drag = None;
+            self.document.end_gesture();
+        }
+    }
+
     /// The viewport while the thickness follows the mouse.
     pub(super) fn inset_viewport(
         &mut self,
@@ -152,6 +165,7 @@ impl EditorState {
         mouse: Option<Vec2>,
         ui_state: &mut UiState,
     ) {
+        self.drop_stale_inset(ui_state);
         let Some(d) = &mut ui_state.inset_drag else { return };
         let centre = interaction::project(&self.camera, view, self.display_frame.to_display_f64(d.centre));
         if let (Some((c, _)), Some(m), true) = (centre, mouse, d.typed.is_empty()) {

@@ -41,6 +41,8 @@ pub enum LoopCutTool {
         /// The loop's vertices in the cut cage.
         new_vertices: Vec<VertexId>,
         fraction: f64,
+        /// The cut cage's topology: another one (a file opened meanwhile) ends the slide.
+        topology: u64,
     },
 }
 
@@ -122,12 +124,14 @@ impl EditorState {
         self.selection.hovered_edge = None;
         self.selection.hovered_face = None;
         super::select_modes::set_mode(&self.document.doc().cage, &mut self.selection, mode);
-        ui_state.loop_cut = Some(LoopCutTool::Slide { original, edge, new_vertices, fraction: 0.5 });
+        let topology = self.document.doc().cage.topology_generation();
+        ui_state.loop_cut = Some(LoopCutTool::Slide { original, edge, new_vertices, fraction: 0.5, topology });
     }
 
     /// Moves the new loop to `fraction` along the ring (where a cut at `fraction` puts it).
     pub(super) fn slide_loop(&mut self, fraction: f64, ui_state: &mut UiState) {
-        let Some(LoopCutTool::Slide { original, edge, new_vertices, fraction: now }) = &mut ui_state.loop_cut else {
+        let Some(LoopCutTool::Slide { original, edge, new_vertices, fraction: now, .. }) = &mut ui_state.loop_cut
+        else {
             return;
         };
         let fraction = fraction.clamp(SLIDE_MARGIN, 1.0 - SLIDE_MARGIN);
@@ -138,6 +142,22 @@ impl EditorState {
         *now = fraction;
         let moves = new_vertices.iter().map(|&v| (v, edited.mesh.position(v))).collect();
         self.edit(Edit::MoveVertices(moves));
+    }
+
+    /// Drops the tool when the cage it works on was replaced (a file opened from the menu):
+    /// a preview is made again from the new cage, a slide ends without touching it.
+    fn drop_stale_loop_cut(&mut self, ui_state: &mut UiState) {
+        let topology = self.document.doc().cage.topology_generation();
+        match &ui_state.loop_cut {
+            Some(LoopCutTool::Slide { topology: t, .. }) if *t != topology => {
+                ui_state.loop_cut = None;
+                self.document.end_gesture();
+            }
+            Some(LoopCutTool::Preview { edge: Some(e), .. }) if e.index() >= self.document.doc().cage.edge_count() => {
+                ui_state.loop_cut = Some(LoopCutTool::Preview { edge: None, lines: Vec::new(), refusal: None });
+            }
+            _ => {}
+        }
     }
 
     /// Ends the tool: keeps the cut (one undo step) or puts the document back as it was.
@@ -156,6 +176,7 @@ impl EditorState {
 
     /// The keys while the tool runs: Enter cuts (previewing) or sets (sliding), Esc cancels.
     pub(super) fn loop_cut_keys(&mut self, ctx: &egui::Context, ui_state: &mut UiState) -> bool {
+        self.drop_stale_loop_cut(ui_state);
         let Some(tool) = &ui_state.loop_cut else { return false };
         let (enter, escape) =
             ctx.input_mut(|i| (shortcuts::take_plain(i, Key::Enter), shortcuts::take_plain(i, Key::Escape)));
@@ -184,6 +205,7 @@ impl EditorState {
         mouse: Option<Vec2>,
         ui_state: &mut UiState,
     ) {
+        self.drop_stale_loop_cut(ui_state);
         let frame = self.display_frame;
         match &ui_state.loop_cut {
             Some(LoopCutTool::Preview { edge, refusal, .. }) => {

@@ -265,3 +265,30 @@ fn i_then_a_typed_or_dragged_thickness_lands_on_the_cores_inset_in_one_undo_step
     frames(&mut h);
     assert!(bits(h.state().editor.document.doc()) == bits(&before), "one undo step");
 }
+
+#[test]
+fn a_cage_replaced_under_a_gesture_ends_it_and_is_left_untouched() {
+    // G, a loop slide and an inset drag, each interrupted by a new document (File ▸ New from
+    // the menu while the gesture runs): the gesture ends and the new cage is not moved.
+    for keys in [vec![(Modifiers::NONE, Key::G)], vec![(Modifiers::COMMAND, Key::R)], vec![(Modifiers::NONE, Key::I)]] {
+        let mut h = top_face_selected();
+        h.state_mut().editor.selection.edges = vec![EdgeId(0)];
+        let at = pixel_of(&h, DVec3::new(0.3, 0.0, 0.5));
+        for (modifiers, key) in keys {
+            h.key_press_modifiers(modifiers, key);
+            frames(&mut h);
+        }
+        let ui = &h.state().ui;
+        assert!(ui.transform.is_some() || ui.loop_cut.is_some() || ui.inset_drag.is_some(), "a gesture runs");
+        let fresh = super::primitives::cube();
+        h.state_mut().editor.replace_document(super::document::EditorDocument::new(fresh.clone(), None));
+        for k in 0..3 {
+            h.hover_at(pos2(at.x + 15.0 * k as f32, at.y - 10.0 * k as f32));
+            frames(&mut h);
+        }
+        let ui = &h.state().ui;
+        assert!(ui.transform.is_none() && ui.loop_cut.is_none() && ui.inset_drag.is_none(), "the gesture ended");
+        let doc = h.state().editor.document.doc();
+        assert!(doc == &fresh && bits(doc) == bits(&fresh), "the new cage is untouched");
+    }
+}

@@ -60,6 +60,8 @@ pub struct Transform {
     pub grid_step: f64,
     /// A gizmo drag: letting go of the button confirms.
     pub release_confirms: bool,
+    /// The cage's topology when it began: another one (a file opened meanwhile) ends it.
+    pub topology: u64,
 }
 
 impl Transform {
@@ -78,6 +80,7 @@ impl Transform {
             snap: false,
             grid_step: 1.0,
             release_confirms: false,
+            topology: 0,
         }
     }
 
@@ -229,12 +232,16 @@ impl EditorState {
         let centre = self.pivot_of(&vertices);
         let mut t = Transform::new(kind, start, centre, mouse);
         t.grid_step = self.gizmo.snap.grid_step(&self.camera, &self.display_frame);
+        t.topology = cage.topology_generation();
         Some(t)
     }
 
     /// The keys while transforming: axis and plane locks, typed numbers, Enter and Esc. Nothing
     /// else runs.
     pub(super) fn transform_keys(&mut self, ctx: &egui::Context, ui_state: &mut UiState) {
+        if self.transform_is_stale(ui_state) {
+            return;
+        }
         let Some(t) = &mut ui_state.transform else { return };
         let mut finish = None;
         ctx.input_mut(|i| {
@@ -388,6 +395,18 @@ impl EditorState {
         if t.snap { snapping::snap_offset(offset, t.grid_step) } else { offset }
     }
 
+    /// Drops a transform whose cage was replaced under it (a file opened from the menu while it
+    /// ran), moving nothing; true when it did.
+    fn transform_is_stale(&mut self, ui_state: &mut UiState) -> bool {
+        let topology = self.document.doc().cage.topology_generation();
+        if ui_state.transform.as_ref().is_some_and(|t| t.topology != topology) {
+            ui_state.transform = None;
+            self.document.end_gesture();
+            return true;
+        }
+        false
+    }
+
     /// Ends the transform: keeps it (one undo step) or puts every vertex back.
     pub(super) fn finish_transform(&mut self, keep: bool, ui_state: &mut UiState) {
         let Some(t) = ui_state.transform.take() else { return };
@@ -407,6 +426,9 @@ impl EditorState {
         mouse: Option<Vec2>,
         ui_state: &mut UiState,
     ) {
+        if self.transform_is_stale(ui_state) {
+            return;
+        }
         let snap = self.gizmo.snap.active(ui.ctx().input(|i| i.modifiers.command));
         if let (Some(t), Some(m)) = (&mut ui_state.transform, mouse) {
             t.mouse_start.get_or_insert(m);
