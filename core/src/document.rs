@@ -94,7 +94,8 @@ impl Document {
 
     /// This document on an edited cage: every per-vertex and per-edge control carried along by
     /// the edit's provenance ([`crate::mesh::edit`]): what continues or copies an old element keeps
-    /// its value; made vertices are fixed with no tension, made edges smooth with no tension.
+    /// its value; made vertices are fixed with no tension (a vertex placed on an edge is fixed
+    /// only when both ends of the edge were), made edges smooth with no tension.
     /// Curve-mesh edits follow by [`crate::gregory::carry`]'s rule (see
     /// [`with_edited_cage_reported`](Self::with_edited_cage_reported) for what was dropped).
     pub fn with_edited_cage(&self, edited: crate::mesh::edit::Edited) -> Result<Document> {
@@ -110,7 +111,7 @@ impl Document {
         use crate::mesh::edit::{CarryRule, carry_edge_property, carry_vertex_property};
         let p = &edited.provenance;
         let mut doc = Document {
-            fixed: carry_vertex_property(&self.fixed, p, &CarryRule::new_elements(true))?,
+            fixed: crate::mesh::edit::carry_fixed_flags(&self.fixed, &self.cage, p)?,
             vertex_tension: carry_vertex_property(&self.vertex_tension, p, &CarryRule::new_elements(0.0))?,
             edge_tension: carry_edge_property(&self.edge_tension, p, &CarryRule::new_elements(0.0))?,
             crease: carry_edge_property(&self.crease, p, &CarryRule::new_elements(0.0))?,

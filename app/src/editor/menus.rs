@@ -20,6 +20,10 @@ const MOUSE_AND_DRAG_KEYS: &[(&str, &str)] = &[
     ("Right or middle drag", "Orbit"),
     ("Shift + right or middle drag", "Pan"),
     ("Wheel", "Zoom"),
+    ("Left drag on a gizmo handle", "Move along an arrow or in a plane, turn on a ring, scale on a cube or the centre"),
+    ("Shift+X, Y or Z while transforming", "Lock to the plane normal to that axis (again: unlock)"),
+    ("Ctrl held while transforming", "Snap to the grid step, 5° or 0.1 (the toolbar sets the steps)"),
+    ("Shift + right click", "Place the 3D cursor on the surface under the mouse"),
 ];
 
 /// A menu entry's text: its name and its first shortcut.

@@ -105,13 +105,13 @@ pub const MERGE_DISTANCE_FRACTION: f64 = 1e-3;
 pub const OFFSET_FRACTION: f64 = 0.2;
 
 /// What the selection holds for an operation, as element lists of the cage.
-struct Picked {
-    vertices: Vec<VertexId>,
-    edges: Vec<EdgeId>,
-    faces: Vec<FaceId>,
+pub(super) struct Picked {
+    pub(super) vertices: Vec<VertexId>,
+    pub(super) edges: Vec<EdgeId>,
+    pub(super) faces: Vec<FaceId>,
 }
 
-fn picked(cage: &PolyMesh, state: &EditorState) -> Picked {
+pub(super) fn picked(cage: &PolyMesh, state: &EditorState) -> Picked {
     let s = &state.selection;
     let vertices = selected_vertex_set(cage, s);
     let mut covered = vec![false; cage.vertex_count()];
@@ -135,13 +135,13 @@ fn picked(cage: &PolyMesh, state: &EditorState) -> Picked {
     Picked { vertices, edges, faces }
 }
 
-fn mean_edge_length(cage: &PolyMesh, edges: &[EdgeId]) -> f64 {
+pub(super) fn mean_edge_length(cage: &PolyMesh, edges: &[EdgeId]) -> f64 {
     let n = edges.len().max(1) as f64;
     let mean = edges.iter().map(|&e| cage.edge_length(e)).sum::<f64>() / n;
     if mean.is_finite() && mean > 0.0 { mean } else { 0.1 * cage.bounding_diagonal().max(1e-9) }
 }
 
-fn face_edges(cage: &PolyMesh, faces: &[FaceId]) -> Vec<EdgeId> {
+pub(super) fn face_edges(cage: &PolyMesh, faces: &[FaceId]) -> Vec<EdgeId> {
     faces.iter().flat_map(|&f| cage.face_halfedges(f).map(|h| h.edge())).collect()
 }
 

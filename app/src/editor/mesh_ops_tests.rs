@@ -45,6 +45,9 @@ fn check_key(mut h: Harness<'static, App>, modifiers: Modifiers, key: Key, expec
     let before = h.state().editor.document.doc().clone();
     h.key_press_modifiers(modifiers, key);
     frames(&mut h);
+    // E goes on to move what it lifted, Ctrl+R to slide the loop: Enter sets them where they are.
+    h.key_press(Key::Enter);
+    frames(&mut h);
     assert_eq!(h.state().editor.notice.as_ref().filter(|n| n.is_error), None, "{key:?} was refused");
     assert_eq!(counts(&h), expected, "{key:?}");
     let after = h.state().editor.document.doc().clone();

@@ -15,23 +15,34 @@ mod curves_viewport;
 #[cfg(test)]
 mod defect_tests;
 pub mod document;
+mod extrude_move;
 pub mod files;
+pub mod gizmo;
+#[cfg(test)]
+mod gizmo_tests;
+pub mod inset_drag;
 pub mod interaction;
 pub mod live;
+pub mod loop_slide;
 pub mod menus;
 pub mod mesh_ops;
 #[cfg(test)]
 mod mesh_ops_tests;
+#[cfg(test)]
+mod modelling_gesture_tests;
 pub mod new_primitive;
 #[cfg(test)]
 mod panel_tests;
 mod panels;
+pub mod pivot;
 pub mod primitives;
 #[cfg(test)]
 mod scheme_tests;
 pub mod select_modes;
 pub mod shortcuts;
+pub mod snapping;
 pub mod state;
+mod toolbar;
 pub mod transform;
 pub mod ui;
 mod viewport;

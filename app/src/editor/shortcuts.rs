@@ -40,6 +40,10 @@ pub enum Action {
     Mesh(MeshOp),
     /// G, R, S: move, rotate or scale the selection.
     Transform(TransformKind),
+    /// W: show or hide the transform gizmo.
+    ToggleGizmo,
+    /// Shift+S: the next pivot.
+    CyclePivot,
 }
 
 impl Action {
@@ -59,6 +63,8 @@ impl Action {
                 | Action::SelectLess
                 | Action::Mesh(_)
                 | Action::Transform(_)
+                | Action::ToggleGizmo
+                | Action::CyclePivot
         )
     }
 }
@@ -125,6 +131,8 @@ pub const SHORTCUTS: &[Shortcut] = &[
     plain(Key::G, Action::Transform(TransformKind::Grab)),
     plain(Key::R, Action::Transform(TransformKind::Rotate)),
     plain(Key::S, Action::Transform(TransformKind::Scale)),
+    plain(Key::W, Action::ToggleGizmo),
+    shift(Key::S, Action::CyclePivot),
 ];
 
 impl Shortcut {
@@ -199,9 +207,17 @@ pub fn describe(action: Action) -> &'static str {
         Action::SelectMore => "Select more (one ring of neighbours)",
         Action::SelectLess => "Select less",
         Action::Mesh(op) => op.label(),
-        Action::Transform(TransformKind::Grab) => "Move the selection (X, Y, Z lock, type a distance, Enter sets)",
-        Action::Transform(TransformKind::Rotate) => "Rotate the selection (X, Y, Z axis, type degrees, Enter sets)",
-        Action::Transform(TransformKind::Scale) => "Scale the selection (X, Y, Z axis, type a factor, Enter sets)",
+        Action::Transform(TransformKind::Grab) => {
+            "Move the selection (X, Y, Z lock an axis, Shift+X, Y, Z a plane, Ctrl snaps, type a distance)"
+        }
+        Action::Transform(TransformKind::Rotate) => {
+            "Rotate the selection about the pivot (X, Y, Z axis, Ctrl snaps to 5°, type degrees)"
+        }
+        Action::Transform(TransformKind::Scale) => {
+            "Scale the selection about the pivot (X, Y, Z axis, Shift+X, Y, Z a plane, Ctrl snaps, type a factor)"
+        }
+        Action::ToggleGizmo => "Show or hide the transform gizmo",
+        Action::CyclePivot => "Pivot: median, bounding box, 3D cursor, active vertex in turn",
     }
 }
 

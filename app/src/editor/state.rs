@@ -180,6 +180,8 @@ pub struct EditorState {
     pub cage: super::cage_from_mesh::CageFromMesh,
     /// The curve-mesh selection and overlays ([`super::curve_mesh_edit`]).
     pub curve_mesh: super::curve_mesh_edit::CurveMeshEditing,
+    /// The transform gizmo, pivot, snapping and 3D cursor ([`super::gizmo`]).
+    pub gizmo: super::gizmo::GizmoSettings,
 }
 
 impl EditorState {
@@ -207,6 +209,7 @@ impl EditorState {
             curves: Default::default(),
             cage: Default::default(),
             curve_mesh: Default::default(),
+            gizmo: Default::default(),
         };
         state.load_curves_view();
         state.frame_all();

@@ -1,18 +1,25 @@
 //! G, R and S as in Blender: grab (move), rotate and scale the selected cage vertices about
-//! their median centre. The mouse drives it (grab: in the view plane, or along a locked axis as
-//! a drag does; rotate: the angle the cursor turns about the centre on screen; scale: the ratio
-//! of the cursor's distances from the centre on screen); X, Y or Z locks an axis (again:
-//! unlocks); typed numbers (digits, '.', '-', Backspace) give the exact distance, angle in
-//! degrees or factor; Enter or a click confirms, Esc or a right click cancels. The whole
-//! transform is one undo step (one gesture).
+//! the pivot ([`super::pivot`]: median centre, bounding-box centre, 3D cursor or active vertex).
+//! The mouse drives it (grab: in the view plane, along a locked axis as a drag does, or in a
+//! locked plane; rotate: the angle the cursor turns about the pivot on screen; scale: the ratio
+//! of the cursor's distances from the pivot on screen); X, Y or Z locks an axis, Shift+X, Y or Z
+//! the plane normal to it (move or scale in the other two; again: unlocks); Ctrl held (or the
+//! toolbar's snap toggle) snaps ([`super::snapping`]); typed numbers (digits, '.', '-',
+//! Backspace) give the exact distance, angle in degrees or factor, never snapped; Enter or a
+//! click confirms, Esc or a right click cancels. The whole transform is one undo step (one
+//! gesture). The on-screen gizmo ([`super::gizmo`]) starts the same transform with its lock set.
 //!
-//! Typed values without an axis: grab moves along X, rotate turns about Z, scale scales evenly.
-//! Weak where Blender does more: no plane locks (Shift+X), no pivot other than the median
-//! centre, no snapping and no on-screen gizmo yet.
+//! Typed values without an axis: grab moves along X (with a plane lock, along the first free
+//! axis), rotate turns about Z (with a lock, about the locked axis), scale scales evenly (with a
+//! plane lock, in the plane). The mouse without a lock rotates about the view axis, as Blender.
+//! A lock keeps the coordinates it locks bit for bit (a move adds exactly zero to them, a scale
+//! or a rotation about a world axis copies them). Weak where Blender does more: no snapping to
+//! other vertices, no Tab between the axes of a typed plane move.
 
 use super::document::Edit;
 use super::interaction::{self, Axis, ViewportRect};
 use super::shortcuts;
+use super::snapping;
 use super::state::EditorState;
 use super::ui::UiState;
 use egui::Key;
@@ -34,71 +41,218 @@ pub struct Transform {
     pub kind: TransformKind,
     /// The vertices and where they were, in model coordinates.
     pub start: Vec<(VertexId, DVec3)>,
+    /// The pivot.
     pub centre: DVec3,
     /// The pointer when the transform began (the first position seen).
     pub mouse_start: Option<Vec2>,
     pub mouse_now: Option<Vec2>,
     pub axis: Option<Axis>,
+    /// Shift+X/Y/Z: the plane normal to this axis (grab, scale); rotate turns about it.
+    pub plane: Option<Axis>,
+    /// A lock along any unit direction in model coordinates (extrude's normal, the gizmo's view
+    /// ring); X, Y, Z or a plane lock replaces it.
+    pub direction: Option<DVec3>,
     /// What has been typed.
     pub typed: String,
+    /// Snap to increments this frame (Ctrl held, or the toolbar's toggle).
+    pub snap: bool,
+    /// The grid step of a snapped move, in model units (fixed when the transform began).
+    pub grid_step: f64,
+    /// A gizmo drag: letting go of the button confirms.
+    pub release_confirms: bool,
+    /// The cage's topology when it began: another one (a file opened meanwhile) ends it.
+    pub topology: u64,
+}
+
+impl Transform {
+    /// A transform of `start` about `centre` with no lock.
+    pub fn new(kind: TransformKind, start: Vec<(VertexId, DVec3)>, centre: DVec3, mouse: Option<Vec2>) -> Self {
+        Transform {
+            kind,
+            start,
+            centre,
+            mouse_start: mouse,
+            mouse_now: mouse,
+            axis: None,
+            plane: None,
+            direction: None,
+            typed: String::new(),
+            snap: false,
+            grid_step: 1.0,
+            release_confirms: false,
+            topology: 0,
+        }
+    }
+
+    /// The world axis a rotation turns about, or the locked direction; `None`: the view axis.
+    fn rotation_axis(&self) -> Option<DVec3> {
+        self.direction.or(self.axis.or(self.plane).map(Axis::direction))
+    }
+
+    /// What the status line says of the lock.
+    pub fn lock_text(&self) -> String {
+        match (self.direction, self.axis, self.plane) {
+            (Some(_), ..) => match self.kind {
+                TransformKind::Rotate => "about the view axis".to_string(),
+                _ => "along the normal".to_string(),
+            },
+            (None, Some(a), _) if self.kind == TransformKind::Rotate => format!("about {a:?}"),
+            (None, Some(a), _) => format!("along {a:?}"),
+            (None, None, Some(a)) if self.kind == TransformKind::Rotate => format!("about {a:?}"),
+            (None, None, Some(a)) => format!("in the plane normal to {a:?} ({a:?} locked)"),
+            (None, None, None) => "free".to_string(),
+        }
+    }
+}
+
+/// The other two axes of a plane lock, in x, y, z order.
+fn free_axes(plane: Axis) -> [Axis; 2] {
+    match plane {
+        Axis::X => [Axis::Y, Axis::Z],
+        Axis::Y => [Axis::X, Axis::Z],
+        Axis::Z => [Axis::X, Axis::Y],
+    }
+}
+
+fn component(axis: Axis) -> usize {
+    match axis {
+        Axis::X => 0,
+        Axis::Y => 1,
+        Axis::Z => 2,
+    }
 }
 
 /// Where the vertices go for a typed `value` (a distance, degrees or a factor).
 pub fn typed_positions(t: &Transform, value: f64) -> Vec<(VertexId, DVec3)> {
-    let c = t.centre;
     match t.kind {
         TransformKind::Grab => {
-            let offset = t.axis.unwrap_or(Axis::X).direction() * value;
-            t.start.iter().map(|&(v, p)| (v, p + offset)).collect()
+            let direction = match (t.direction, t.axis, t.plane) {
+                (Some(d), ..) => d,
+                (None, Some(a), _) => a.direction(),
+                (None, None, Some(p)) => free_axes(p)[0].direction(),
+                (None, None, None) => DVec3::X,
+            };
+            moved(t, direction * value)
         }
-        TransformKind::Rotate => {
-            let turn = DMat3::from_axis_angle(t.axis.unwrap_or(Axis::Z).direction(), value.to_radians());
-            t.start.iter().map(|&(v, p)| (v, c + turn * (p - c))).collect()
-        }
+        TransformKind::Rotate => rotated(t, t.rotation_axis().unwrap_or(DVec3::Z), value),
         TransformKind::Scale => scaled(t, value),
     }
 }
 
+/// The start positions moved by `offset` (a zero component leaves that coordinate's bits).
+fn moved(t: &Transform, offset: DVec3) -> Vec<(VertexId, DVec3)> {
+    t.start.iter().map(|&(v, p)| (v, p + offset)).collect()
+}
+
+/// Turned by `degrees` about the unit `axis` through the pivot; about a world axis, the
+/// coordinate along it is copied.
+fn rotated(t: &Transform, axis: DVec3, degrees: f64) -> Vec<(VertexId, DVec3)> {
+    let c = t.centre;
+    let turn = DMat3::from_axis_angle(axis, degrees.to_radians());
+    let world = [Axis::X, Axis::Y, Axis::Z].into_iter().find(|a| a.direction() == axis);
+    t.start
+        .iter()
+        .map(|&(v, p)| {
+            let mut q = c + turn * (p - c);
+            if let Some(a) = world {
+                q[component(a)] = p[component(a)];
+            }
+            (v, q)
+        })
+        .collect()
+}
+
 fn scaled(t: &Transform, factor: f64) -> Vec<(VertexId, DVec3)> {
     let c = t.centre;
-    let k = match t.axis {
-        None => DVec3::splat(factor),
-        Some(a) => DVec3::ONE + (factor - 1.0) * a.direction(),
+    if let Some(d) = t.direction {
+        // Along a direction: p + (f − 1)·((p − c)·d)·d.
+        return t.start.iter().map(|&(v, p)| (v, p + (factor - 1.0) * (p - c).dot(d) * d)).collect();
+    }
+    let k = match (t.axis, t.plane) {
+        (Some(a), _) => {
+            let mut k = [1.0; 3];
+            k[component(a)] = factor;
+            k
+        }
+        (None, Some(p)) => {
+            let mut k = [factor; 3];
+            k[component(p)] = 1.0;
+            k
+        }
+        (None, None) => [factor; 3],
     };
-    t.start.iter().map(|&(v, p)| (v, c + k * (p - c))).collect()
+    t.start
+        .iter()
+        .map(|&(v, p)| {
+            let mut q = p;
+            for i in 0..3 {
+                // A factor of one copies the coordinate, so a lock keeps its bits.
+                if k[i] != 1.0 {
+                    q[i] = c[i] + k[i] * (p[i] - c[i]);
+                }
+            }
+            (v, q)
+        })
+        .collect()
+}
+
+/// Presses of `key` with Shift only (the plane locks), consumed.
+fn take_shifted(input: &mut egui::InputState, key: Key) -> bool {
+    let mut found = false;
+    input.events.retain(|event| match event {
+        egui::Event::Key { key: k, pressed: true, modifiers, .. }
+            if *k == key && modifiers.shift && !modifiers.command && !modifiers.alt =>
+        {
+            found = true;
+            false
+        }
+        _ => true,
+    });
+    found
 }
 
 impl EditorState {
     /// Starts G, R or S on the selection; a message when nothing is selected.
     pub(super) fn start_transform(&mut self, kind: TransformKind, ui_state: &mut UiState) {
-        let cage = &self.document.doc().cage;
-        let start: Vec<(VertexId, DVec3)> =
-            self.selected_vertices_with_edge_ends().into_iter().map(|v| (v, cage.position(v))).collect();
-        if start.is_empty() {
-            self.notify("select the cage vertices, edges or faces to transform first", true);
-            return;
+        if let Some(t) = self.new_transform(kind, ui_state.pointer) {
+            self.document.begin_gesture();
+            ui_state.transform = Some(t);
         }
-        let centre = start.iter().map(|&(_, p)| p).sum::<DVec3>() / start.len() as f64;
-        self.document.begin_gesture();
-        ui_state.transform = Some(Transform {
-            kind,
-            start,
-            centre,
-            mouse_start: ui_state.pointer,
-            mouse_now: ui_state.pointer,
-            axis: None,
-            typed: String::new(),
-        });
     }
 
-    /// The keys while transforming: axis locks, typed numbers, Enter and Esc. Nothing else runs.
+    /// A transform of the selection about the pivot, or a message when nothing is selected.
+    pub(super) fn new_transform(&mut self, kind: TransformKind, mouse: Option<Vec2>) -> Option<Transform> {
+        let cage = &self.document.doc().cage;
+        let vertices = self.selected_vertices_with_edge_ends();
+        let start: Vec<(VertexId, DVec3)> = vertices.iter().map(|&v| (v, cage.position(v))).collect();
+        if start.is_empty() {
+            self.notify("select the cage vertices, edges or faces to transform first", true);
+            return None;
+        }
+        let centre = self.pivot_of(&vertices);
+        let mut t = Transform::new(kind, start, centre, mouse);
+        t.grid_step = self.gizmo.snap.grid_step(&self.camera, &self.display_frame);
+        t.topology = cage.topology_generation();
+        Some(t)
+    }
+
+    /// The keys while transforming: axis and plane locks, typed numbers, Enter and Esc. Nothing
+    /// else runs.
     pub(super) fn transform_keys(&mut self, ctx: &egui::Context, ui_state: &mut UiState) {
+        if self.transform_is_stale(ui_state) {
+            return;
+        }
         let Some(t) = &mut ui_state.transform else { return };
         let mut finish = None;
         ctx.input_mut(|i| {
             for (key, axis) in [(Key::X, Axis::X), (Key::Y, Axis::Y), (Key::Z, Axis::Z)] {
                 if shortcuts::take_plain(i, key) {
-                    t.axis = if t.axis == Some(axis) { None } else { Some(axis) };
+                    t.axis = if t.axis == Some(axis) && t.direction.is_none() { None } else { Some(axis) };
+                    (t.plane, t.direction) = (None, None);
+                }
+                if take_shifted(i, key) {
+                    t.plane = if t.plane == Some(axis) && t.direction.is_none() { None } else { Some(axis) };
+                    (t.axis, t.direction) = (None, None);
                 }
             }
             let digits = [
@@ -154,17 +308,18 @@ impl EditorState {
 
     fn mouse_positions(&self, t: &Transform, view: &ViewportRect, from: Vec2, to: Vec2) -> Vec<(VertexId, DVec3)> {
         let frame = self.display_frame;
+        let snap = &self.gizmo.snap;
         match t.kind {
             TransformKind::Grab => {
-                let start: Vec<(VertexId, DVec3)> =
-                    t.start.iter().map(|&(v, p)| (v, frame.to_display_f64(p))).collect();
-                interaction::drag_positions(&self.camera, view, &start, from, to, t.axis)
-                    .into_iter()
-                    .map(|(v, p)| (v, frame.to_model(p)))
-                    .collect()
+                let offset = self.grab_offset(t, view, from, to);
+                if !offset.is_finite() {
+                    return t.start.clone();
+                }
+                moved(t, offset)
             }
             TransformKind::Rotate | TransformKind::Scale => {
-                let Some((c, _)) = interaction::project(&self.camera, view, frame.to_display_f64(t.centre)) else {
+                let centre = frame.to_display_f64(t.centre);
+                let Some((c, _)) = interaction::project(&self.camera, view, centre) else {
                     return t.start.clone();
                 };
                 let (a, b) = (from - c, to - c);
@@ -172,14 +327,84 @@ impl EditorState {
                     return t.start.clone();
                 }
                 if t.kind == TransformKind::Scale {
-                    scaled(t, f64::from(b.length() / a.length()))
+                    let factor = f64::from(b.length() / a.length());
+                    let factor = if t.snap { snapping::to_multiple(factor, snap.scale) } else { factor };
+                    scaled(t, factor)
                 } else {
-                    // Screen y runs down: a counter-clockwise turn on screen is a negative perp.
-                    let degrees = f64::from(-a.perp_dot(b).atan2(a.dot(b))).to_degrees();
-                    typed_positions(t, degrees)
+                    // Screen y runs down: a counter-clockwise turn on screen is a negative perp,
+                    // and counter-clockwise about an axis that points at the viewer.
+                    let screen = f64::from(-a.perp_dot(b).atan2(a.dot(b))).to_degrees();
+                    let towards_viewer = (self.camera.eye().as_dvec3() - centre).normalize();
+                    let axis = t.rotation_axis().unwrap_or(towards_viewer);
+                    let degrees = if axis.dot(towards_viewer) < 0.0 { -screen } else { screen };
+                    let degrees = if t.snap { snapping::to_multiple(degrees, snap.degrees) } else { degrees };
+                    rotated(t, axis, degrees)
                 }
             }
         }
+    }
+
+    /// A grab's offset in model coordinates for the mouse going from `from` to `to`, locked and
+    /// snapped as the transform says.
+    fn grab_offset(&self, t: &Transform, view: &ViewportRect, from: Vec2, to: Vec2) -> DVec3 {
+        let frame = self.display_frame;
+        let centroid = t.start.iter().map(|&(_, p)| frame.to_display_f64(p)).sum::<DVec3>() / t.start.len() as f64;
+        let anchor = [(VertexId(0), centroid)];
+        let view_plane = |axis: Option<Axis>| {
+            interaction::drag_positions(&self.camera, view, &anchor, from, to, axis)[0].1 - centroid
+        };
+        let limit = 100.0 * f64::from(self.camera.distance);
+        let ray = |m: Vec2| interaction::unproject_ray(&self.camera, view, m);
+        let display = match (t.direction, t.axis, t.plane) {
+            (Some(d), ..) => {
+                let param = |m: Vec2| {
+                    let (o, r) = ray(m);
+                    let w = centroid - o;
+                    let b = d.dot(r);
+                    let den = 1.0 - b * b;
+                    (den > 1e-9).then(|| (b * r.dot(w) - d.dot(w)) / den)
+                };
+                let s = match (param(from), param(to)) {
+                    (Some(a), Some(b)) => (b - a).clamp(-limit, limit),
+                    _ => 0.0,
+                };
+                let s = frame.scale * s;
+                let s = if t.snap { snapping::to_multiple(s, t.grid_step) } else { s };
+                return d * s;
+            }
+            (None, Some(a), _) => view_plane(Some(a)),
+            (None, None, Some(p)) => {
+                let n = p.direction();
+                let hit = |m: Vec2| {
+                    let (o, r) = ray(m);
+                    let along = r.dot(n);
+                    let t = (centroid - o).dot(n) / along;
+                    (along.abs() > 0.02 && t > 0.0).then(|| o + t * r)
+                };
+                let mut offset = match (hit(from), hit(to)) {
+                    (Some(a), Some(b)) if (b - a).length() <= limit => b - a,
+                    // The plane is seen edge on: follow the view plane within it.
+                    _ => view_plane(None),
+                };
+                offset[component(p)] = 0.0;
+                offset
+            }
+            (None, None, None) => view_plane(None),
+        };
+        let offset = display * frame.scale;
+        if t.snap { snapping::snap_offset(offset, t.grid_step) } else { offset }
+    }
+
+    /// Drops a transform whose cage was replaced under it (a file opened from the menu while it
+    /// ran), moving nothing; true when it did.
+    fn transform_is_stale(&mut self, ui_state: &mut UiState) -> bool {
+        let topology = self.document.doc().cage.topology_generation();
+        if ui_state.transform.as_ref().is_some_and(|t| t.topology != topology) {
+            ui_state.transform = None;
+            self.document.end_gesture();
+            return true;
+        }
+        false
     }
 
     /// Ends the transform: keeps it (one undo step) or puts every vertex back.
@@ -191,8 +416,8 @@ impl EditorState {
         self.document.end_gesture();
     }
 
-    /// The viewport while transforming: the mouse drives it, a click confirms, a right click
-    /// cancels, and a line of text says what is happening.
+    /// The viewport while transforming: the mouse drives it, a click confirms (a gizmo drag: the
+    /// release), a right click cancels, and a line of text says what is happening.
     pub(super) fn transform_viewport(
         &mut self,
         ui: &egui::Ui,
@@ -201,30 +426,48 @@ impl EditorState {
         mouse: Option<Vec2>,
         ui_state: &mut UiState,
     ) {
+        if self.transform_is_stale(ui_state) {
+            return;
+        }
+        let snap = self.gizmo.snap.active(ui.ctx().input(|i| i.modifiers.command));
         if let (Some(t), Some(m)) = (&mut ui_state.transform, mouse) {
             t.mouse_start.get_or_insert(m);
-            if t.mouse_now != Some(m) {
+            if t.mouse_now != Some(m) || t.snap != snap {
                 t.mouse_now = Some(m);
+                t.snap = snap;
                 self.update_transform(Some(view), ui_state);
             }
         }
-        if response.clicked_by(egui::PointerButton::Primary) {
+        let release = ui_state.transform.as_ref().is_some_and(|t| t.release_confirms);
+        let released = release && ui.ctx().input(|i| i.pointer.primary_released());
+        if released || response.clicked_by(egui::PointerButton::Primary) {
             self.finish_transform(true, ui_state);
         } else if response.clicked_by(egui::PointerButton::Secondary) {
             self.finish_transform(false, ui_state);
         }
+        let painter = ui.painter();
+        self.draw_gizmo(painter, view, ui_state);
         if let Some(t) = &ui_state.transform {
             let what = match t.kind {
                 TransformKind::Grab => "move",
                 TransformKind::Rotate => "rotate (degrees)",
                 TransformKind::Scale => "scale",
             };
-            let axis = t.axis.map_or("free".to_string(), |a| format!("along {a:?}"));
+            let lock = t.lock_text();
             let typed = if t.typed.is_empty() { String::new() } else { format!(" {}", t.typed) };
-            ui.painter().text(
+            let snapping = match (t.snap, t.kind) {
+                (false, _) => String::new(),
+                (true, TransformKind::Grab) => format!(", snap {}", t.grid_step),
+                (true, TransformKind::Rotate) => format!(", snap {}°", self.gizmo.snap.degrees),
+                (true, TransformKind::Scale) => format!(", snap {}", self.gizmo.snap.scale),
+            };
+            painter.text(
                 response.rect.left_top() + egui::vec2(8.0, 8.0),
                 egui::Align2::LEFT_TOP,
-                format!("{what} {axis}{typed}: X, Y, Z lock an axis, type a value, Enter or click sets, Esc cancels"),
+                format!(
+                    "{what} {lock}{typed}{snapping}: X, Y, Z lock an axis, Shift+X, Y, Z a plane, Ctrl snaps, \
+                     type a value, Enter or click sets, Esc cancels"
+                ),
                 egui::FontId::proportional(14.0),
                 egui::Color32::WHITE,
             );

@@ -129,6 +129,10 @@ pub struct UiState {
     pub(super) new_primitive: Option<super::new_primitive::NewPrimitive>,
     /// G, R or S under way.
     pub(super) transform: Option<super::transform::Transform>,
+    /// Ctrl+R: the loop cut's preview or slide.
+    pub(super) loop_cut: Option<super::loop_slide::LoopCutTool>,
+    /// I: the inset's thickness following the mouse.
+    pub(super) inset_drag: Option<super::inset_drag::InsetDrag>,
 }
 
 /// A crease being set with the mouse (Shift+E, as in Blender).
@@ -156,6 +160,9 @@ impl EditorState {
             egui::MenuBar::new().ui(ui, |ui| {
                 self.menu(ui, ui_state);
                 self.workspace_switch(ui);
+                if self.curves.workspace == taut_core::curve::Workspace::Surface {
+                    self.transform_toolbar(ui);
+                }
             });
         });
         if self.curves.workspace == taut_core::curve::Workspace::Curves {
@@ -208,6 +215,9 @@ impl EditorState {
             } else if escape {
                 self.finish_crease_drag(ui_state, false);
             }
+            return;
+        }
+        if self.loop_cut_keys(ctx, ui_state) || self.inset_keys(ctx, ui_state) {
             return;
         }
         if self.curve_mesh_drag_keys(ctx, ui_state) {
@@ -288,8 +298,13 @@ impl EditorState {
             Action::SelectLinked => select_modes::select_linked(&self.document.doc().cage, &mut self.selection),
             Action::SelectMore => select_modes::select_more(&self.document.doc().cage, &mut self.selection),
             Action::SelectLess => select_modes::select_less(&self.document.doc().cage, &mut self.selection),
+            Action::Mesh(super::mesh_ops::MeshOp::Extrude) => self.extrude_and_move(ui_state),
+            Action::Mesh(super::mesh_ops::MeshOp::LoopCut) => self.start_loop_cut(ui_state),
+            Action::Mesh(super::mesh_ops::MeshOp::Inset) => self.inset_and_drag(ui_state),
             Action::Mesh(op) => self.mesh_op(op),
             Action::Transform(kind) => self.start_transform(kind, ui_state),
+            Action::ToggleGizmo => self.toggle_gizmo(),
+            Action::CyclePivot => self.cycle_pivot(),
         }
     }
 

@@ -98,10 +98,22 @@ impl EditorState {
             }
         }
 
+        if ui_state.loop_cut.is_some() {
+            self.loop_cut_viewport(ui, &response, &view, mouse, ui_state);
+            return;
+        }
+        if ui_state.inset_drag.is_some() {
+            self.inset_viewport(ui, &response, &view, mouse, ui_state);
+            return;
+        }
         if self.curve_mesh_viewport(ui, &response, &view, mouse, ui_state) {
             if self.busy() {
                 ui.ctx().request_repaint();
             }
+            return;
+        }
+
+        if self.gizmo_viewport(ui, &response, &view, mouse, ui_state) {
             return;
         }
 
@@ -184,6 +196,7 @@ impl EditorState {
                 egui::Color32::WHITE,
             );
         }
+        self.draw_gizmo(&painter, &view, ui_state);
         if self.busy() {
             ui.ctx().request_repaint();
         }

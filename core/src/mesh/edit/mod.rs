@@ -4,7 +4,7 @@
 //! Every edit is a free function that takes the cage (`&PolyMesh`, never changed) and returns an
 //! [`Edited`]: a new, valid mesh and the [`Provenance`] of each of its vertices, edges and faces,
 //! or a one-line error saying what was refused and why, naming the element. The document carries
-//! fixed flags, tensions and crease sharpness across an edit with [`carry_vertex_property`],
+//! fixed flags, tensions and crease sharpness across an edit with [`carry_fixed_flags`], [`carry_vertex_property`],
 //! [`carry_edge_property`] and [`carry_face_property`], by the one rule in [`provenance`].
 //!
 //! | file | edits |
@@ -66,7 +66,7 @@ pub use mirror::{
 pub use orient::flip_normals;
 pub use provenance::{
     CarryRule, EdgeOrigin, FaceOrigin, Provenance, VertexOrigin, carry_edge_property, carry_face_property,
-    carry_vertex_property,
+    carry_fixed_flags, carry_vertex_property,
 };
 pub use split::{connect_vertices, split_edges};
 pub use triangulate::{Triangulation, triangulate};

@@ -18,10 +18,15 @@
 //!   merge, or the lowest old index where the merge has no order).
 //! - An element **made** by the edit takes the rule's value for new elements
 //!   ([`CarryRule::new`]): a vertex placed on an old edge ([`VertexOrigin::OnEdge`], loop cut
-//!   and split: the house rule makes it fixed, with no tension), an edge across an old face
+//!   and split: no tension; its fixed flag by [`carry_fixed_flags`], below), an edge across an old face
 //!   ([`EdgeOrigin::InFace`]: smooth, no tension), the side edge an extrusion sweeps from a
 //!   vertex ([`EdgeOrigin::SweptFrom`]), the wall an extrusion sweeps from an edge
 //!   ([`FaceOrigin::SweptFrom`]), and what a fill makes from nothing (`New`).
+//!
+//! - A vertex placed on an old edge is **fixed only when both ends of that edge were fixed**
+//!   ([`carry_fixed_flags`]): a loop cut through a free (approximated) region stays free, so
+//!   the surface there keeps its shape instead of being pinned to the new cage points, and a cut
+//!   between fixed points interpolates as its neighbours do. Every other made vertex is fixed.
 //!
 //! The task that asked for this rule said "new vertices are fixed"; copies made by extrude,
 //! inset and mirror are read here as continuing their source (they keep its fixed flag and
@@ -170,6 +175,34 @@ pub fn carry_face_property<T: Clone>(old: &[T], provenance: &Provenance, rule: &
     carry(old, provenance.old_counts.2, "face", &provenance.faces, |o| o.source().map(FaceId::index), rule)
 }
 
+/// The fixed flags of the edited cage: carried as [`carry_vertex_property`] carries them, with
+/// made vertices fixed, except that a vertex placed on an old edge ([`VertexOrigin::OnEdge`]) is
+/// fixed only when both ends of that edge were (`old_mesh` is the cage before the edit).
+pub fn carry_fixed_flags(old: &[bool], old_mesh: &crate::mesh::PolyMesh, provenance: &Provenance) -> Result<Vec<bool>> {
+    let mut fixed = carry_vertex_property(old, provenance, &CarryRule::new_elements(true))?;
+    if old_mesh.vertex_count() != old.len() {
+        return Err(Error::Input(format!(
+            "the cage had {} vertices but {} fixed flags were given to carry over",
+            old_mesh.vertex_count(),
+            old.len()
+        )));
+    }
+    for (flag, origin) in fixed.iter_mut().zip(&provenance.vertices) {
+        if let VertexOrigin::OnEdge { edge, .. } = *origin {
+            if edge.index() >= old_mesh.edge_count() {
+                return Err(Error::Input(format!(
+                    "edit provenance names old edge {}, but the cage had only {}",
+                    edge.0,
+                    old_mesh.edge_count()
+                )));
+            }
+            let (a, b) = old_mesh.edge_vertices(edge);
+            *flag = old[a.index()] && old[b.index()];
+        }
+    }
+    Ok(fixed)
+}
+
 fn carry<T: Clone, O: Copy>(
     old: &[T],
     expected: usize,
@@ -221,6 +254,43 @@ mod tests {
         assert_eq!(tension, vec![2.0, 0.0, 0.25]);
         let names = carry_face_property(&["a"], &p, &CarryRule::new_elements("-")).unwrap();
         assert_eq!(names, vec!["-", "a"]);
+    }
+
+    #[test]
+    fn a_vertex_on_an_edge_is_fixed_only_when_both_ends_are() {
+        use crate::mesh::edit::loop_cut;
+        let cube = crate::PolyMesh::from_polygons(
+            (0..8).map(|i| glam::DVec3::new((i & 1) as f64, ((i >> 1) & 1) as f64, (i >> 2) as f64)).collect(),
+            &[
+                vec![0, 2, 3, 1],
+                vec![4, 5, 7, 6],
+                vec![0, 1, 5, 4],
+                vec![2, 6, 7, 3],
+                vec![0, 4, 6, 2],
+                vec![1, 3, 7, 5],
+            ],
+        )
+        .unwrap();
+        // Free vertex 0 only: the cut ring of an edge at it puts new vertices on four edges.
+        let mut old = vec![true; 8];
+        old[0] = false;
+        for e in cube.edges() {
+            let edited = loop_cut(&cube, e, 0.5).unwrap();
+            let fixed = carry_fixed_flags(&old, &cube, &edited.provenance).unwrap();
+            for (v, origin) in edited.provenance.vertices.iter().enumerate() {
+                let expected = match *origin {
+                    VertexOrigin::OnEdge { edge, .. } => {
+                        let (a, b) = cube.edge_vertices(edge);
+                        a.0 != 0 && b.0 != 0
+                    }
+                    VertexOrigin::Same(w) => w.0 != 0,
+                    other => panic!("a loop cut made {other:?}"),
+                };
+                assert_eq!(fixed[v], expected, "vertex {v} ({origin:?}) after cutting across {e:?}");
+            }
+        }
+        let err = carry_fixed_flags(&old[..7], &cube, &loop_cut(&cube, EdgeId(0), 0.5).unwrap().provenance);
+        assert!(err.is_err());
     }
 
     #[test]
