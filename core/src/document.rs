@@ -14,6 +14,7 @@
 //!
 //! The optional key `curves` holds the Curves workspace's curves, segments and Coons patches
 //! ([`CurveSet`]); it is written only when there are some, so files without curves are as before.
+//! The optional key `mirror` holds the mirror option ([`crate::symmetry`]), absent when off.
 
 use crate::curve::CurveSet;
 use crate::curve::set::CurvesFile;
@@ -56,6 +57,8 @@ pub struct Document {
     pub curve_mesh: CurveMeshEdits,
     /// The last curve mesh built for this document or a clone of it.
     pub(crate) curve_cache: CurveMeshCache,
+    /// The mirror option: the plane the cage is modelled symmetric about ([`crate::symmetry`]).
+    pub mirror: Option<crate::mesh::edit::MirrorPlane>,
 }
 
 impl Document {
@@ -75,6 +78,7 @@ impl Document {
             curves: CurveSet::default(),
             curve_mesh: CurveMeshEdits::default(),
             curve_cache: CurveMeshCache::default(),
+            mirror: None,
         }
     }
 
@@ -121,6 +125,7 @@ impl Document {
             curves: self.curves.clone(),
             curve_mesh: CurveMeshEdits::default(),
             curve_cache: CurveMeshCache::default(),
+            mirror: self.mirror,
         };
         let carried = doc.carry_curve_mesh_edits(self, Some(p))?;
         doc.validate()?;
@@ -219,6 +224,7 @@ impl Document {
         self.settings.validate()?;
         self.subdiv.validate()?;
         self.curves.validate()?;
+        Document::check_mirror(self.mirror)?;
         self.check_curve_mesh_edits()
     }
 
@@ -254,6 +260,7 @@ impl Document {
             subdivision: Some(self.subdiv),
             curves: self.curves.to_file(),
             curve_mesh: (!self.curve_mesh.is_empty()).then(|| self.curve_mesh.clone()),
+            mirror: self.mirror.map(Into::into),
         };
         serde_json::to_string_pretty(&file).expect("a document always serialises")
     }
@@ -321,6 +328,7 @@ impl Document {
             doc.set_crease(VertexId(a), VertexId(b), s).map_err(|e| Error::format(origin, e.to_string()))?;
         }
         doc.curve_mesh = file.curve_mesh.unwrap_or_default().normalized();
+        doc.mirror = file.mirror.map(Into::into);
         doc.validate().map_err(|e| Error::format(origin, e.to_string()))?;
         if !doc.curve_mesh.is_empty() {
             // The edits must fit the curve mesh this cage builds; the build is kept for the editor.
@@ -354,6 +362,7 @@ impl PartialEq for Document {
             && self.subdiv == other.subdiv
             && self.curves == other.curves
             && self.curve_mesh == other.curve_mesh
+            && self.mirror == other.mirror
     }
 }
 
@@ -398,6 +407,8 @@ struct TautFile {
     curves: Option<CurvesFile>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     curve_mesh: Option<CurveMeshEdits>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    mirror: Option<crate::symmetry::MirrorFile>,
 }
 
 #[derive(Serialize, Deserialize)]

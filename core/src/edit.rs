@@ -72,6 +72,8 @@ pub enum Edit {
     SetCurveMeshEdits(CurveMeshEdits),
     /// Discards every curve-mesh edit: the curve mesh as the cage builds it ("Rebuild from cage").
     RebuildCurveMesh,
+    /// Turns the mirror option on with a plane, or off ([`crate::symmetry`]).
+    SetMirror(Option<crate::mesh::edit::MirrorPlane>),
 }
 
 impl Document {
@@ -82,6 +84,8 @@ impl Document {
             return self.apply_curve_mesh_edit(&edit);
         }
         self.check_edit(&edit)?;
+        // Under the mirror option, the partners across the plane are edited too.
+        let edit = self.with_mirror_partners(edit)?;
         if !self.changed_by(&edit) {
             return Ok(false);
         }
@@ -158,6 +162,7 @@ impl Document {
             | Edit::MoveCurveMeshInnerPoint { .. }
             | Edit::SetCurveMeshEdits(_)
             | Edit::RebuildCurveMesh => self.check_curve_mesh_edit(edit),
+            Edit::SetMirror(plane) => Document::check_mirror(*plane),
         }
     }
 
@@ -202,6 +207,7 @@ impl Document {
             | Edit::MoveCurveMeshInnerPoint { .. }
             | Edit::SetCurveMeshEdits(_)
             | Edit::RebuildCurveMesh => self.changed_by_curve_mesh_edit(edit),
+            Edit::SetMirror(plane) => self.mirror != *plane,
         }
     }
 
@@ -256,6 +262,7 @@ impl Document {
             | Edit::MoveCurveMeshInnerPoint { .. }
             | Edit::SetCurveMeshEdits(_)
             | Edit::RebuildCurveMesh => {}
+            Edit::SetMirror(plane) => self.mirror = plane,
         }
     }
 }
