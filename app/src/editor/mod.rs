@@ -22,6 +22,7 @@ pub mod menus;
 pub mod mesh_ops;
 #[cfg(test)]
 mod mesh_ops_tests;
+pub mod mirror;
 pub mod new_primitive;
 #[cfg(test)]
 mod panel_tests;

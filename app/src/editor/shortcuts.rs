@@ -40,6 +40,8 @@ pub enum Action {
     Mesh(MeshOp),
     /// G, R, S: move, rotate or scale the selection.
     Transform(TransformKind),
+    /// Mirror modelling on or off (Mesh ▸ Mirror chooses the plane).
+    ToggleMirror,
 }
 
 impl Action {
@@ -59,6 +61,7 @@ impl Action {
                 | Action::SelectLess
                 | Action::Mesh(_)
                 | Action::Transform(_)
+                | Action::ToggleMirror
         )
     }
 }
@@ -125,6 +128,7 @@ pub const SHORTCUTS: &[Shortcut] = &[
     plain(Key::G, Action::Transform(TransformKind::Grab)),
     plain(Key::R, Action::Transform(TransformKind::Rotate)),
     plain(Key::S, Action::Transform(TransformKind::Scale)),
+    shift(Key::M, Action::ToggleMirror),
 ];
 
 impl Shortcut {
@@ -202,6 +206,7 @@ pub fn describe(action: Action) -> &'static str {
         Action::Transform(TransformKind::Grab) => "Move the selection (X, Y, Z lock, type a distance, Enter sets)",
         Action::Transform(TransformKind::Rotate) => "Rotate the selection (X, Y, Z axis, type degrees, Enter sets)",
         Action::Transform(TransformKind::Scale) => "Scale the selection (X, Y, Z axis, type a factor, Enter sets)",
+        Action::ToggleMirror => "Mirror modelling on or off (the plane last chosen in the Mesh menu's Mirror entry)",
     }
 }
 

@@ -180,6 +180,8 @@ pub struct EditorState {
     pub cage: super::cage_from_mesh::CageFromMesh,
     /// The curve-mesh selection and overlays ([`super::curve_mesh_edit`]).
     pub curve_mesh: super::curve_mesh_edit::CurveMeshEditing,
+    /// The mirror option's editing state ([`super::mirror`]).
+    pub mirror: super::mirror::MirrorEditing,
 }
 
 impl EditorState {
@@ -207,6 +209,7 @@ impl EditorState {
             curves: Default::default(),
             cage: Default::default(),
             curve_mesh: Default::default(),
+            mirror: Default::default(),
         };
         state.load_curves_view();
         state.frame_all();
@@ -215,6 +218,7 @@ impl EditorState {
 
     /// Applies an edit, reporting a refused one as a notice.
     pub fn edit(&mut self, edit: Edit) {
+        self.mirror_check_move(&edit);
         if let Err(message) = self.document.apply(edit) {
             self.notify(message, true);
         }
@@ -376,6 +380,7 @@ impl EditorState {
             let (lines, points) = overlay::cage_overlay(&doc.cage, controls, &selection, frame);
             data.on_top_lines = lines;
             data.points = points;
+            self.mirror_overlay(&mut data);
         }
         data.legend = self.curve_mesh_legend().or_else(|| self.legend());
         data

@@ -290,6 +290,7 @@ impl EditorState {
             Action::SelectLess => select_modes::select_less(&self.document.doc().cage, &mut self.selection),
             Action::Mesh(op) => self.mesh_op(op),
             Action::Transform(kind) => self.start_transform(kind, ui_state),
+            Action::ToggleMirror => self.toggle_mirror(),
         }
     }
 
