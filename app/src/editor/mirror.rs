@@ -19,7 +19,7 @@ use taut_core::symmetry::{MirrorHalves, MirroredWhole};
 use taut_render::overlay::{LineSegment, OverlayData};
 
 /// The ghost lines of the virtual half: linear RGBA and width in pixels.
-const GHOST_COLOUR: [f32; 4] = [0.35, 0.55, 0.85, 0.35];
+pub(super) const GHOST_COLOUR: [f32; 4] = [0.55, 0.7, 0.95, 0.4];
 const GHOST_WIDTH_PX: f32 = 1.0;
 
 /// Where a new mirror plane goes.
@@ -192,12 +192,24 @@ impl EditorState {
             if plane.distance(p) == 0.0 && plane.distance(q) == 0.0 {
                 continue; // an edge on the plane is the real one
             }
-            data.surface_lines.push(LineSegment {
+            // Over the surface like the real cage, but faint: it cannot be picked.
+            data.on_top_lines.push(LineSegment {
                 a: frame.point(p),
                 b: frame.point(q),
                 color: GHOST_COLOUR,
                 width_px: GHOST_WIDTH_PX,
             });
+        }
+    }
+
+    /// The virtual half's cage points, for framing (none unless the cage is one half).
+    pub(super) fn mirror_frame_points(&self) -> Vec<taut_core::DVec3> {
+        let doc = self.document.doc();
+        match doc.mirror {
+            Some(plane) if doc.mirror_halves() == Some(MirrorHalves::OneHalf) => {
+                doc.cage.positions().iter().map(|&p| plane.reflect(p)).collect()
+            }
+            _ => Vec::new(),
         }
     }
 

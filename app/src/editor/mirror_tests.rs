@@ -109,7 +109,8 @@ fn a_half_shows_the_whole_surface_and_its_plane_vertices_stay_on_the_plane() {
     let (lo, hi) = surface.bounding_box().unwrap();
     assert!(lo.x < -0.9 && hi.x > 0.9, "the surface spans both halves: {lo} .. {hi}");
     assert_eq!(editor.document.doc().cage.vertex_count(), 8, "the document holds the real half only");
-    let ghost = editor.overlays().surface_lines.len();
+    let lines = editor.overlays().on_top_lines;
+    let ghost = lines.iter().filter(|l| l.color == crate::editor::mirror::GHOST_COLOUR).count();
     assert_eq!(ghost, 8, "the virtual half's 12 edges less the 4 on the plane, drawn as ghosts");
     // S 1.5 about the centre (x = 0.5) would push the plane vertices to x = −0.25: they stay on it.
     for key in [Key::S, Key::Num1, Key::Period, Key::Num5, Key::Enter] {

@@ -404,6 +404,7 @@ impl EditorState {
     pub fn frame_all(&mut self) {
         let cage = &self.document.doc().cage;
         let mut points: Vec<taut_core::DVec3> = cage.positions().to_vec();
+        points.extend(self.mirror_frame_points());
         points.extend(self.curve_points());
         if let Some(mesh) = self.surface_mesh() {
             let step = (mesh.vertex_count() / 20_000).max(1);
