@@ -59,6 +59,8 @@ pub struct Document {
     pub(crate) curve_cache: CurveMeshCache,
     /// The mirror option: the plane the cage is modelled symmetric about ([`crate::symmetry`]).
     pub mirror: Option<crate::mesh::edit::MirrorPlane>,
+    /// The mirror partners last found for this document or a clone of it.
+    pub(crate) mirror_cache: crate::symmetry::PartnerCache,
 }
 
 impl Document {
@@ -79,6 +81,7 @@ impl Document {
             curve_mesh: CurveMeshEdits::default(),
             curve_cache: CurveMeshCache::default(),
             mirror: None,
+            mirror_cache: Default::default(),
         }
     }
 
@@ -126,6 +129,7 @@ impl Document {
             curve_mesh: CurveMeshEdits::default(),
             curve_cache: CurveMeshCache::default(),
             mirror: self.mirror,
+            mirror_cache: Default::default(),
         };
         let carried = doc.carry_curve_mesh_edits(self, Some(p))?;
         doc.validate()?;
@@ -352,7 +356,7 @@ impl Document {
 impl PartialEq for Document {
     fn eq(&self, other: &Self) -> bool {
         self.cage.positions() == other.cage.positions()
-            && self.cage.polygons() == other.cage.polygons()
+            && same_faces(&self.cage, &other.cage)
             && self.fixed == other.fixed
             && self.vertex_tension == other.vertex_tension
             && self.edge_tension == other.edge_tension
@@ -364,6 +368,12 @@ impl PartialEq for Document {
             && self.curve_mesh == other.curve_mesh
             && self.mirror == other.mirror
     }
+}
+
+/// Whether two cages have the same faces, corner by corner (without building their face lists:
+/// the undo history compares documents of 20,000 faces).
+fn same_faces(a: &PolyMesh, b: &PolyMesh) -> bool {
+    a.face_count() == b.face_count() && a.faces().all(|f| a.face_vertices(f).eq(b.face_vertices(f)))
 }
 
 pub(crate) fn check_tension(tau: f64, what: impl Fn() -> String) -> Result<()> {

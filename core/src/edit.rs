@@ -90,7 +90,14 @@ impl Document {
             return Ok(false);
         }
         let carry_curve_mesh = matches!(edit, Edit::MoveVertices(_)) && !self.curve_mesh.is_empty();
-        if self.anchoring_matters(&edit) || carry_curve_mesh {
+        if let Edit::Replace(new) = &edit {
+            // The new document is checked as it is, without a copy of this one.
+            if self.anchoring_matters(&edit) {
+                crate::nusd::surface::check_anchoring(&new.cage, &new.fixed)
+                    .map_err(|e| Error::Input(format!("refused: {e}")))?;
+            }
+            self.perform(edit);
+        } else if self.anchoring_matters(&edit) || carry_curve_mesh {
             let mut after = self.clone();
             let anchoring = self.anchoring_matters(&edit);
             after.perform(edit);

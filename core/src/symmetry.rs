@@ -38,6 +38,7 @@ use crate::mesh::{EdgeId, VertexId};
 use crate::surface::SchemeKind;
 use crate::{Error, Result};
 use serde::{Deserialize, Serialize};
+use std::sync::{Arc, Mutex};
 
 /// How a cage lies about the document's mirror plane.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -53,7 +54,41 @@ pub enum MirrorHalves {
 impl Document {
     /// The mirror plane's partners of every cage vertex, or `None` when the option is off.
     pub fn mirror_partners(&self) -> Result<Option<Vec<MirrorPartner>>> {
-        self.mirror.map(|plane| mirror_partners(&self.cage, plane, DEFAULT_MIRROR_TOLERANCE)).transpose()
+        self.mirror.map(|plane| self.partners_for(plane)).transpose()
+    }
+
+    /// The partners across `plane`: the cached ones while they still hold ([`PartnerCache`]),
+    /// else found afresh.
+    fn partners_for(&self, plane: MirrorPlane) -> Result<Vec<MirrorPartner>> {
+        let mut cache = self.mirror_cache.0.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+        if let Some((topology, cached_plane, partners)) = cache.as_ref()
+            && *topology == self.cage.topology_generation()
+            && *cached_plane == plane
+            && self.partners_still_hold(plane, partners)
+        {
+            return Ok(partners.clone());
+        }
+        let partners = mirror_partners(&self.cage, plane, DEFAULT_MIRROR_TOLERANCE)?;
+        *cache = Some((self.cage.topology_generation(), plane, partners.clone()));
+        Ok(partners)
+    }
+
+    /// Whether partners found earlier still describe the cage (see [`PartnerCache`]).
+    fn partners_still_hold(&self, plane: MirrorPlane, partners: &[MirrorPartner]) -> bool {
+        if partners.len() != self.cage.vertex_count() {
+            return false;
+        }
+        let tol = DEFAULT_MIRROR_TOLERANCE * self.cage.bounding_diagonal();
+        let one_half = self.mirror_halves() == Some(MirrorHalves::OneHalf);
+        let p = self.cage.positions();
+        partners.iter().enumerate().all(|(v, partner)| match *partner {
+            MirrorPartner::OnPlane => plane.distance(p[v]).abs() <= tol,
+            MirrorPartner::Partner(w) => {
+                plane.distance(p[v]).abs() > tol && p[w.index()].distance(plane.reflect(p[v])) <= tol
+            }
+            // With nothing across the plane, no vertex can have gained a partner.
+            MirrorPartner::Unpaired => one_half && plane.distance(p[v]).abs() > tol,
+        })
     }
 
     /// How the cage lies about the mirror plane, or `None` when the option is off.
@@ -114,7 +149,7 @@ impl Document {
         ) {
             return Ok(edit);
         }
-        let partners = mirror_partners(&self.cage, plane, DEFAULT_MIRROR_TOLERANCE)?;
+        let partners = self.partners_for(plane)?;
         let vertices = |vs: Vec<VertexId>| with_partner_vertices(&partners, vs);
         let edges = |es: Vec<EdgeId>| self.with_partner_edges(&partners, es);
         Ok(match edit {
@@ -186,6 +221,22 @@ fn clip_to_side(doc: &Document, plane: MirrorPlane, moved: &mut [(VertexId, crat
         if plane.distance(*p) * side < 0.0 {
             *p = plane.project(*p);
         }
+    }
+}
+
+/// The partners last found for a document or one of its clones (shared between them), so a drag
+/// does not search for them every frame: they are used again while the connectivity and plane are
+/// the same and every pair still lies within the tolerance of each other's reflection, every plane
+/// vertex on the plane, and (only in a one-half cage, where nothing can pair) every unpaired vertex
+/// off it; otherwise they are found afresh. Weak: a pair that still holds is kept even if a
+/// third vertex has since come nearer than the partner (two vertices within the tolerance of
+/// each other, 1e-6 of the cage's size).
+#[derive(Clone, Default)]
+pub(crate) struct PartnerCache(Arc<Mutex<Option<(u64, MirrorPlane, Vec<MirrorPartner>)>>>);
+
+impl std::fmt::Debug for PartnerCache {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("PartnerCache")
     }
 }
 

@@ -256,3 +256,23 @@ fn unpaired_vertices_of_a_symmetric_cage_are_named() {
     assert!(unpaired.contains(&v));
     assert!(half_doc(SchemeKind::Nusd).unpaired_vertices(&[VertexId(0)]).unwrap().is_empty());
 }
+
+#[test]
+fn cached_partners_are_the_ones_found_afresh() {
+    let plane = plane_x();
+    let mut doc = whole_doc();
+    let fresh = |d: &Document| mirror_partners(&d.cage, plane, DEFAULT_MIRROR_TOLERANCE).unwrap();
+    for k in 0..4u32 {
+        let v = VertexId(3 + 5 * k);
+        doc.apply(Edit::MoveVertices(vec![(v, doc.cage.position(v) * 1.1 + DVec3::Y * 0.01)])).unwrap();
+        assert_eq!(doc.mirror_partners().unwrap().unwrap(), fresh(&doc), "after move {k}");
+    }
+    // A half: a vertex clipped onto the plane becomes a plane vertex in the cached answer too.
+    let mut half = half_doc(SchemeKind::Nusd);
+    let before = half.mirror_partners().unwrap().unwrap();
+    let v = half.cage.vertices().find(|&v| half.cage.position(v).x > 0.5).unwrap();
+    half.apply(Edit::MoveVertices(vec![(v, DVec3::new(-1.0, 0.0, 0.0))])).unwrap();
+    let after = half.mirror_partners().unwrap().unwrap();
+    assert_eq!((before[v.index()], after[v.index()]), (MirrorPartner::Unpaired, MirrorPartner::OnPlane));
+    assert_eq!(after, fresh(&half));
+}

@@ -187,6 +187,8 @@ impl EditorDocument {
         if !after.apply(edit).map_err(|e| e.to_string())? {
             return Ok(());
         }
+        // The document before the edit is the undo snapshot (no second copy of it).
+        let before = std::mem::replace(&mut self.doc, after);
         match &mut self.gesture {
             Some(gesture) => {
                 if !gesture.changed {
@@ -195,12 +197,11 @@ impl EditorDocument {
                 }
             }
             None => {
-                let before = Snapshot { doc: self.doc.clone(), state: self.state, files: None };
+                let before = Snapshot { doc: before, state: self.state, files: None };
                 self.push_undo(before);
                 self.redo.clear();
             }
         }
-        self.doc = after;
         self.state = self.take_state();
         self.touch();
         Ok(())
