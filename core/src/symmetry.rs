@@ -232,7 +232,10 @@ fn clip_to_side(doc: &Document, plane: MirrorPlane, moved: &mut [(VertexId, crat
 /// third vertex has since come nearer than the partner (two vertices within the tolerance of
 /// each other, 1e-6 of the cage's size).
 #[derive(Clone, Default)]
-pub(crate) struct PartnerCache(Arc<Mutex<Option<(u64, MirrorPlane, Vec<MirrorPartner>)>>>);
+pub(crate) struct PartnerCache(Arc<Mutex<Option<CachedPartners>>>);
+
+/// The topology generation and plane the partners were found for, and the partners.
+type CachedPartners = (u64, MirrorPlane, Vec<MirrorPartner>);
 
 impl std::fmt::Debug for PartnerCache {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
