@@ -24,7 +24,10 @@ use editor::select_modes::SelectMode;
 use editor::state::EditorState;
 use std::hint::black_box;
 use std::time::{Duration, Instant};
-use taut_core::mesh::edit::{Axis, MirrorPlane, delete_faces};
+use taut_core::Result;
+use taut_core::mesh::edit::{
+    self, Axis, Edited, FaceGrouping, JoinParams, MergeAt, MirrorPlane, Triangulation, delete_faces,
+};
 use taut_core::mesh::primitives::torus;
 use taut_core::{DVec3, Document, EdgeId, Edit, FaceId, PolyMesh, VertexId};
 
@@ -75,10 +78,11 @@ impl Table {
         name: &str,
         state: &mut EditorState,
         changes: bool,
+        core: Option<&dyn Fn()>,
         mut prepare: impl FnMut(&mut EditorState),
         mut run: impl FnMut(&mut EditorState),
     ) {
-        let (mut runs, mut undos, mut references) = (Vec::new(), Vec::new(), Vec::new());
+        let (mut runs, mut undos, mut references, mut cores) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
         let mut faces = 0;
         for _ in 0..self.repeats {
             prepare(state);
@@ -99,8 +103,13 @@ impl Table {
             let t = Instant::now();
             black_box(state.document.doc().clone());
             references.push(t.elapsed());
+            if let Some(core) = core {
+                let t = Instant::now();
+                core();
+                cores.push(t.elapsed());
+            }
         }
-        for v in [&mut runs, &mut undos, &mut references] {
+        for v in [&mut runs, &mut undos, &mut references, &mut cores] {
             v.sort();
         }
         let median = ms(runs[runs.len() / 2]);
@@ -108,8 +117,12 @@ impl Table {
         if median > self.worst.0 {
             self.worst = (median, name.to_string());
         }
+        // The core edit alone, fastest run: what the editor adds on top of it.
+        let core = cores.first().map_or_else(String::new, |&c| {
+            format!("  core edit {:>5.2} ms, editor adds {:>5.2} ms", ms(c), ms(runs[0]) - ms(c))
+        });
         println!(
-            "  {name:<48} {:>6.2} ms (median {median:>6.2})  {ratio:>5.1}x clone  undo {:>5.2} ms  {faces:>6} faces  {}",
+            "  {name:<44} {:>6.2} ms (median {median:>6.2}) {ratio:>5.1}x clone  undo {:>4.2} ms {faces:>6} faces  {}{core}",
             ms(runs[0]),
             ms(undos[undos.len() / 2]),
             if median <= 16.0 { "within a frame" } else { "OVER 16 ms" }
@@ -117,9 +130,12 @@ impl Table {
     }
 
     /// A modelling operation on a selection.
-    fn op(&mut self, name: &str, state: &mut EditorState, op: MeshOp, pick: &Pick) {
+    fn op(&mut self, name: &str, state: &mut EditorState, op: MeshOp, pick: &Pick, core: impl Fn() -> Result<Edited>) {
         let changes = op != MeshOp::MergeByDistance;
-        self.row(name, state, changes, |s| pick.set(s), |s| s.mesh_op(op));
+        let core = || {
+            black_box(core().unwrap_or_else(|e| panic!("{name}: {e}")));
+        };
+        self.row(name, state, changes, Some(&core), |s| pick.set(s), |s| s.mesh_op(op));
     }
 }
 
@@ -148,29 +164,64 @@ fn main() {
     let faces = |faces: Vec<FaceId>| Pick { mode: Some(SelectMode::Face), faces, ..Default::default() };
     let vertices = |vertices: Vec<VertexId>| Pick { mode: Some(SelectMode::Vertex), vertices, ..Default::default() };
     let edges = |edges: Vec<EdgeId>| Pick { mode: Some(SelectMode::Edge), edges, ..Default::default() };
-    let rows: Vec<(&str, MeshOp, Pick)> = vec![
-        ("extrude one face", MeshOp::Extrude, faces(vec![FaceId(5)])),
-        ("extrude a 50 x 50 patch", MeshOp::Extrude, faces(patch.clone())),
-        ("inset one face", MeshOp::Inset, faces(vec![FaceId(5)])),
-        ("inset a 50 x 50 patch", MeshOp::Inset, faces(patch.clone())),
-        ("loop cut round the torus (200 quads)", MeshOp::LoopCut, edges(vec![along])),
-        ("delete one face", MeshOp::Delete, faces(vec![FaceId(5)])),
-        ("delete a 50 x 50 patch", MeshOp::DeleteFaces, faces(patch.clone())),
-        ("delete one vertex", MeshOp::DeleteVertices, vertices(vec![VertexId(5)])),
-        ("delete one edge", MeshOp::DeleteEdges, edges(vec![EdgeId(7)])),
-        ("dissolve one vertex", MeshOp::DissolveVertices, vertices(vec![VertexId(5)])),
-        ("dissolve one edge", MeshOp::DissolveEdges, edges(vec![EdgeId(7)])),
-        ("dissolve a 50 x 50 patch into one face", MeshOp::DissolveFaces, faces(patch.clone())),
-        ("merge two vertices at their centre", MeshOp::MergeAtCentre, vertices(vec![VertexId(0), VertexId(1)])),
-        ("merge by distance over all (nothing close)", MeshOp::MergeByDistance, Pick::default()),
-        ("subdivide one edge", MeshOp::Subdivide, edges(vec![EdgeId(7)])),
-        ("connect two corners of a face", MeshOp::Connect, vertices(vec![VertexId(0), VertexId(101)])),
-        ("flip all normals", MeshOp::FlipNormals, Pick::default()),
-        ("triangulate all", MeshOp::Triangulate, Pick::default()),
-    ];
-    for (name, mesh_op, pick) in &rows {
-        table.op(name, &mut state, *mesh_op, pick);
-    }
+    let r = &ring;
+    let offset = 0.2 * r.edge_length(EdgeId(0));
+    let one_face = faces(vec![FaceId(5)]);
+    let the_patch = faces(patch.clone());
+    let all: Vec<VertexId> = r.vertices().collect();
+    let threshold = 1e-3 * r.bounding_diagonal();
+    let t = &mut table;
+    let s = &mut state;
+    t.op("extrude one face", s, MeshOp::Extrude, &one_face, || {
+        edit::extrude_faces(r, &[FaceId(5)], FaceGrouping::Region, offset)
+    });
+    t.op("extrude a 50 x 50 patch", s, MeshOp::Extrude, &the_patch, || {
+        edit::extrude_faces(r, &patch, FaceGrouping::Region, offset)
+    });
+    t.op("inset one face", s, MeshOp::Inset, &one_face, || {
+        edit::inset_faces(r, &[FaceId(5)], FaceGrouping::Region, offset)
+    });
+    t.op("inset a 50 x 50 patch", s, MeshOp::Inset, &the_patch, || {
+        edit::inset_faces(r, &patch, FaceGrouping::Region, offset)
+    });
+    t.op("loop cut round the torus (200 quads)", s, MeshOp::LoopCut, &edges(vec![along]), || {
+        edit::loop_cut(r, along, 0.5)
+    });
+    t.op("delete one face", s, MeshOp::Delete, &one_face, || edit::delete_faces(r, &[FaceId(5)]));
+    t.op("delete a 50 x 50 patch", s, MeshOp::DeleteFaces, &the_patch, || edit::delete_faces(r, &patch));
+    t.op("delete one vertex", s, MeshOp::DeleteVertices, &vertices(vec![VertexId(5)]), || {
+        edit::delete_vertices(r, &[VertexId(5)])
+    });
+    t.op("delete one edge", s, MeshOp::DeleteEdges, &edges(vec![EdgeId(7)]), || edit::delete_edges(r, &[EdgeId(7)]));
+    t.op("dissolve one vertex", s, MeshOp::DissolveVertices, &vertices(vec![VertexId(5)]), || {
+        edit::dissolve_vertices(r, &[VertexId(5)])
+    });
+    t.op("dissolve one edge", s, MeshOp::DissolveEdges, &edges(vec![EdgeId(7)]), || {
+        edit::dissolve_edges(r, &[EdgeId(7)])
+    });
+    t.op("dissolve a 50 x 50 patch into one face", s, MeshOp::DissolveFaces, &the_patch, || {
+        edit::dissolve_faces(r, &patch)
+    });
+    t.op(
+        "merge two vertices at their centre",
+        s,
+        MeshOp::MergeAtCentre,
+        &vertices(vec![VertexId(0), VertexId(1)]),
+        || edit::merge_vertices(r, &[VertexId(0), VertexId(1)], MergeAt::Centre),
+    );
+    t.op("merge by distance over all (nothing close)", s, MeshOp::MergeByDistance, &Pick::default(), || {
+        edit::merge_by_distance(r, &all, threshold)
+    });
+    t.op("subdivide one edge", s, MeshOp::Subdivide, &edges(vec![EdgeId(7)]), || {
+        edit::split_edges(r, &[EdgeId(7)], 0.5)
+    });
+    t.op("connect two corners of a face", s, MeshOp::Connect, &vertices(vec![VertexId(0), VertexId(101)]), || {
+        edit::connect_vertices(r, VertexId(0), VertexId(101))
+    });
+    t.op("flip all normals", s, MeshOp::FlipNormals, &Pick::default(), || edit::flip_normals(r, None));
+    t.op("triangulate all", s, MeshOp::Triangulate, &Pick::default(), || {
+        edit::triangulate(r, None, Triangulation::ShortestDiagonal)
+    });
 
     // Fill the hole of one deleted face; join the triangles of the triangulated torus.
     let mut holed = editor_on(delete_faces(&ring, &[FaceId(5)]).unwrap().mesh);
@@ -178,11 +229,17 @@ fn main() {
         let cage = &holed.document.doc().cage;
         cage.edges().filter(|&e| cage.is_boundary_edge(e)).collect()
     };
-    table.op("fill a hole (4 boundary edges)", &mut holed, MeshOp::Fill, &edges(hole));
+    let holed_cage = holed.document.doc().cage.clone();
+    table.op("fill a hole (4 boundary edges)", &mut holed, MeshOp::Fill, &edges(hole.clone()), || {
+        edit::fill_edges(&holed_cage, &hole)
+    });
     state.selection.clear();
     state.mesh_op(MeshOp::Triangulate);
     let mut triangles = editor_on(state.document.doc().cage.clone());
-    table.op("join all 40 000 triangles", &mut triangles, MeshOp::JoinTriangles, &Pick::default());
+    let tris = triangles.document.doc().cage.clone();
+    table.op("join all 40 000 triangles", &mut triangles, MeshOp::JoinTriangles, &Pick::default(), || {
+        edit::join_triangles(&tris, None, &JoinParams::default())
+    });
 
     // The edits of a drag: one vertex, and every vertex (G on everything), mirror off and on.
     let mut drag = editor_on(ring.clone());
@@ -193,11 +250,19 @@ fn main() {
         drag.edit(Edit::SetMirror(mirror));
         let on = if mirror.is_some() { ", mirror on" } else { "" };
         let (a, b) = (one.clone(), every.clone());
-        table.row(&format!("move one vertex{on}"), &mut drag, true, |_| {}, |s| s.edit(Edit::MoveVertices(a.clone())));
+        table.row(
+            &format!("move one vertex{on}"),
+            &mut drag,
+            true,
+            None,
+            |_| {},
+            |s| s.edit(Edit::MoveVertices(a.clone())),
+        );
         table.row(
             &format!("move all vertices{on}"),
             &mut drag,
             true,
+            None,
             |_| {},
             |s| s.edit(Edit::MoveVertices(b.clone())),
         );
@@ -208,7 +273,12 @@ fn main() {
         ring.faces().filter(|&f| ring.face_vertices(f).map(|v| ring.position(v).x).sum::<f64>() < 0.0).collect();
     let mut half = editor_on(delete_faces(&ring, &left).unwrap().mesh);
     half.edit(Edit::SetMirror(Some(MirrorPlane::new(Axis::X, 0.0))));
-    table.row("apply mirror (10 000 faces made 20 000)", &mut half, true, |_| {}, |s| s.apply_mirror());
+    let half_cage = half.document.doc().cage.clone();
+    let plane = MirrorPlane::new(Axis::X, 0.0);
+    let core = || {
+        black_box(edit::apply_mirror(&half_cage, plane, edit::DEFAULT_MIRROR_TOLERANCE).unwrap());
+    };
+    table.row("apply mirror (10 000 faces made 20 000)", &mut half, true, Some(&core), |_| {}, |s| s.apply_mirror());
 
     println!("slowest (median): {} at {:.2} ms", table.worst.1, table.worst.0);
 }

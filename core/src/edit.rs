@@ -115,6 +115,27 @@ impl Document {
         Ok(true)
     }
 
+    /// Checks a whole new document as [`apply`](Self::apply) of [`Edit::Replace`] would, without
+    /// copying this one: the new document when it differs, `None` when it is the same (a topology
+    /// change of a large cage pays for one document, not three).
+    pub fn checked_replacement(&self, new: Box<Document>) -> Result<Option<Document>> {
+        let edit = Edit::Replace(new);
+        self.check_edit(&edit)?;
+        if !self.changed_by(&edit) {
+            return Ok(None);
+        }
+        if self.anchoring_matters(&edit)
+            && let Edit::Replace(new) = &edit
+        {
+            crate::nusd::surface::check_anchoring(&new.cage, &new.fixed)
+                .map_err(|e| Error::Input(format!("refused: {e}")))?;
+        }
+        Ok(match edit {
+            Edit::Replace(new) => Some(*new),
+            _ => None,
+        })
+    }
+
     /// Checks an edit against the document without changing it.
     pub fn check_edit(&self, edit: &Edit) -> Result<()> {
         match edit {

@@ -276,3 +276,19 @@ fn cached_partners_are_the_ones_found_afresh() {
     assert_eq!((before[v.index()], after[v.index()]), (MirrorPartner::Unpaired, MirrorPartner::OnPlane));
     assert_eq!(after, fresh(&half));
 }
+
+#[test]
+fn apply_mirror_as_a_replacement_is_checked_like_apply() {
+    let half = half_doc(SchemeKind::Nusd);
+    let whole = half.with_mirror_applied().unwrap();
+    let mut applied = half.clone();
+    assert!(applied.apply(Edit::Replace(Box::new(whole.clone()))).unwrap());
+    assert_eq!(half.checked_replacement(Box::new(whole.clone())).unwrap(), Some(applied));
+    assert_eq!(half.checked_replacement(Box::new(half.clone())).unwrap(), None, "no change");
+    // A NUSD whole with nothing fixed would collapse: refused, as `apply` refuses it.
+    let mut loose = whole;
+    loose.fixed.iter_mut().for_each(|f| *f = false);
+    let err = half.checked_replacement(Box::new(loose.clone())).unwrap_err().to_string();
+    assert!(err.starts_with("refused") && !err.contains('\n'), "{err}");
+    assert_eq!(half.clone().apply(Edit::Replace(Box::new(loose))).unwrap_err().to_string(), err);
+}
