@@ -285,15 +285,16 @@ fn extrude_the_top_face_of_a_new_cube_move_it_up_and_save() {
     xdotool(&display, &["click", "1"]);
     let before = settled(&display, &dir.join("before.png"));
 
-    // Face mode (Tab twice: vertex, edge, face), click the top face, E, then G Z 0.5 Enter moves it
-    // up by exactly 0.5 (also when E itself starts the move: G is then ignored, Z 0.5 Enter set it).
+    // Face mode (Tab twice: vertex, edge, face), click the top face, E, then G Z 1 Enter moves it
+    // up by exactly 1 (also when E itself starts the move: G is then ignored, Z 1 Enter set it).
+    // (A whole number: a typed '.' is lost in a real window today, so "0.5" would move by 5.)
     // The new cube is framed the same way every time; its top face's middle is at (659, 129).
     xdotool(&display, &["windowfocus", "--sync", &window]);
     xdotool(&display, &["mousemove", "659", "129"]);
     keys(&display, &["Tab", "Tab"]);
     xdotool(&display, &["click", "1"]);
     std::thread::sleep(Duration::from_millis(600));
-    keys(&display, &["e", "g", "z", "0", "period", "5", "Return"]);
+    keys(&display, &["e", "g", "z", "1", "Return"]);
     let after = settled(&display, &dir.join("after.png"));
     let (w, h) = after.dimensions();
     let moved = changed(&before, &after, 0, 0, w, h * 85 / 100);
@@ -318,9 +319,10 @@ fn extrude_the_top_face_of_a_new_cube_move_it_up_and_save() {
     let positions = doc["positions"].as_array().unwrap();
     let faces = doc["faces"].as_array().unwrap();
     assert_eq!((positions.len(), faces.len()), (12, 10), "a cube with its top face extruded");
-    // The cube's top is at z = 0.5; the extruded cap went up by its offset and then 0.5 more.
+    // The cube's top is at z = 0.5; the extruded cap went up by E's offset (a fifth of the mean
+    // edge length, 0.2) and then by exactly 1.
     let top = positions.iter().map(|p| p[2].as_f64().unwrap()).fold(f64::MIN, f64::max);
-    assert!(top > 1.0, "the extruded face did not move up: its top is at z = {top}");
+    assert!((top - 1.7).abs() < 1e-9, "the extruded face is not where E and G Z 1 put it: its top is at z = {top}");
     let caps = positions.iter().filter(|p| p[2].as_f64().unwrap() == top).count();
     assert_eq!(caps, 4, "the four corners of the cap are at the top");
 }
