@@ -1,7 +1,10 @@
 //! The editor in a real window: the binary started under Xvfb on Mesa's software Vulkan driver,
 //! a fixed point dragged with synthetic mouse input (xdotool), the screen grabbed before and
 //! after (ImageMagick's `import`), the surface changed where it should and nowhere else, the
-//! document saved with Ctrl+S and the editor closed with Ctrl+Q and exit status 0.
+//! document saved with Ctrl+S and the editor closed with Ctrl+Q and exit status 0. A second
+//! test models as a new user would: File ▸ New ▸ Cube with the mouse, the top face picked in face
+//! mode, E to extrude and G Z 0.5 Enter to move it up, Save As through the path field; the saved
+//! file must hold 12 vertices and 10 faces and the screen must have changed.
 //!
 //! Needs `Xvfb`, `xdotool` and `import` (Debian: xvfb xdotool imagemagick) and the Vulkan
 //! driver (mesa-vulkan-drivers); the README's test command installs them. When one is missing
@@ -85,21 +88,15 @@ fn settled(display: &str, path: &Path) -> image::RgbaImage {
     }
 }
 
-#[test]
-fn drag_a_fixed_point_in_a_real_window_then_save_and_quit() {
-    require("Xvfb", "xvfb");
-    require("xdotool", "xdotool");
-    require("import", "imagemagick");
-    let dir = std::env::temp_dir().join(format!("taut-editor-window-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(dir.join("runtime")).unwrap();
-    let cage = dir.join("knob.taut");
-    std::fs::copy(Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets/default.taut"), &cage).unwrap();
-    let before_doc: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&cage).unwrap()).unwrap();
+/// One real-window test at a time: two would race for the same free display number, and two
+/// software-rendered editors at once starve each other's frames.
+static ONE_AT_A_TIME: std::sync::Mutex<()> = std::sync::Mutex::new(());
 
+/// A virtual X server on a free display number, 1400 × 900, and its name (":41").
+fn start_xvfb() -> (Killed, String) {
     let number = (40..140).find(|n| !Path::new(&format!("/tmp/.X{n}-lock")).exists()).expect("a free X display number");
     let display = format!(":{number}");
-    let _xvfb = Killed(
+    let xvfb = Killed(
         Command::new("Xvfb")
             .args([display.as_str(), "-screen", "0", "1400x900x24", "-nolisten", "tcp"])
             .stdout(Stdio::null())
@@ -113,17 +110,21 @@ fn drag_a_fixed_point_in_a_real_window_then_save_and_quit() {
         assert!(start.elapsed() < Duration::from_secs(20), "Xvfb did not start");
         std::thread::sleep(Duration::from_millis(100));
     }
+    (xvfb, display)
+}
 
+/// The release editor on `display` with `args`, its settings and autosave under `dir`; returns the
+/// process and its window id once the window is up.
+fn start_editor(display: &str, dir: &Path, args: &[&str]) -> (Killed, String) {
     let binary = std::env::var("TAUT_EDITOR_BIN").unwrap_or_else(|_| env!("CARGO_BIN_EXE_taut").to_string());
     let mut editor = Killed(
         Command::new(binary)
-            .arg(&cage)
-            .args(["--view", "shaded"])
-            .env("DISPLAY", &display)
+            .args(args)
+            .env("DISPLAY", display)
             .env("XDG_RUNTIME_DIR", dir.join("runtime"))
             .env("XDG_CONFIG_HOME", dir.join("config"))
             .env("XDG_DATA_HOME", dir.join("data"))
-            .env("HOME", &dir)
+            .env("HOME", dir)
             .env("TAUT_NO_NATIVE_DIALOGS", "1")
             .env_remove("WAYLAND_DISPLAY")
             .stdout(Stdio::null())
@@ -133,7 +134,7 @@ fn drag_a_fixed_point_in_a_real_window_then_save_and_quit() {
     );
     let found = Command::new("timeout")
         .args(["30", "xdotool", "search", "--sync", "--name", "Taut"])
-        .env("DISPLAY", &display)
+        .env("DISPLAY", display)
         .output()
         .unwrap();
     if !found.status.success() {
@@ -142,6 +143,45 @@ fn drag_a_fixed_point_in_a_real_window_then_save_and_quit() {
             std::mem::replace(&mut editor.0, Command::new("true").spawn().unwrap()).wait_with_output().unwrap();
         panic!("no editor window appeared: {}", String::from_utf8_lossy(&output.stderr));
     }
+    let window = String::from_utf8_lossy(&found.stdout).lines().next().unwrap_or_default().trim().to_string();
+    (editor, window)
+}
+
+/// Ctrl+Q, then the exit status must be 0 with no panic on stderr.
+fn quit_cleanly(display: &str, editor: &mut Killed) {
+    xdotool(display, &["key", "ctrl+q"]);
+    let deadline = Instant::now() + Duration::from_secs(20);
+    let status = loop {
+        if let Some(status) = editor.0.try_wait().unwrap() {
+            break status;
+        }
+        assert!(Instant::now() < deadline, "the editor did not close on Ctrl+Q");
+        std::thread::sleep(Duration::from_millis(100));
+    };
+    let mut stderr = String::new();
+    if let Some(mut e) = editor.0.stderr.take() {
+        use std::io::Read;
+        let _ = e.read_to_string(&mut stderr);
+    }
+    assert!(status.success(), "the editor exited with {status}: {stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+}
+
+#[test]
+fn drag_a_fixed_point_in_a_real_window_then_save_and_quit() {
+    let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+    require("Xvfb", "xvfb");
+    require("xdotool", "xdotool");
+    require("import", "imagemagick");
+    let dir = std::env::temp_dir().join(format!("taut-editor-window-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(dir.join("runtime")).unwrap();
+    let cage = dir.join("knob.taut");
+    std::fs::copy(Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets/default.taut"), &cage).unwrap();
+    let before_doc: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&cage).unwrap()).unwrap();
+
+    let (_xvfb, display) = start_xvfb();
+    let (mut editor, window) = start_editor(&display, &dir, &[cage.to_str().unwrap(), "--view", "shaded"]);
     let before = settled(&display, &dir.join("before.png"));
     let (w, h) = before.dimensions();
 
@@ -193,26 +233,10 @@ fn drag_a_fixed_point_in_a_real_window_then_save_and_quit() {
 
     // Save and quit: the file changed, the process exits cleanly. Without a window manager
     // the keyboard focus must be given to the window explicitly.
-    let window = String::from_utf8_lossy(&found.stdout).lines().next().unwrap_or_default().trim().to_string();
     xdotool(&display, &["windowfocus", "--sync", &window]);
     xdotool(&display, &["key", "ctrl+s"]);
     std::thread::sleep(Duration::from_millis(800));
-    xdotool(&display, &["key", "ctrl+q"]);
-    let deadline = Instant::now() + Duration::from_secs(20);
-    let status = loop {
-        if let Some(status) = editor.0.try_wait().unwrap() {
-            break status;
-        }
-        assert!(Instant::now() < deadline, "the editor did not close on Ctrl+Q");
-        std::thread::sleep(Duration::from_millis(100));
-    };
-    let mut stderr = String::new();
-    if let Some(mut e) = editor.0.stderr.take() {
-        use std::io::Read;
-        let _ = e.read_to_string(&mut stderr);
-    }
-    assert!(status.success(), "the editor exited with {status}: {stderr}");
-    assert!(!stderr.contains("panicked"), "{stderr}");
+    quit_cleanly(&display, &mut editor);
     let after_doc: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&cage).unwrap()).unwrap();
     let apex = |d: &serde_json::Value| d["positions"].as_array().unwrap().last().unwrap()[2].as_f64().unwrap();
     assert!(
@@ -222,4 +246,83 @@ fn drag_a_fixed_point_in_a_real_window_then_save_and_quit() {
         apex(&after_doc)
     );
     assert!(!dir.join("data/taut/autosave.taut").exists(), "a clean exit leaves no autosave");
+}
+
+/// Presses keys one at a time (xdotool key names), with time for a frame between them.
+fn keys(display: &str, names: &[&str]) {
+    for name in names {
+        xdotool(display, &["key", name]);
+        std::thread::sleep(Duration::from_millis(350));
+    }
+}
+
+#[test]
+fn extrude_the_top_face_of_a_new_cube_move_it_up_and_save() {
+    let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+    require("Xvfb", "xvfb");
+    require("xdotool", "xdotool");
+    require("import", "imagemagick");
+    let dir = std::env::temp_dir().join(format!("taut-editor-extrude-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(dir.join("runtime")).unwrap();
+    let saved = dir.join("extruded.taut");
+    let (_xvfb, display) = start_xvfb();
+    // The bundled default scene, clean: File ▸ New asks nothing.
+    let (mut editor, window) = start_editor(&display, &dir, &["--view", "shaded"]);
+    settled(&display, &dir.join("scene.png"));
+
+    // File ▸ New ▸ Cube with the mouse. The window is 1280 × 800 at the screen's corner and egui
+    // lays its menus out the same way every time: "File" is the first entry of the menu bar,
+    // "New" the first of its menu, "Cube" the first of that submenu.
+    xdotool(&display, &["mousemove", "19", "12", "click", "1"]);
+    std::thread::sleep(Duration::from_millis(700));
+    xdotool(&display, &["mousemove", "40", "39"]);
+    std::thread::sleep(Duration::from_millis(500));
+    xdotool(&display, &["mousemove", "120", "39"]);
+    std::thread::sleep(Duration::from_millis(300));
+    xdotool(&display, &["mousemove", "192", "39"]);
+    std::thread::sleep(Duration::from_millis(500));
+    xdotool(&display, &["click", "1"]);
+    let before = settled(&display, &dir.join("before.png"));
+
+    // Face mode (Tab twice: vertex, edge, face), click the top face, E, then G Z 1 Enter moves it
+    // up by exactly 1 (also when E itself starts the move: G is then ignored, Z 1 Enter set it).
+    // (A whole number: a typed '.' is lost in a real window today, so "0.5" would move by 5.)
+    // The new cube is framed the same way every time; its top face's middle is at (659, 129).
+    xdotool(&display, &["windowfocus", "--sync", &window]);
+    xdotool(&display, &["mousemove", "659", "129"]);
+    keys(&display, &["Tab", "Tab"]);
+    xdotool(&display, &["click", "1"]);
+    std::thread::sleep(Duration::from_millis(600));
+    keys(&display, &["e", "g", "z", "1", "Return"]);
+    let after = settled(&display, &dir.join("after.png"));
+    let (w, h) = after.dimensions();
+    let moved = changed(&before, &after, 0, 0, w, h * 85 / 100);
+    assert!(moved > 0.03, "the screen did not change after extruding and moving ({moved:.4})");
+
+    // Save As (Ctrl+Shift+S): the path field, cleared and typed.
+    xdotool(&display, &["key", "ctrl+shift+s"]);
+    std::thread::sleep(Duration::from_millis(800));
+    xdotool(&display, &["key", "End"]);
+    xdotool(&display, &["key", "--repeat", "30", "--delay", "20", "BackSpace"]);
+    xdotool(&display, &["type", "--delay", "20", saved.to_str().unwrap()]);
+    std::thread::sleep(Duration::from_millis(300));
+    xdotool(&display, &["key", "Return"]);
+    let deadline = Instant::now() + Duration::from_secs(10);
+    while !saved.exists() {
+        assert!(Instant::now() < deadline, "Save As wrote no file at {}", saved.display());
+        std::thread::sleep(Duration::from_millis(100));
+    }
+    quit_cleanly(&display, &mut editor);
+
+    let doc: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&saved).unwrap()).unwrap();
+    let positions = doc["positions"].as_array().unwrap();
+    let faces = doc["faces"].as_array().unwrap();
+    assert_eq!((positions.len(), faces.len()), (12, 10), "a cube with its top face extruded");
+    // The cube's top is at z = 0.5; the extruded cap went up by E's offset (a fifth of the mean
+    // edge length, 0.2) and then by exactly 1.
+    let top = positions.iter().map(|p| p[2].as_f64().unwrap()).fold(f64::MIN, f64::max);
+    assert!((top - 1.7).abs() < 1e-9, "the extruded face is not where E and G Z 1 put it: its top is at z = {top}");
+    let caps = positions.iter().filter(|p| p[2].as_f64().unwrap() == top).count();
+    assert_eq!(caps, 4, "the four corners of the cap are at the top");
 }

@@ -14,6 +14,7 @@
 //!
 //! The optional key `curves` holds the Curves workspace's curves, segments and Coons patches
 //! ([`CurveSet`]); it is written only when there are some, so files without curves are as before.
+//! The optional key `mirror` holds the mirror option ([`crate::symmetry`]), absent when off.
 
 use crate::curve::CurveSet;
 use crate::curve::set::CurvesFile;
@@ -56,6 +57,10 @@ pub struct Document {
     pub curve_mesh: CurveMeshEdits,
     /// The last curve mesh built for this document or a clone of it.
     pub(crate) curve_cache: CurveMeshCache,
+    /// The mirror option: the plane the cage is modelled symmetric about ([`crate::symmetry`]).
+    pub mirror: Option<crate::mesh::edit::MirrorPlane>,
+    /// The mirror partners last found for this document or a clone of it.
+    pub(crate) mirror_cache: crate::symmetry::PartnerCache,
 }
 
 impl Document {
@@ -75,6 +80,8 @@ impl Document {
             curves: CurveSet::default(),
             curve_mesh: CurveMeshEdits::default(),
             curve_cache: CurveMeshCache::default(),
+            mirror: None,
+            mirror_cache: Default::default(),
         }
     }
 
@@ -122,6 +129,8 @@ impl Document {
             curves: self.curves.clone(),
             curve_mesh: CurveMeshEdits::default(),
             curve_cache: CurveMeshCache::default(),
+            mirror: self.mirror,
+            mirror_cache: Default::default(),
         };
         let carried = doc.carry_curve_mesh_edits(self, Some(p))?;
         doc.validate()?;
@@ -220,6 +229,7 @@ impl Document {
         self.settings.validate()?;
         self.subdiv.validate()?;
         self.curves.validate()?;
+        Document::check_mirror(self.mirror)?;
         self.check_curve_mesh_edits()
     }
 
@@ -255,6 +265,7 @@ impl Document {
             subdivision: Some(self.subdiv),
             curves: self.curves.to_file(),
             curve_mesh: (!self.curve_mesh.is_empty()).then(|| self.curve_mesh.clone()),
+            mirror: self.mirror.map(Into::into),
         };
         serde_json::to_string_pretty(&file).expect("a document always serialises")
     }
@@ -322,6 +333,7 @@ impl Document {
             doc.set_crease(VertexId(a), VertexId(b), s).map_err(|e| Error::format(origin, e.to_string()))?;
         }
         doc.curve_mesh = file.curve_mesh.unwrap_or_default().normalized();
+        doc.mirror = file.mirror.map(Into::into);
         doc.validate().map_err(|e| Error::format(origin, e.to_string()))?;
         if !doc.curve_mesh.is_empty() {
             // The edits must fit the curve mesh this cage builds; the build is kept for the editor.
@@ -345,7 +357,7 @@ impl Document {
 impl PartialEq for Document {
     fn eq(&self, other: &Self) -> bool {
         self.cage.positions() == other.cage.positions()
-            && self.cage.polygons() == other.cage.polygons()
+            && same_faces(&self.cage, &other.cage)
             && self.fixed == other.fixed
             && self.vertex_tension == other.vertex_tension
             && self.edge_tension == other.edge_tension
@@ -355,7 +367,14 @@ impl PartialEq for Document {
             && self.subdiv == other.subdiv
             && self.curves == other.curves
             && self.curve_mesh == other.curve_mesh
+            && self.mirror == other.mirror
     }
+}
+
+/// Whether two cages have the same faces, corner by corner (without building their face lists:
+/// the undo history compares documents of 20,000 faces).
+fn same_faces(a: &PolyMesh, b: &PolyMesh) -> bool {
+    a.face_count() == b.face_count() && a.faces().all(|f| a.face_vertices(f).eq(b.face_vertices(f)))
 }
 
 pub(crate) fn check_tension(tau: f64, what: impl Fn() -> String) -> Result<()> {
@@ -399,6 +418,8 @@ struct TautFile {
     curves: Option<CurvesFile>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     curve_mesh: Option<CurveMeshEdits>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    mirror: Option<crate::symmetry::MirrorFile>,
 }
 
 #[derive(Serialize, Deserialize)]

@@ -72,6 +72,8 @@ pub enum Edit {
     SetCurveMeshEdits(CurveMeshEdits),
     /// Discards every curve-mesh edit: the curve mesh as the cage builds it ("Rebuild from cage").
     RebuildCurveMesh,
+    /// Turns the mirror option on with a plane, or off ([`crate::symmetry`]).
+    SetMirror(Option<crate::mesh::edit::MirrorPlane>),
 }
 
 impl Document {
@@ -82,11 +84,20 @@ impl Document {
             return self.apply_curve_mesh_edit(&edit);
         }
         self.check_edit(&edit)?;
+        // Under the mirror option, the partners across the plane are edited too.
+        let edit = self.with_mirror_partners(edit)?;
         if !self.changed_by(&edit) {
             return Ok(false);
         }
         let carry_curve_mesh = matches!(edit, Edit::MoveVertices(_)) && !self.curve_mesh.is_empty();
-        if self.anchoring_matters(&edit) || carry_curve_mesh {
+        if let Edit::Replace(new) = &edit {
+            // The new document is checked as it is, without a copy of this one.
+            if self.anchoring_matters(&edit) {
+                crate::nusd::surface::check_anchoring(&new.cage, &new.fixed)
+                    .map_err(|e| Error::Input(format!("refused: {e}")))?;
+            }
+            self.perform(edit);
+        } else if self.anchoring_matters(&edit) || carry_curve_mesh {
             let mut after = self.clone();
             let anchoring = self.anchoring_matters(&edit);
             after.perform(edit);
@@ -102,6 +113,27 @@ impl Document {
             self.perform(edit);
         }
         Ok(true)
+    }
+
+    /// Checks a whole new document as [`apply`](Self::apply) of [`Edit::Replace`] would, without
+    /// copying this one: the new document when it differs, `None` when it is the same (a topology
+    /// change of a large cage pays for one document, not three).
+    pub fn checked_replacement(&self, new: Box<Document>) -> Result<Option<Document>> {
+        let edit = Edit::Replace(new);
+        self.check_edit(&edit)?;
+        if !self.changed_by(&edit) {
+            return Ok(None);
+        }
+        if self.anchoring_matters(&edit)
+            && let Edit::Replace(new) = &edit
+        {
+            crate::nusd::surface::check_anchoring(&new.cage, &new.fixed)
+                .map_err(|e| Error::Input(format!("refused: {e}")))?;
+        }
+        Ok(match edit {
+            Edit::Replace(new) => Some(*new),
+            _ => None,
+        })
     }
 
     /// Checks an edit against the document without changing it.
@@ -158,6 +190,7 @@ impl Document {
             | Edit::MoveCurveMeshInnerPoint { .. }
             | Edit::SetCurveMeshEdits(_)
             | Edit::RebuildCurveMesh => self.check_curve_mesh_edit(edit),
+            Edit::SetMirror(plane) => Document::check_mirror(*plane),
         }
     }
 
@@ -202,6 +235,7 @@ impl Document {
             | Edit::MoveCurveMeshInnerPoint { .. }
             | Edit::SetCurveMeshEdits(_)
             | Edit::RebuildCurveMesh => self.changed_by_curve_mesh_edit(edit),
+            Edit::SetMirror(plane) => self.mirror != *plane,
         }
     }
 
@@ -256,6 +290,7 @@ impl Document {
             | Edit::MoveCurveMeshInnerPoint { .. }
             | Edit::SetCurveMeshEdits(_)
             | Edit::RebuildCurveMesh => {}
+            Edit::SetMirror(plane) => self.mirror = plane,
         }
     }
 }

@@ -21,6 +21,7 @@ pub mod mesh;
 pub mod nusd;
 pub mod subdiv;
 pub mod surface;
+pub mod symmetry;
 
 pub use document::Document;
 pub use edit::Edit;

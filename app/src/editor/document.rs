@@ -183,10 +183,22 @@ impl EditorDocument {
     /// were and says why; an edit that changes nothing records nothing.
     pub fn apply(&mut self, edit: Edit) -> Result<(), String> {
         // The one validator of the core: ranges, indices, and a NUSD surface kept anchored.
-        let mut after = self.doc.clone();
-        if !after.apply(edit).map_err(|e| e.to_string())? {
-            return Ok(());
-        }
+        let after = match edit {
+            // A new cage is checked as it is: no copy of the current document to overwrite.
+            Edit::Replace(new) => match self.doc.checked_replacement(new).map_err(|e| e.to_string())? {
+                Some(after) => after,
+                None => return Ok(()),
+            },
+            edit => {
+                let mut after = self.doc.clone();
+                if !after.apply(edit).map_err(|e| e.to_string())? {
+                    return Ok(());
+                }
+                after
+            }
+        };
+        // The document before the edit is the undo snapshot (no second copy of it).
+        let before = std::mem::replace(&mut self.doc, after);
         match &mut self.gesture {
             Some(gesture) => {
                 if !gesture.changed {
@@ -195,12 +207,11 @@ impl EditorDocument {
                 }
             }
             None => {
-                let before = Snapshot { doc: self.doc.clone(), state: self.state, files: None };
+                let before = Snapshot { doc: before, state: self.state, files: None };
                 self.push_undo(before);
                 self.redo.clear();
             }
         }
-        self.doc = after;
         self.state = self.take_state();
         self.touch();
         Ok(())

@@ -78,7 +78,8 @@ impl EditorState {
         let revision = self.document.revision();
         if self.solved_revision != Some(revision) {
             self.solved_revision = Some(revision);
-            let doc = self.document.doc();
+            let whole = self.mirrored_surface_document();
+            let doc = whole.as_ref().unwrap_or(self.document.doc());
             let result = match &mut self.surface {
                 Some(view) if view.scheme.kind() == doc.scheme => view.scheme.update(doc),
                 _ => surface::build(doc).map(|s| self.surface = Some(SurfaceView::new(s))),
@@ -127,7 +128,8 @@ impl EditorState {
             self.comparison = None;
             return;
         }
-        let other = self.document.doc().clone().with_scheme(self.other_scheme());
+        let whole = self.mirrored_surface_document();
+        let other = whole.unwrap_or_else(|| self.document.doc().clone()).with_scheme(self.other_scheme());
         let result = match &mut self.comparison {
             Some(c) if c.scheme.kind() == other.scheme => c.scheme.update(&other),
             _ => surface::build(&other)

@@ -359,6 +359,8 @@ impl EditorState {
                     self.run_action(Action::Mesh(op), ui_state);
                 }
             }
+            ui.separator();
+            self.mirror_menu(ui);
         });
     }
 }

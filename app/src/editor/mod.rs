@@ -30,6 +30,7 @@ pub mod mesh_ops;
 mod mesh_ops_tests;
 #[cfg(test)]
 mod modelling_gesture_tests;
+pub mod mirror;
 pub mod new_primitive;
 #[cfg(test)]
 mod panel_tests;

@@ -120,6 +120,7 @@ impl EditorState {
             );
             return;
         }
+        self.mirror_panel(ui);
         let vertices = self.selected_vertices_with_edge_ends();
         if self.selection.is_empty() {
             ui.add(

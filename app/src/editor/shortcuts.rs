@@ -44,6 +44,8 @@ pub enum Action {
     ToggleGizmo,
     /// Shift+S: the next pivot.
     CyclePivot,
+    /// Mirror modelling on or off (Mesh ▸ Mirror chooses the plane).
+    ToggleMirror,
 }
 
 impl Action {
@@ -65,6 +67,7 @@ impl Action {
                 | Action::Transform(_)
                 | Action::ToggleGizmo
                 | Action::CyclePivot
+                | Action::ToggleMirror
         )
     }
 }
@@ -133,6 +136,7 @@ pub const SHORTCUTS: &[Shortcut] = &[
     plain(Key::S, Action::Transform(TransformKind::Scale)),
     plain(Key::W, Action::ToggleGizmo),
     shift(Key::S, Action::CyclePivot),
+    shift(Key::M, Action::ToggleMirror),
 ];
 
 impl Shortcut {
@@ -218,6 +222,7 @@ pub fn describe(action: Action) -> &'static str {
         }
         Action::ToggleGizmo => "Show or hide the transform gizmo",
         Action::CyclePivot => "Pivot: median, bounding box, 3D cursor, active vertex in turn",
+        Action::ToggleMirror => "Mirror modelling on or off (the plane last chosen in the Mesh menu's Mirror entry)",
     }
 }
 

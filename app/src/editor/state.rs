@@ -182,6 +182,8 @@ pub struct EditorState {
     pub curve_mesh: super::curve_mesh_edit::CurveMeshEditing,
     /// The transform gizmo, pivot, snapping and 3D cursor ([`super::gizmo`]).
     pub gizmo: super::gizmo::GizmoSettings,
+    /// The mirror option's editing state ([`super::mirror`]).
+    pub mirror: super::mirror::MirrorEditing,
 }
 
 impl EditorState {
@@ -210,6 +212,7 @@ impl EditorState {
             cage: Default::default(),
             curve_mesh: Default::default(),
             gizmo: Default::default(),
+            mirror: Default::default(),
         };
         state.load_curves_view();
         state.frame_all();
@@ -218,6 +221,7 @@ impl EditorState {
 
     /// Applies an edit, reporting a refused one as a notice.
     pub fn edit(&mut self, edit: Edit) {
+        self.mirror_check_move(&edit);
         if let Err(message) = self.document.apply(edit) {
             self.notify(message, true);
         }
@@ -379,6 +383,7 @@ impl EditorState {
             let (lines, points) = overlay::cage_overlay(&doc.cage, controls, &selection, frame);
             data.on_top_lines = lines;
             data.points = points;
+            self.mirror_overlay(&mut data);
         }
         data.legend = self.curve_mesh_legend().or_else(|| self.legend());
         data
@@ -402,6 +407,7 @@ impl EditorState {
     pub fn frame_all(&mut self) {
         let cage = &self.document.doc().cage;
         let mut points: Vec<taut_core::DVec3> = cage.positions().to_vec();
+        points.extend(self.mirror_frame_points());
         points.extend(self.curve_points());
         if let Some(mesh) = self.surface_mesh() {
             let step = (mesh.vertex_count() / 20_000).max(1);

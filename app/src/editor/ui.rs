@@ -305,6 +305,7 @@ impl EditorState {
             Action::Transform(kind) => self.start_transform(kind, ui_state),
             Action::ToggleGizmo => self.toggle_gizmo(),
             Action::CyclePivot => self.cycle_pivot(),
+            Action::ToggleMirror => self.toggle_mirror(),
         }
     }
 
