@@ -407,6 +407,7 @@ impl CurveFilter {
 
     /// The window of 2m + 1 samples around `i` among the `defined` points from `first_defined`
     /// (all points of a closed curve), clamped inside them on an open curve.
+    #[inline]
     fn window(&self, g: &Geometry, i: usize, first_defined: usize, defined: usize) -> Window {
         let n = self.points.len();
         let len = (2 * self.settings.window + 1).min(defined);
@@ -487,7 +488,7 @@ impl CurveFilter {
             // Left normal in the plane; the curvature is −k φ / |U|², |U| = chord / (h0 + h1).
             Some(plane) => {
                 let r = chord / (h0 + h1);
-                (-target * r * r / k, plane.normal.cross(pb - pa) * (1.0 / chord), DVec3::ZERO)
+                (-target * r * r * (0.5 * h0 * h1), plane.normal.cross(pb - pa) * (1.0 / chord), DVec3::ZERO)
             }
             None => {
                 let s = &g.spatial[i];
