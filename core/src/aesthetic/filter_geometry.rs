@@ -20,7 +20,11 @@
 //!
 //! Where it is weak: everything is recomputed for every point each colour, although a window
 //! only needs its own 2m + 1 curvatures; with the default m = 3 every point is in some window,
-//! so there is nothing to leave out.
+//! so there is nothing to leave out. Measured (`cargo bench -p taut-core --bench aesthetic`, two
+//! shared cores): a pass over 1,000 points costs about 2.3 curvature evaluations of the same
+//! points (3.5 before these buffers and closed forms), and the window fits, not this geometry,
+//! are now most of it; a full fairing of 1,000 noisy points (371 passes) takes about 25 ms, still
+//! more than a 16 ms frame. Running the passes of 1,000 points on two threads made them slower.
 
 use super::law::law_value;
 use crate::DVec3;
