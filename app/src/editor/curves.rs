@@ -3,7 +3,9 @@
 //! log-aesthetic filter of Miura, Yoshida and Saito, seed `003_0c1161d9995b9b01`, read in
 //! `shared/spec/log-aesthetic.md`), shown with curvature combs and curvature/LCG plots, log-aesthetic
 //! segments placed by their three control points (Yoshida–Saito), and Coons patches built from
-//! four curves and shown with zebra stripes.
+//! four curves and shown with zebra stripes, which follow those curves
+//! ([`super::curves_history`]). Delete deletes the selected curve or patch
+//! ([`super::curves_keys`]).
 //!
 //! Every change of the curves is one [`Edit::SetCurves`], so undo covers import, drawing,
 //! deleting, segment edits and patches. A filter run works on a copy of the selected curve (the
