@@ -280,7 +280,7 @@ fn coons_patch_zebra() {
     let right: Vec<DVec3> = (0..=20).map(|k| p10.lerp(p11, k as f64 / 20.0)).collect();
     let top = lift(segment(p11, DVec3::new(0.8, 2.1, 0.0), p01, -1.0), 0.5);
     let left: Vec<DVec3> = (0..=20).map(|k| p01.lerp(p00, k as f64 / 20.0)).collect();
-    let patch = CoonsPatch { boundaries: [bottom, right, top, left], samples: 40 };
+    let patch = CoonsPatch { boundaries: [bottom, right, top, left], samples: 40, sources: None };
     let mesh = patch.mesh().unwrap();
     let image = picture_of(
         &mesh,

@@ -3,7 +3,9 @@
 //! log-aesthetic filter of Miura, Yoshida and Saito, seed `003_0c1161d9995b9b01`, read in
 //! `shared/spec/log-aesthetic.md`), shown with curvature combs and curvature/LCG plots, log-aesthetic
 //! segments placed by their three control points (Yoshida–Saito), and Coons patches built from
-//! four curves and shown with zebra stripes.
+//! four curves and shown with zebra stripes, which follow those curves
+//! ([`super::curves_history`]). Delete deletes the selected curve or patch
+//! ([`super::curves_keys`]).
 //!
 //! Every change of the curves is one [`Edit::SetCurves`], so undo covers import, drawing,
 //! deleting, segment edits and patches. A filter run works on a copy of the selected curve (the
@@ -156,6 +158,8 @@ pub struct CurvesWorkspace {
     pub comb_density: usize,
     /// Curves picked for a Coons patch, in the order picked.
     pub picked: Vec<usize>,
+    /// The selected Coons patch (a curve and a patch are never selected together).
+    pub selected_patch: Option<usize>,
     pub patch_samples: usize,
     /// α of a new segment.
     pub segment_alpha: f64,
@@ -179,6 +183,7 @@ impl Default for CurvesWorkspace {
             comb_length: 0.15,
             comb_density: 1,
             picked: Vec::new(),
+            selected_patch: None,
             patch_samples: 24,
             segment_alpha: 1.0,
             stroke: None,
@@ -213,6 +218,7 @@ impl EditorState {
         self.curves.selected = view.selected;
         self.curves.run = None;
         self.curves.picked.clear();
+        self.curves.selected_patch = None;
         self.curves.plots = None;
     }
 
@@ -221,12 +227,26 @@ impl EditorState {
         let n = self.curve_set().curves.len();
         self.curves.selected = self.curves.selected.filter(|&s| s < n);
         self.curves.picked.retain(|&p| p < n);
+        let patches = self.curve_set().patches.len();
+        self.curves.selected_patch = self.curves.selected_patch.filter(|&p| p < patches);
         self.sync_curves_view();
     }
 
-    /// Selects a curve (or none).
+    /// Selects a curve (or none); a selected patch is deselected.
     pub fn select_curve(&mut self, curve: Option<usize>) {
         self.curves.selected = curve.filter(|&c| c < self.curve_set().curves.len());
+        if self.curves.selected.is_some() {
+            self.curves.selected_patch = None;
+        }
+        self.sync_curves_view();
+    }
+
+    /// Selects a Coons patch (or none); a selected curve is deselected.
+    pub fn select_patch(&mut self, patch: Option<usize>) {
+        self.curves.selected_patch = patch.filter(|&p| p < self.curve_set().patches.len());
+        if self.curves.selected_patch.is_some() {
+            self.curves.selected = None;
+        }
         self.sync_curves_view();
     }
 
@@ -238,13 +258,23 @@ impl EditorState {
         }
     }
 
-    /// Applies a new curve set as one edit, keeping the selection valid.
-    pub(super) fn set_curves(&mut self, set: CurveSet) {
+    /// Applies a new curve set as one edit, keeping the selection valid. Patches with history
+    /// are rebuilt from their curves first ([`super::curves_history`]).
+    pub(super) fn set_curves(&mut self, mut set: CurveSet) {
+        let kept = super::curves_history::follow_sources(&mut set, self.curve_set());
         self.edit(Edit::SetCurves(Box::new(set)));
         let n = self.curve_set().curves.len();
         self.curves.selected = self.curves.selected.filter(|&s| s < n);
         self.curves.picked.retain(|&p| p < n);
+        let patches = self.curve_set().patches.len();
+        self.curves.selected_patch = self.curves.selected_patch.filter(|&p| p < patches);
         self.sync_curves_view();
+        // Once per change of what is wrong, not once per frame of a drag.
+        if let Some(kept) = kept
+            && self.notice.as_ref().is_none_or(|n| n.text != kept)
+        {
+            self.notify(kept, true);
+        }
     }
 
     /// Adds a curve and selects it.
@@ -285,10 +315,45 @@ impl EditorState {
         };
         self.curves.run = None;
         let mut set = self.curve_set().clone();
-        set.curves.remove(s);
+        let name = set.curves[s].name.clone();
+        let orphaned = set.remove_curve(s);
         self.curves.picked.clear();
         self.curves.selected = None;
+        let before = self.document.revision();
         self.set_curves(set);
+        if self.document.revision() != before {
+            let list: Vec<String> = orphaned.iter().map(|k| (k + 1).to_string()).collect();
+            match list.len() {
+                0 => self.notify(format!("deleted the curve '{name}'"), false),
+                1 => self.notify(format!("deleted '{name}': Coons patch {} keeps its shape without it", list[0]), true),
+                _ => self.notify(
+                    format!("deleted '{name}': Coons patches {} keep their shapes without it", list.join(", ")),
+                    true,
+                ),
+            }
+        }
+    }
+
+    /// Deletes the selected Coons patch.
+    pub fn delete_selected_patch(&mut self) {
+        let Some(k) = self.curves.selected_patch else {
+            self.notify("select a Coons patch to delete first", true);
+            return;
+        };
+        let mut set = self.curve_set().clone();
+        set.patches.remove(k);
+        self.curves.selected_patch = None;
+        self.set_curves(set);
+        self.notify(format!("deleted Coons patch {}", k + 1), false);
+    }
+
+    /// Deletes what is selected in the Curves workspace: the curve or the patch (the Delete key).
+    pub fn delete_selected_curve_item(&mut self) {
+        if self.curves.selected_patch.is_some() {
+            self.delete_selected_patch();
+        } else {
+            self.delete_selected_curve();
+        }
     }
 
     /// A new log-aesthetic segment on the drawing plane, sized to the model.
@@ -502,25 +567,25 @@ impl EditorState {
     /// Builds a Coons patch from the four picked curves (snapping ends that nearly meet).
     pub fn build_coons(&mut self) {
         let picked = self.curves.picked.clone();
-        if picked.len() != 4 {
+        let Ok(sources) = <[usize; 4]>::try_from(picked.as_slice()) else {
             self.notify(format!("pick four curves for a Coons patch ({} picked)", picked.len()), true);
             return;
-        }
-        let sides: Vec<Vec<DVec3>> = picked.iter().map(|&i| self.curve_set().curves[i].points.clone()).collect();
-        if let Some(k) = sides.iter().position(|s| s.len() < 2) {
-            self.notify(
-                format!("curve '{}' has no points (no such segment)", self.curve_set().curves[picked[k]].name),
-                true,
-            );
+        };
+        let set = self.curve_set();
+        if sources.iter().any(|&s| s >= set.curves.len()) || (1..4).any(|a| sources[..a].contains(&sources[a])) {
+            self.notify("pick four different curves for a Coons patch", true);
             return;
         }
-        match loop_of_sides(sides) {
+        let samples = self.curves.patch_samples;
+        let built = super::curves_history::boundaries_from(
+            |i| set.curves[i].points.clone(),
+            sources,
+            samples,
+            |i| set.curves[i].name.clone(),
+        );
+        match built {
             Ok(boundaries) => {
-                let patch = CoonsPatch { boundaries, samples: self.curves.patch_samples };
-                if let Err(e) = patch.mesh() {
-                    self.notify(format!("cannot build the Coons patch: {e}"), true);
-                    return;
-                }
+                let patch = CoonsPatch { boundaries, samples, sources: Some(sources) };
                 let mut set = self.curve_set().clone();
                 set.patches.push(patch);
                 self.set_curves(set);
@@ -531,20 +596,12 @@ impl EditorState {
         }
     }
 
-    /// Deletes the last Coons patch.
-    pub fn delete_last_patch(&mut self) {
-        let mut set = self.curve_set().clone();
-        if set.patches.pop().is_some() {
-            self.set_curves(set);
-        }
-    }
-
     /// Every Coons patch of the document as one mesh (for the viewport), if there are any.
     pub fn patches_mesh(&self) -> Option<PolyMesh> {
         let mut positions = Vec::new();
         let mut faces: Vec<Vec<u32>> = Vec::new();
-        for patch in &self.curve_set().patches {
-            let Ok(mesh) = patch.mesh() else { continue };
+        for k in 0..self.curve_set().patches.len() {
+            let Ok(mesh) = self.shown_patch(k).mesh() else { continue };
             let offset = positions.len() as u32;
             positions.extend_from_slice(mesh.positions());
             faces.extend(mesh.polygons().into_iter().map(|f| f.into_iter().map(|v| v + offset).collect()));
@@ -554,7 +611,7 @@ impl EditorState {
 }
 
 /// Orders four curves into a loop (each may run either way) and snaps ends that nearly meet.
-fn loop_of_sides(mut sides: Vec<Vec<DVec3>>) -> Result<[Vec<DVec3>; 4], String> {
+pub(super) fn loop_of_sides(mut sides: Vec<Vec<DVec3>>) -> Result<[Vec<DVec3>; 4], String> {
     let all: Vec<DVec3> = sides.iter().flatten().copied().collect();
     let size = taut_core::mesh::bounding_box(&all).map_or(0.0, |(lo, hi)| lo.distance(hi));
     let tolerance = SNAP_FRACTION * size;

@@ -75,7 +75,7 @@ impl EditorState {
             let can_delete = self.curves.selected.is_some();
             if ui
                 .add_enabled(can_delete, egui::Button::new("Delete"))
-                .on_hover_text("Delete the selected curve")
+                .on_hover_text("Delete the selected curve (Delete)")
                 .clicked()
             {
                 self.delete_selected_curve();
@@ -134,8 +134,22 @@ impl EditorState {
         {
             self.build_coons();
         }
-        if !self.curve_set().patches.is_empty() && ui.button("Delete the last patch").clicked() {
-            self.delete_last_patch();
+        let patches: Vec<bool> = self.curve_set().patches.iter().map(|p| p.sources.is_some()).collect();
+        for (k, follows) in patches.into_iter().enumerate() {
+            let text =
+                format!("Coons patch {}  ({})", k + 1, if follows { "follows its curves" } else { "fixed shape" });
+            if ui
+                .selectable_label(self.curves.selected_patch == Some(k), text)
+                .on_hover_text("Click to select; Delete deletes it")
+                .clicked()
+            {
+                self.select_patch(Some(k));
+            }
+        }
+        if self.curves.selected_patch.is_some()
+            && ui.button("Delete patch").on_hover_text("Delete the selected Coons patch (Delete)").clicked()
+        {
+            self.delete_selected_patch();
         }
     }
 

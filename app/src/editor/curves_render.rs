@@ -18,16 +18,23 @@ pub fn patch_zebra(editor: &EditorState) -> SurfaceMode {
 pub struct PatchSurface {
     buffers: SurfaceBuffers,
     gpu: Option<GpuSurface>,
-    drawn: Option<(u64, taut_render::DisplayFrame)>,
+    /// What was uploaded: the document revision, the running filter's curve and passes (patches
+    /// follow a running filter live), the display frame.
+    drawn: Option<Drawn>,
 }
 
+/// The document revision, the running filter's curve and passes, and the display frame.
+type Drawn = (u64, Option<(usize, usize)>, taut_render::DisplayFrame);
+
 impl PatchSurface {
-    /// Uploads the patches when the document or the display frame changed (Curves workspace).
+    /// Uploads the patches when the document, a running filter's points or the display frame
+    /// changed (Curves workspace).
     pub fn upload(&mut self, gpu: &Gpu, editor: &EditorState) {
         if editor.curves.workspace != Workspace::Curves {
             return;
         }
-        let key = (editor.document.revision(), editor.display_frame);
+        let run = editor.curves.run.as_ref().map(|r| (r.curve, r.status().passes));
+        let key = (editor.document.revision(), run, editor.display_frame);
         if self.drawn == Some(key) {
             return;
         }

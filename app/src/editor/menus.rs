@@ -163,6 +163,11 @@ impl EditorState {
                     ui.label(shortcuts::describe(s.action));
                     ui.end_row();
                 }
+                for (keys, what) in super::curves_keys::help_rows() {
+                    ui.label(keys);
+                    ui.label(what);
+                    ui.end_row();
+                }
                 for (keys, what) in MOUSE_AND_DRAG_KEYS {
                     ui.label(*keys);
                     ui.label(*what);

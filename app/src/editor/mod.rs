@@ -9,6 +9,8 @@ pub mod cage_job;
 mod cage_tests;
 pub mod curve_mesh_edit;
 pub mod curves;
+mod curves_history;
+mod curves_keys;
 mod curves_panels;
 mod curves_render;
 mod curves_viewport;

@@ -246,6 +246,11 @@ impl EditorState {
             }
             return;
         }
+        if self.curves.workspace == taut_core::curve::Workspace::Curves {
+            for action in ctx.input_mut(super::curves_keys::pressed) {
+                self.run_curve_key(action);
+            }
+        }
         for action in ctx.input_mut(shortcuts::pressed) {
             self.run_action(action, ui_state);
         }

@@ -68,8 +68,8 @@
 //! noisy points no nearer the true curve. Dense noisy curves (hundreds of points) keep a scattered
 //! discrete LCG however long they are filtered, because the LCG differentiates the curvature again.
 
+use super::filter_geometry::{Geometry, Local, PARALLEL_FROM, Shape, Spatial, Window};
 use super::law::{LineSums, law_value, radius_from_law};
-use crate::curve::derivatives::{first_derivative, second_derivative, third_derivative};
 use crate::curve::{Plane, PointSequence};
 use crate::{DVec3, Error, Result};
 use rayon::prelude::*;
@@ -85,9 +85,6 @@ pub const MAX_CURVATURE_RATIO: f64 = 10.0;
 pub const DEFAULT_RELAXATION: f64 = 0.5;
 /// Default cap on passes.
 pub const DEFAULT_MAX_PASSES: usize = 10_000;
-/// Points from which the passes run on several threads (below it threads cost more than they
-/// save). The result does not depend on it.
-const PARALLEL_FROM: usize = 4096;
 
 /// The slope α of the curvature graph the filter aims at: one for the whole curve or one per point.
 #[derive(Clone, Debug, PartialEq)]
@@ -173,24 +170,17 @@ pub struct CurveFilter {
     status: FilterStatus,
     /// Largest distance of an input point from the plane it was projected onto.
     off_plane: f64,
+    /// The free points of each colour of a red–black pass, in order.
+    colours: Vec<Vec<usize>>,
+    scratch: Scratch,
 }
 
-/// Per-pass geometry of the current points: chord gaps and per point the first derivative,
-/// the curvature (signed about the plane normal for the planar filter), and for the spatial
-/// filter the principal normal, binormal, third derivative and torsion.
-struct Geometry {
-    gaps: Vec<f64>,
-    /// Cumulative arc length at each point, and the total (closing segment included).
-    arc: Vec<f64>,
-    total: f64,
-    u: Vec<DVec3>,
-    kappa: Vec<f64>,
-    normal: Vec<DVec3>,
-    w: Vec<DVec3>,
-    tau: Vec<f64>,
-    /// `law_value(1/|κ|, α)` per point when α is the same everywhere (computed once a sweep
-    /// rather than once per window).
-    kappa_law: Option<Vec<f64>>,
+/// Buffers a pass works in, kept from pass to pass so that a pass allocates nothing.
+#[derive(Clone, Debug, Default)]
+struct Scratch {
+    geometry: Geometry,
+    before: Vec<DVec3>,
+    moves: Vec<Move>,
 }
 
 impl CurveFilter {
@@ -246,7 +236,23 @@ impl CurveFilter {
         let sequence = PointSequence::new(points, curve.closed);
         sequence.validate(least)?;
         let status = FilterStatus { last_move: f64::INFINITY, ..FilterStatus::default() };
-        Ok(CurveFilter { points: sequence.points, closed: curve.closed, plane, alpha, settings, status, off_plane })
+        // A closed curve with an odd count has two even neighbours at the seam: a third colour.
+        let closed = curve.closed;
+        let count: usize = if closed && n % 2 == 1 { 3 } else { 2 };
+        let colour = |i: usize| if count == 3 && i == n - 1 { 2 } else { i % 2 };
+        let free = |i: usize| closed || (i > 0 && i + 1 < n);
+        let colours = (0..count).map(|c| (0..n).filter(|&i| colour(i) == c && free(i)).collect()).collect();
+        Ok(CurveFilter {
+            points: sequence.points,
+            closed,
+            plane,
+            alpha,
+            settings,
+            status,
+            off_plane,
+            colours,
+            scratch: Scratch::default(),
+        })
     }
 
     /// The current points.
@@ -305,47 +311,62 @@ impl CurveFilter {
 
     /// One red–black pass.
     fn pass(&mut self) -> Result<()> {
+        let mut scratch = std::mem::take(&mut self.scratch);
+        let result = self.pass_in(&mut scratch);
+        self.scratch = scratch;
+        result
+    }
+
+    fn shape(&self) -> Shape {
+        let uniform_alpha = match self.settings.alpha {
+            Alpha::Uniform(alpha) => Some(alpha),
+            Alpha::PerPoint(_) => None,
+        };
+        Shape { closed: self.closed, plane: self.plane, uniform_alpha }
+    }
+
+    fn pass_in(&mut self, scratch: &mut Scratch) -> Result<()> {
         let n = self.points.len();
-        let before = self.points.clone();
+        scratch.before.clone_from(&self.points);
         let (mut held, mut capped, mut err2, mut k2) = (0, 0, 0.0, 0.0);
         let mut mean_gap = 0.0;
-        // A closed curve with an odd count has two even neighbours at the seam: a third colour.
-        let colours: usize = if self.closed && n % 2 == 1 { 3 } else { 2 };
-        let colour = |i: usize| if colours == 3 && i == n - 1 { 2 } else { i % 2 };
-        for c in 0..colours {
-            let geometry = self.geometry();
+        let mut largest2: f64 = 0.0;
+        let shape = self.shape();
+        for c in 0..self.colours.len() {
+            scratch.geometry.update(&self.points, shape);
+            let geometry = &scratch.geometry;
             if c == 0 {
-                mean_gap = geometry.total / geometry.gaps.len() as f64;
+                mean_gap = geometry.total / geometry.segments.len() as f64;
             }
-            let indices: Vec<usize> = (0..n).filter(|&i| colour(i) == c && self.is_free(i)).collect();
-            let step = |&i: &usize| self.move_point(&geometry, i);
-            let moves: Vec<Move> = if n >= PARALLEL_FROM {
-                indices.par_iter().map(step).collect()
+            let step = |&i: &usize| self.move_point(geometry, i);
+            if n >= PARALLEL_FROM {
+                self.colours[c].par_iter().map(step).collect_into_vec(&mut scratch.moves);
             } else {
-                indices.iter().map(step).collect()
-            };
-            for (i, m) in indices.iter().zip(&moves) {
+                scratch.moves.clear();
+                scratch.moves.extend(self.colours[c].iter().map(step));
+            }
+            for (&i, m) in self.colours[c].iter().zip(&scratch.moves) {
+                let kappa = geometry.local[i].kappa;
                 match m.target {
                     Some(t) => {
-                        err2 += (geometry.kappa[*i] - t).powi(2);
-                        k2 += geometry.kappa[*i].powi(2);
+                        err2 += (kappa - t).powi(2);
+                        k2 += kappa.powi(2);
                     }
                     None => held += 1,
                 }
                 capped += m.capped as usize;
-                self.points[*i] = m.position;
+                let d2 = self.points[i].distance_squared(m.position);
+                // Not f64::max: a NaN must be seen.
+                if d2 > largest2 || d2.is_nan() {
+                    largest2 = d2;
+                }
+                self.points[i] = m.position;
             }
         }
-        let mut largest: f64 = 0.0;
-        for (a, b) in before.iter().zip(&self.points) {
-            let d = a.distance(*b);
-            // Not f64::max: a NaN must be seen.
-            if d > largest || d.is_nan() {
-                largest = d;
-            }
-        }
-        let gaps = crate::curve::sequence::chord_lengths(&self.points, self.closed);
-        let shortest = gaps.iter().copied().fold(f64::INFINITY, f64::min);
+        let largest = largest2.sqrt();
+        let p = &self.points;
+        let closing = if self.closed { p[n - 1].distance_squared(p[0]) } else { f64::INFINITY };
+        let shortest = p.windows(2).map(|w| w[0].distance_squared(w[1])).fold(closing, f64::min).sqrt();
         let failure = if !largest.is_finite() {
             Some("a point became non-finite")
         } else if shortest.is_nan() || shortest <= 1e-9 * mean_gap {
@@ -354,7 +375,7 @@ impl CurveFilter {
             None
         };
         if let Some(what) = failure {
-            self.points = before;
+            std::mem::swap(&mut self.points, &mut scratch.before);
             return Err(Error::Solver(format!(
                 "the filter diverged at pass {}: {what}; use a larger window, a smaller relaxation or an α closer \
                  to the curve's",
@@ -373,11 +394,6 @@ impl CurveFilter {
         Ok(())
     }
 
-    /// The ends of an open curve stay; everything else moves.
-    fn is_free(&self, i: usize) -> bool {
-        self.closed || (i > 0 && i + 1 < self.points.len())
-    }
-
     fn neighbours(&self, i: usize) -> Option<(usize, usize)> {
         let n = self.points.len();
         if self.closed {
@@ -389,73 +405,9 @@ impl CurveFilter {
         }
     }
 
-    fn geometry(&self) -> Geometry {
-        let n = self.points.len();
-        let p = &self.points;
-        let gaps = crate::curve::sequence::chord_lengths(p, self.closed);
-        let mut arc = Vec::with_capacity(n);
-        let mut total = 0.0;
-        for (i, gap) in gaps.iter().enumerate() {
-            if i < n {
-                arc.push(total);
-            }
-            total += gap;
-        }
-        if arc.len() < n {
-            arc.push(total);
-        }
-        let gap_before = |i: usize| if i == 0 { gaps[n - 1] } else { gaps[i - 1] };
-        let space = self.plane.is_none();
-        let mut g = Geometry {
-            u: vec![DVec3::ZERO; n],
-            kappa: vec![f64::NAN; n],
-            normal: if space { vec![DVec3::ZERO; n] } else { Vec::new() },
-            w: if space { vec![DVec3::ZERO; n] } else { Vec::new() },
-            tau: if space { vec![f64::NAN; n] } else { Vec::new() },
-            gaps: Vec::new(),
-            arc,
-            total,
-            kappa_law: None,
-        };
-        for i in 0..n {
-            let Some((a, b)) = self.neighbours(i) else { continue };
-            let (h0, h1) = (gap_before(i), gaps[i]);
-            let u = first_derivative(p[a], p[b], h0, h1);
-            let v = second_derivative(p[a], p[i], p[b], h0, h1);
-            let cross = u.cross(v);
-            let u3 = u.length_squared() * u.length();
-            g.u[i] = u;
-            match self.plane {
-                Some(plane) => g.kappa[i] = cross.dot(plane.normal) / u3,
-                None => {
-                    g.kappa[i] = cross.length() / u3;
-                    // Principal normal: the part of V across the tangent.
-                    let t = u / u.length();
-                    g.normal[i] = (v - v.dot(t) * t).normalize_or_zero();
-                    if let (Some((aa, _)), Some((_, bb))) = (self.neighbours(a), self.neighbours(b))
-                        && aa != b
-                        && bb != a
-                    {
-                        let t4 = [-(h0 + gap_before(a)), -h0, h1, h1 + gaps[b]];
-                        let w = third_derivative([p[aa], p[a], p[b], p[bb]], t4);
-                        g.w[i] = w;
-                        let b2 = cross.length_squared();
-                        if b2 > 0.0 {
-                            g.tau[i] = cross.dot(w) / b2;
-                        }
-                    }
-                }
-            }
-        }
-        g.gaps = gaps;
-        if let Alpha::Uniform(alpha) = self.settings.alpha {
-            g.kappa_law = Some(g.kappa.iter().map(|k| law_value(1.0 / k.abs(), alpha)).collect());
-        }
-        g
-    }
-
     /// The window of 2m + 1 samples around `i` among the `defined` points from `first_defined`
     /// (all points of a closed curve), clamped inside them on an open curve.
+    #[inline]
     fn window(&self, g: &Geometry, i: usize, first_defined: usize, defined: usize) -> Window {
         let n = self.points.len();
         let len = (2 * self.settings.window + 1).min(defined);
@@ -464,52 +416,53 @@ impl CurveFilter {
         } else {
             i.saturating_sub(self.settings.window).clamp(first_defined, first_defined + defined - len)
         };
-        let window = Window { start, len, n, at: 0.0 };
+        let window = Window { start, len, n, point: i, at: 0.0 };
         Window { at: window.local_arc_length(g, i), ..window }
     }
 
     /// The target of a log-aesthetic law `value^exponent = c s + d` (value = a radius, 1/|x|)
-    /// fitted over a window of signed samples `x`, at point `i`. Where the samples change sign
-    /// (an inflection, or ρ → ∞) the target is `None`, or with `clothoid` the value of the
+    /// fitted over a window of signed samples `x(data[j])`, at point `i`. Where the samples change
+    /// sign (an inflection, or ρ → ∞) the target is `None`, or with `clothoid` the value of the
     /// least-squares line of `x` itself (α = −1). `None` also where the law gives no positive
-    /// radius. `law`, when given, holds the law values of `1/|x|` precomputed.
-    fn law_target(
+    /// radius. `law`, when given, gives the law values of `1/|x|` precomputed.
+    #[allow(clippy::too_many_arguments)]
+    fn law_target<S>(
         &self,
         g: &Geometry,
         window: Window,
-        i: usize,
-        x: &[f64],
-        law: Option<&[f64]>,
+        data: &[S],
+        x: impl Fn(&S) -> f64,
+        law: Option<impl Fn(&S) -> f64>,
         exponent: f64,
         clothoid: bool,
     ) -> Option<f64> {
-        let sign = x[i].signum();
+        let sign = x(&data[window.point]).signum();
         let (mut largest, mut smallest, mut one_signed) = (0.0f64, f64::INFINITY, true);
-        for (j, _) in window.samples(g) {
-            let v = x[j] * sign;
+        window.for_each(g, data, |_, d| {
+            let v = x(d) * sign;
             one_signed &= v > 0.0;
-            largest = largest.max(v);
-            smallest = smallest.min(v);
-        }
+            if v > largest {
+                largest = v;
+            }
+            if v < smallest {
+                smallest = v;
+            }
+        });
         // ρ → ∞ counts as an inflection too: a sample of nearly zero curvature would dominate the
         // line through ρ^α (α > 0) and throw the target off.
         one_signed &= smallest * MAX_CURVATURE_RATIO > largest;
-        let mut sums = LineSums::default();
+        // Only the one line that is used is fitted.
         if !one_signed {
             if !clothoid {
                 return None;
             }
-            for (j, s) in window.samples(g) {
-                sums.add(s, x[j]);
-            }
-            let (c, d) = sums.line()?;
+            let (c, d) = fit_window(g, window, data, &x)?;
             return Some(c * window.at + d);
         }
-        match law {
-            Some(l) => window.samples(g).for_each(|(j, s)| sums.add(s, l[j])),
-            None => window.samples(g).for_each(|(j, s)| sums.add(s, law_value(1.0 / (x[j] * sign), exponent))),
-        }
-        let (c, d) = sums.line()?;
+        let (c, d) = match &law {
+            Some(l) => fit_window(g, window, data, l)?,
+            None => fit_window(g, window, data, |d| law_value(1.0 / (x(d) * sign), exponent))?,
+        };
         radius_from_law(c * window.at + d, exponent).map(|r| sign / r)
     }
 
@@ -520,26 +473,31 @@ impl CurveFilter {
         let (first, defined) = if self.closed { (0, n) } else { (1, n - 2) };
         let window = self.window(g, i, first, defined);
         let clothoid = self.settings.inflection == InflectionRule::Clothoid;
-        let Some(target) = self.law_target(g, window, i, &g.kappa, g.kappa_law.as_deref(), self.alpha[i], clothoid)
-        else {
+        let local = &g.local;
+        let precomputed = matches!(self.settings.alpha, Alpha::Uniform(_)).then_some(|l: &Local| l.law);
+        let Some(target) = self.law_target(g, window, local, |l| l.kappa, precomputed, self.alpha[i], clothoid) else {
             return stay;
         };
-        let (h0, h1) = (g.gaps[(i + n - 1) % n], g.gaps[i]);
-        let centre = (self.points[a] + self.points[b]) * 0.5;
-        let u = g.u[i];
+        let (h0, h1) = (g.gap_before(i), g.segments[i].gap);
+        let (pa, pb) = (self.points[a], self.points[b]);
+        let centre = (pa + pb) * 0.5;
+        let chord = local[i].chord;
         let k = 2.0 / (h0 * h1);
-        let half_chord = 0.5 * self.points[a].distance(self.points[b]);
+        let half_chord = 0.5 * chord;
         let (mut phi, normal, binormal) = match self.plane {
-            // Left normal in the plane; the curvature is −k φ / |U|².
-            Some(plane) => (-target * u.length_squared() / k, plane.normal.cross(u).normalize(), DVec3::ZERO),
+            // Left normal in the plane; the curvature is −k φ / |U|², |U| = chord / (h0 + h1).
+            Some(plane) => {
+                let r = chord / (h0 + h1);
+                (-target * r * r * (0.5 * h0 * h1), plane.normal.cross(pb - pa) * (1.0 / chord), DVec3::ZERO)
+            }
             None => {
-                let normal = g.normal[i];
-                if normal == DVec3::ZERO {
+                let s = &g.spatial[i];
+                if s.normal == DVec3::ZERO {
                     return stay;
                 }
                 // The principal normal points from the point towards P_ic (V = −k (P − P_ic));
                 // at −φ N the curvature is k |φ| / |U|².
-                (-target.abs() * u.length_squared() / k, normal, u.normalize().cross(normal))
+                (-target.abs() * s.u.length_squared() / k, s.normal, s.u.normalize().cross(s.normal))
             }
         };
         let mut capped = false;
@@ -549,7 +507,7 @@ impl CurveFilter {
         }
         let mut position = centre + phi * normal;
         if let Some(beta) = self.settings.torsion_beta
-            && let Some(psi) = self.binormal_offset(g, i, phi, beta, k * u.length())
+            && let Some(psi) = self.binormal_offset(g, i, phi, beta, k * g.spatial[i].u.length())
         {
             position += psi.clamp(-half_chord, half_chord) * binormal;
         }
@@ -561,22 +519,34 @@ impl CurveFilter {
     /// (N, B) frame, `U × V = k|U| (ψ N − φ B)`, so `τ = −(φ W_B − ψ W_N) / (k|U| (φ² + ψ²))` and
     /// `τ* = τ` is the quadratic `τ* k|U| ψ² − W_N ψ + τ* k|U| φ² + φ W_B = 0`.
     fn binormal_offset(&self, g: &Geometry, i: usize, phi: f64, beta: f64, k_u: f64) -> Option<f64> {
-        if g.tau[i].is_nan() {
+        let spatial = &g.spatial;
+        if spatial[i].tau.is_nan() {
             return None;
         }
         let n = self.points.len();
         let (first, defined) = if self.closed { (0, n) } else { (2, n - 4) };
         let window = self.window(g, i, first, defined);
-        if window.samples(g).any(|(j, _)| g.tau[j].is_nan()) {
+        let mut undefined = false;
+        window.for_each(g, spatial, |_, s| undefined |= s.tau.is_nan());
+        if undefined {
             return None;
         }
-        let tau = self.law_target(g, window, i, &g.tau, None, beta, false)?;
-        let normal = g.normal[i];
-        let binormal = g.u[i].normalize().cross(normal);
-        let (w_n, w_b) = (g.w[i].dot(normal), g.w[i].dot(binormal));
+        let tau = self.law_target(g, window, spatial, |s| s.tau, None::<fn(&Spatial) -> f64>, beta, false)?;
+        let normal = spatial[i].normal;
+        let binormal = spatial[i].u.normalize().cross(normal);
+        let (w_n, w_b) = (spatial[i].w.dot(normal), spatial[i].w.dot(binormal));
         let (qa, qb, qc) = (tau * k_u, -w_n, tau * k_u * phi * phi + phi * w_b);
         smaller_root(qa, qb, qc)
     }
+}
+
+/// The least-squares line `y = c s + d` of the samples `y(data[j])` of a window over their arc
+/// length `s` from its first sample.
+#[inline]
+fn fit_window<S>(g: &Geometry, window: Window, data: &[S], y: impl Fn(&S) -> f64) -> Option<(f64, f64)> {
+    let mut sums = LineSums::default();
+    window.for_each(g, data, |s, d| sums.add_from_zero(s, y(d)));
+    sums.line()
 }
 
 /// The root of `a x² + b x + c = 0` of smaller magnitude, stably; `None` without a real root.
@@ -601,38 +571,8 @@ pub(crate) fn nearest_root(a: f64, b: f64, c: f64, near: f64) -> Option<f64> {
     Some(if (r1 - near).abs() <= (r2 - near).abs() { r1 } else { r2 })
 }
 
-/// A window of consecutive samples: `len` of them from `start` (mod `n`); `at` is the arc
-/// length from its first sample to the point it serves.
-#[derive(Clone, Copy, Debug)]
-struct Window {
-    start: usize,
-    len: usize,
-    n: usize,
-    at: f64,
-}
-
-impl Window {
-    /// Arc length from the window's first sample to point `j` (across the seam of a closed
-    /// curve).
-    #[inline]
-    fn local_arc_length(&self, g: &Geometry, j: usize) -> f64 {
-        let d = g.arc[j] - g.arc[self.start];
-        if d < 0.0 { d + g.total } else { d }
-    }
-
-    /// (index, arc length from the window's first sample) of every sample.
-    #[inline]
-    fn samples<'a>(&self, g: &'a Geometry) -> impl Iterator<Item = (usize, f64)> + 'a {
-        let w = *self;
-        // Wrapping by hand: a `%` per sample costs more than the fit itself.
-        (w.start..w.start + w.len).map(move |j| {
-            let j = if j >= w.n { j - w.n } else { j };
-            (j, w.local_arc_length(g, j))
-        })
-    }
-}
-
 /// Where one point goes in a pass.
+#[derive(Clone, Copy, Debug)]
 struct Move {
     position: DVec3,
     target: Option<f64>,

@@ -86,6 +86,17 @@ impl LineSums {
         self.sxy += x * y;
     }
 
+    /// Adds the point `(x, y)` where the first x added was 0 (or is to be taken as the origin of
+    /// the x): [`LineSums::add`] without its centring.
+    #[inline]
+    pub fn add_from_zero(&mut self, x: f64, y: f64) {
+        self.n += 1.0;
+        self.sx += x;
+        self.sy += y;
+        self.sxx += x * x;
+        self.sxy += x * y;
+    }
+
     /// Slope and intercept, `None` with fewer than two distinct x.
     #[inline]
     pub fn line(&self) -> Option<(f64, f64)> {

@@ -18,6 +18,7 @@
 pub mod coons;
 pub mod estimate;
 pub mod filter;
+mod filter_geometry;
 pub mod law;
 pub mod lcg;
 pub mod segment;

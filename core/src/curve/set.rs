@@ -3,14 +3,17 @@
 //! the Curves workspace showed when the file was saved.
 //!
 //! A [`CurveSet`] is saved in the `.taut` file under the optional key `curves` (absent: none).
-//! A Coons patch keeps a copy of its four boundary polylines and its sampling, not references to
-//! the curves it was built from: a designer who goes on fairing or deleting a curve expects the
-//! patch built from it to stay as it was (as a surface lofted in Alias or Rhino does without
-//! history), and a patch never points at a curve that is gone. The patch is drawn as an extra
-//! surface beside the cage's own; the cage is left alone.
+//! A Coons patch keeps a copy of its four boundary polylines and its sampling, and, as a surface
+//! with history in Alias does, which curves it was built from ([`CoonsPatch::sources`], the
+//! optional key `sources`: their places in the list of curves). The editor rebuilds a patch from
+//! its sources whenever they change and keeps the copy when they no longer meet; a deleted
+//! source ends the patch's history ([`CurveSet::remove_curve`]), and the patch keeps the shape
+//! it had. Files written before `sources` existed open with patches without history. The patch
+//! is drawn as an extra surface beside the cage's own; the cage is left alone.
 //!
 //! Where it is weak: curves are polylines only (a segment is stored sampled, with its controls to
-//! edit it again); a patch is not rebuilt when its source curves change.
+//! edit it again); sources are places in the list, so every removal of a curve must go through
+//! [`CurveSet::remove_curve`], which renumbers them.
 
 use crate::aesthetic::{AestheticSegment, BoundaryCurve, coons_patch, grid_mesh};
 use crate::curve::PointSequence;
@@ -115,6 +118,9 @@ pub struct CoonsPatch {
     pub boundaries: [Vec<DVec3>; 4],
     /// Samples a side.
     pub samples: usize,
+    /// The four curves the patch was built from (places in [`CurveSet::curves`]), which it
+    /// follows; `None`: a patch without history.
+    pub sources: Option<[usize; 4]>,
 }
 
 impl CoonsPatch {
@@ -206,7 +212,47 @@ impl CurveSet {
             )));
         }
         self.curves.iter().enumerate().try_for_each(|(i, c)| c.validate(i))?;
-        self.patches.iter().enumerate().try_for_each(|(i, p)| p.validate(i))
+        self.patches.iter().enumerate().try_for_each(|(i, p)| p.validate(i))?;
+        for (i, p) in self.patches.iter().enumerate() {
+            let Some(sources) = p.sources else { continue };
+            if let Some(s) = sources.iter().find(|&&s| s >= self.curves.len()) {
+                return Err(Error::Input(format!(
+                    "Coons patch {i} was built from curve {s}, but there are {} curves",
+                    self.curves.len()
+                )));
+            }
+            if (0..4).any(|a| (a + 1..4).any(|b| sources[a] == sources[b])) {
+                return Err(Error::Input(format!("Coons patch {i} names one curve twice among its four sources")));
+            }
+        }
+        Ok(())
+    }
+
+    /// Removes curve `index`, renumbering the sources of the patches; the patches built from it
+    /// lose their history and keep their shape. Returns those patches.
+    pub fn remove_curve(&mut self, index: usize) -> Vec<usize> {
+        if index >= self.curves.len() {
+            return Vec::new();
+        }
+        self.curves.remove(index);
+        let mut orphaned = Vec::new();
+        for (k, patch) in self.patches.iter_mut().enumerate() {
+            let Some(sources) = &mut patch.sources else { continue };
+            if sources.contains(&index) {
+                patch.sources = None;
+                orphaned.push(k);
+            } else {
+                sources.iter_mut().filter(|s| **s > index).for_each(|s| *s -= 1);
+            }
+        }
+        if let Some(s) = self.view.selected {
+            self.view.selected = match s.cmp(&index) {
+                std::cmp::Ordering::Less => Some(s),
+                std::cmp::Ordering::Equal => None,
+                std::cmp::Ordering::Greater => Some(s - 1),
+            };
+        }
+        orphaned
     }
 
     /// The set as it is written in a `.taut` file (`None` when there is nothing to write).
@@ -229,7 +275,11 @@ impl CurveSet {
             patches: self
                 .patches
                 .iter()
-                .map(|p| PatchFile { boundaries: p.boundaries.clone().map(|b| points(&b)), samples: p.samples })
+                .map(|p| PatchFile {
+                    boundaries: p.boundaries.clone().map(|b| points(&b)),
+                    samples: p.samples,
+                    sources: p.sources,
+                })
                 .collect(),
             view: self.view,
         })
@@ -247,7 +297,7 @@ impl CurveSet {
             patches: file
                 .patches
                 .into_iter()
-                .map(|p| CoonsPatch { boundaries: p.boundaries.map(points), samples: p.samples })
+                .map(|p| CoonsPatch { boundaries: p.boundaries.map(points), samples: p.samples, sources: p.sources })
                 .collect(),
             view: file.view,
         };
@@ -285,6 +335,8 @@ struct CurveFile {
 struct PatchFile {
     boundaries: [Vec<[f64; 3]>; 4],
     samples: usize,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    sources: Option<[usize; 4]>,
 }
 
 #[cfg(test)]
@@ -306,10 +358,10 @@ mod tests {
         set.validate().unwrap();
         let mut sides = square_sides();
         sides[2][2] += DVec3::splat(0.5);
-        set.patches.push(CoonsPatch { boundaries: sides, samples: 4 });
+        set.patches.push(CoonsPatch { boundaries: sides, samples: 4, sources: None });
         let e = set.validate().unwrap_err().to_string();
         assert!(e.starts_with("Coons patch 0"), "{e}");
-        set.patches[0] = CoonsPatch { boundaries: square_sides(), samples: 0 };
+        set.patches[0] = CoonsPatch { boundaries: square_sides(), samples: 0, sources: None };
         assert!(set.validate().unwrap_err().to_string().contains("0 samples"));
         set.patches[0].samples = 3;
         set.view.selected = Some(4);
@@ -352,7 +404,7 @@ mod tests {
         doc.curves.curves.push(DocCurve::new("sketch", noisy, false));
         let controls = SegmentControls { controls: [[0.0, 0.0, 0.0], [0.5, 0.5, 0.0], [1.0, 0.0, 0.0]], alpha: 1.0 };
         doc.curves.curves.push(DocCurve::segment("segment", controls).unwrap());
-        doc.curves.patches.push(CoonsPatch { boundaries: square_sides(), samples: 3 });
+        doc.curves.patches.push(CoonsPatch { boundaries: square_sides(), samples: 3, sources: None });
         doc.curves.view = CurvesView { workspace: Workspace::Curves, selected: Some(1) };
         let text = doc.to_json();
         let back = Document::from_json(&text, Path::new("c.taut")).unwrap();
@@ -366,5 +418,42 @@ mod tests {
         let bad = text.replace("\"samples\": 3", "\"samples\": 0");
         let e = Document::from_json(&bad, Path::new("c.taut")).unwrap_err().to_string();
         assert!(e.contains("Coons patch 0"), "{e}");
+    }
+
+    #[test]
+    fn removing_a_curve_renumbers_the_sources_and_ends_the_history_of_its_patches() {
+        let sides = square_sides();
+        let mut set = CurveSet::default();
+        set.curves.push(DocCurve::new("extra", vec![DVec3::ZERO, DVec3::Z], false));
+        for (k, side) in sides.iter().enumerate() {
+            set.curves.push(DocCurve::new(format!("side {k}"), side.clone(), false));
+        }
+        let patch = CoonsPatch { boundaries: sides.clone(), samples: 2, sources: Some([1, 2, 3, 4]) };
+        set.patches.push(patch.clone());
+        set.patches.push(CoonsPatch { sources: None, ..patch });
+        set.view.selected = Some(3);
+        set.validate().unwrap();
+        assert_eq!(set.remove_curve(0), Vec::<usize>::new());
+        assert_eq!(set.patches[0].sources, Some([0, 1, 2, 3]));
+        assert_eq!(set.view.selected, Some(2));
+        assert_eq!(set.remove_curve(2), vec![0]);
+        assert_eq!((set.patches[0].sources, set.view.selected), (None, None));
+        assert_eq!(set.patches[0].boundaries, sides, "the patch keeps its shape");
+        set.validate().unwrap();
+        // Sources that name no curve or one curve twice are refused, and round-trip when valid.
+        set.patches[1].sources = Some([0, 1, 2, 5]);
+        assert!(set.validate().unwrap_err().to_string().contains("built from curve 5"));
+        set.patches[1].sources = Some([0, 1, 1, 2]);
+        assert!(set.validate().unwrap_err().to_string().contains("twice"));
+        set.patches[1].sources = Some([2, 1, 0, 2]);
+        assert!(set.validate().is_err());
+        set.patches[1].sources = Some([2, 1, 0, 1]);
+        assert!(set.validate().is_err());
+        set.curves.push(DocCurve::new("fourth", vec![DVec3::ZERO, DVec3::Y], false));
+        set.patches[1].sources = Some([3, 1, 0, 2]);
+        let file = serde_json::to_string(&set.to_file().unwrap()).unwrap();
+        assert!(file.contains("\"sources\":[3,1,0,2]"), "{file}");
+        let back = CurveSet::from_file(serde_json::from_str(&file).unwrap()).unwrap();
+        assert_eq!(back, set);
     }
 }
