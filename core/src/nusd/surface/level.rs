@@ -10,7 +10,7 @@
 
 use super::hierarchy::LevelTopology;
 use super::kernel::{Forcing, State};
-use super::local::{Children, Region, Touched};
+use super::local::{Children, Region, Support, Touched};
 use super::multigrid::{Grid, Transfer, Work};
 use super::operator::{Controls, Operator, Role};
 use crate::DVec3;
@@ -44,7 +44,7 @@ pub(super) struct Level {
     /// The local solve's epoch this level's region belongs to.
     pub epoch: u64,
     /// Where the residual buffer may be nonzero (a region's grids need it zero outside).
-    pub residual_support: Touched,
+    pub residual_support: Support,
     /// Which vertices may differ from what the next finer level last absorbed.
     pub touched: Touched,
     /// The children of each coarser vertex at this level, made on first use.
@@ -78,8 +78,8 @@ impl Level {
             multigrid_failed: false,
             region: None,
             epoch: 0,
-            residual_support: Touched::default(),
-            touched: Touched::All,
+            residual_support: Support::default(),
+            touched: Touched::everything(),
             children: None,
         }
     }
@@ -110,8 +110,8 @@ impl Level {
             multigrid_failed: false,
             region: None,
             epoch: 0,
-            residual_support: Touched::default(),
-            touched: Touched::All,
+            residual_support: Support::default(),
+            touched: Touched::everything(),
             children: None,
         })
     }
@@ -129,10 +129,10 @@ impl Level {
         let n = self.vertex_count();
         if self.residual.r.len() != n {
             self.residual = Forcing::zeros(n);
-            self.residual_support = Touched::Some(self.region.as_ref().map_or_else(Vec::new, |r| r.vertices.clone()));
+            self.residual_support = Support::Some(self.region.as_ref().map_or_else(Vec::new, |r| r.vertices.clone()));
         }
         if self.region.is_none() {
-            self.residual_support = Touched::All;
+            self.residual_support = Support::All;
         }
         let Level { topology, operator, transfer, state, work, residual, region, epoch, .. } = self;
         let work = if is_top { None } else { Some(work.get_or_insert_with(|| Work::new(n))) };
@@ -155,15 +155,15 @@ impl Level {
             && self.residual.r.len() == self.vertex_count()
         {
             match &self.residual_support {
-                Touched::All => self.residual = Forcing::zeros(self.vertex_count()),
-                Touched::Some(list) => {
+                Support::All => self.residual = Forcing::zeros(self.vertex_count()),
+                Support::Some(list) => {
                     for &v in list {
                         self.residual.r[v as usize] = DVec3::ZERO;
                         self.residual.p[v as usize] = DVec3::ZERO;
                     }
                 }
             }
-            self.residual_support = Touched::Some(region.vertices.clone());
+            self.residual_support = Support::Some(region.vertices.clone());
         }
         self.region = region;
         self.epoch = epoch;

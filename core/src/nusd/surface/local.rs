@@ -185,6 +185,8 @@ pub fn prolong_add_on(topology: &LevelTopology, vertices: &[u32], coarse_delta: 
 pub struct Children {
     pub offsets: Vec<u32>,
     pub children: Vec<u32>,
+    /// Per fine vertex, scratch for [`Children::of_set`] (all false between calls).
+    mark: Vec<bool>,
 }
 
 impl Children {
@@ -205,44 +207,95 @@ impl Children {
                 fill[p as usize] += 1;
             }
         }
-        Children { offsets, children }
+        Children { offsets, children, mark: vec![false; n] }
     }
 
-    /// The children of the listed coarse vertices, sorted, without repeats.
-    pub fn of_set(&self, coarse: &[u32]) -> Vec<u32> {
-        let mut out: Vec<u32> = coarse
-            .iter()
-            .flat_map(|&c| &self.children[self.offsets[c as usize] as usize..self.offsets[c as usize + 1] as usize])
-            .copied()
-            .collect();
-        out.sort_unstable();
-        out.dedup();
+    /// The children of the listed coarse vertices, without repeats (in the order met).
+    pub fn of_set(&mut self, coarse: &[u32]) -> Vec<u32> {
+        let mut out = Vec::new();
+        for &c in coarse {
+            for &v in &self.children[self.offsets[c as usize] as usize..self.offsets[c as usize + 1] as usize] {
+                if !self.mark[v as usize] {
+                    self.mark[v as usize] = true;
+                    out.push(v);
+                }
+            }
+        }
+        for &v in &out {
+            self.mark[v as usize] = false;
+        }
         out
     }
 }
 
-/// Which vertices of a level may differ from what the next finer level last absorbed.
+/// Where a level's residual buffer may be nonzero.
 #[derive(Clone, Debug)]
-pub enum Touched {
-    /// Any vertex.
+pub enum Support {
+    /// Anywhere.
     All,
-    /// Only these (sorted, without repeats).
+    /// Only at these vertices.
     Some(Vec<u32>),
 }
 
-impl Default for Touched {
+impl Default for Support {
     fn default() -> Self {
-        Touched::Some(Vec::new())
+        Support::Some(Vec::new())
     }
 }
 
+/// Which vertices of a level may differ from what the next finer level last absorbed: all, or
+/// a list (in the order recorded, without repeats; a mark per vertex keeps it so in O(1)).
+#[derive(Clone, Debug, Default)]
+pub struct Touched {
+    all: bool,
+    list: Vec<u32>,
+    mark: Vec<bool>,
+}
+
 impl Touched {
-    /// Adds vertices.
-    pub fn add(&mut self, vertices: &[u32]) {
-        if let Touched::Some(list) = self {
-            list.extend_from_slice(vertices);
-            list.sort_unstable();
-            list.dedup();
+    /// Every vertex.
+    pub fn everything() -> Touched {
+        Touched { all: true, ..Default::default() }
+    }
+
+    /// Records that any vertex may have changed.
+    pub fn set_all(&mut self) {
+        self.clear_list();
+        self.all = true;
+    }
+
+    /// Records the vertices (of a level of `n`).
+    pub fn add(&mut self, vertices: &[u32], n: usize) {
+        if self.all {
+            return;
         }
+        if self.mark.len() != n {
+            self.mark = vec![false; n];
+        }
+        for &v in vertices {
+            if !self.mark[v as usize] {
+                self.mark[v as usize] = true;
+                self.list.push(v);
+            }
+        }
+    }
+
+    /// The record, leaving it empty: `None` for every vertex.
+    pub fn take(&mut self) -> Option<Vec<u32>> {
+        if std::mem::take(&mut self.all) {
+            self.clear_list();
+            return None;
+        }
+        for &v in &self.list {
+            self.mark[v as usize] = false;
+        }
+        Some(std::mem::take(&mut self.list))
+    }
+
+    fn clear_list(&mut self) {
+        for &v in &self.list {
+            self.mark[v as usize] = false;
+        }
+        self.list.clear();
     }
 }

@@ -5,9 +5,7 @@
 use super::SurfaceSolver;
 use crate::DVec3;
 use crate::nusd::surface::kernel::State;
-use crate::nusd::surface::local::{
-    Children, FIRST_WIDTH, GROWTH, MAX_SHARE, Region, TRUNCATION_SHARE, Touched, prolong_add_on,
-};
+use crate::nusd::surface::local::{Children, FIRST_WIDTH, GROWTH, MAX_SHARE, Region, TRUNCATION_SHARE, prolong_add_on};
 
 /// A local solve under way: the moved cage vertices and the width of the regions.
 #[derive(Clone, Debug)]
@@ -109,7 +107,9 @@ impl SurfaceSolver {
         if self.local.is_none() {
             self.go_whole();
         } else {
-            self.levels[0].touched.add(&self.local.as_ref().map_or_else(Vec::new, |l| l.seeds.clone()));
+            let seeds = self.local.as_ref().map_or_else(Vec::new, |l| l.seeds.clone());
+            let n = self.levels[0].vertex_count();
+            self.levels[0].touched.add(&seeds, n);
         }
     }
 
@@ -121,7 +121,7 @@ impl SurfaceSolver {
                 level.set_region(None, 0);
             }
         }
-        self.levels[0].touched = Touched::All;
+        self.levels[0].touched.set_all();
     }
 
     /// Sets the regions of the levels the active level's cycles use (every level from the
@@ -159,15 +159,17 @@ impl SurfaceSolver {
     /// the record that its vertices there will change.
     pub(super) fn start_level(&mut self) {
         let local = self.local.is_some() && self.set_regions();
+        // The finest level built passes nothing on: a finer one is made from all of it.
+        let last = self.active + 1 == self.levels.len();
         let level = &mut self.levels[self.active];
         if !local {
             if level.region.is_some() {
                 level.set_region(None, 0);
             }
-            level.touched = Touched::All;
-        } else if let Some(region) = &level.region {
-            let vertices = region.vertices.clone();
-            level.touched.add(&vertices);
+            level.touched.set_all();
+        } else if let Some(region) = level.region.as_ref().filter(|_| !last) {
+            let (vertices, n) = (region.vertices.clone(), level.vertex_count());
+            level.touched.add(&vertices, n);
         }
         self.snapshot = Some(Snapshot::of(&level.state, level.region.as_ref()));
     }
@@ -196,12 +198,13 @@ impl SurfaceSolver {
         }
         let old = self.snapshot.take().expect("checked above");
         let whole = !self.set_regions();
+        let last = self.active + 1 == self.levels.len();
         let level = &mut self.levels[self.active];
         if whole {
-            level.touched = Touched::All;
-        } else if let Some(region) = &level.region {
-            let vertices = region.vertices.clone();
-            level.touched.add(&vertices);
+            level.touched.set_all();
+        } else if let Some(region) = level.region.as_ref().filter(|_| !last) {
+            let (vertices, n) = (region.vertices.clone(), level.vertex_count());
+            level.touched.add(&vertices, n);
         }
         self.snapshot = Some(old.widened(&level.state, level.region.as_ref()));
         self.cycle.reset();
@@ -213,20 +216,27 @@ impl SurfaceSolver {
     /// Adds the change of level `k` since the finer levels last absorbed it to every finer
     /// level, level by level, touching only the vertices that changed.
     pub(super) fn propagate_from(&mut self, k: usize) {
-        for l in k + 1..self.levels.len() {
+        self.propagate_through(k, self.levels.len() - 1);
+    }
+
+    /// [`propagate_from`](Self::propagate_from) down to level `last` only (the levels below
+    /// keep a record of what they have not passed on).
+    pub(super) fn propagate_through(&mut self, k: usize, last: usize) {
+        let count = self.levels.len();
+        for l in k + 1..count.min(last + 1) {
             let (coarse, fine) = self.levels.split_at_mut(l);
             let (coarse, fine) = (&mut coarse[l - 1], &mut fine[0]);
-            match std::mem::take(&mut coarse.touched) {
-                Touched::All => {
+            match coarse.touched.take() {
+                None => {
                     let delta_p: Vec<DVec3> = coarse.state.p.iter().zip(&fine.synced_p).map(|(a, b)| *a - *b).collect();
                     let delta_r: Vec<DVec3> = coarse.state.r.iter().zip(&fine.synced_r).map(|(a, b)| *a - *b).collect();
                     fine.topology.prolong_add(&delta_p, &mut fine.state.p);
                     fine.topology.prolong_add(&delta_r, &mut fine.state.r);
                     fine.synced_p.clone_from(&coarse.state.p);
                     fine.synced_r.clone_from(&coarse.state.r);
-                    fine.touched = Touched::All;
+                    fine.touched.set_all();
                 }
-                Touched::Some(list) => {
+                Some(list) => {
                     if list.is_empty() {
                         continue;
                     }
@@ -247,7 +257,10 @@ impl SurfaceSolver {
                         self.delta_p[c as usize] = DVec3::ZERO;
                         self.delta_r[c as usize] = DVec3::ZERO;
                     }
-                    fine.touched.add(&children);
+                    if l + 1 < count {
+                        let n = fine.vertex_count();
+                        fine.touched.add(&children, n);
+                    }
                 }
             }
         }

@@ -8,7 +8,6 @@ use super::anchoring::check_anchoring;
 use super::frame::Frame;
 use super::kernel;
 use super::level::{Level, refresh_levels};
-use super::local::Touched;
 use super::operator::Controls;
 use super::status::{Budget, LevelReport, LevelTiming, Phase, Status};
 use super::{DIVERGENCE_GROWTH, MIN_LAMBDA, OSCILLATION_ITERATIONS};
@@ -180,8 +179,19 @@ impl SurfaceSolver {
             }
             let level = &mut self.levels[self.active];
             if !level.has_moving() {
+                let before: Vec<DVec3> = level.operator.fixed.iter().map(|&v| level.state.r[v as usize]).collect();
                 kernel::update_fixed(&level.operator, &mut level.state);
-                level.touched = Touched::All;
+                // Only fixed vertices' R can change: record those that did.
+                let changed: Vec<u32> = level
+                    .operator
+                    .fixed
+                    .iter()
+                    .zip(&before)
+                    .filter(|&(&v, r)| level.state.r[v as usize] != *r)
+                    .map(|(&v, _)| v)
+                    .collect();
+                let n = level.vertex_count();
+                level.touched.add(&changed, n);
                 self.finish_level(true);
                 continue;
             }
@@ -553,7 +563,7 @@ impl SurfaceSolver {
             };
             let finer = self.levels.last().expect("level 0 always exists").refine(&self.cage, &controls)?;
             // The new level starts from all of the coarser one.
-            self.levels.last_mut().expect("level 0 always exists").touched = Touched::default();
+            self.levels.last_mut().expect("level 0 always exists").touched.take();
             self.levels.push(finer);
         }
         Ok(())
@@ -585,7 +595,10 @@ impl SurfaceSolver {
         };
         self.reports.retain(|r| r.level != report.level);
         self.reports.push(report);
-        self.propagate_from(self.active);
+        // A local solve passes the level's change on to the next level only: the finer ones get
+        // it with that level's own change when it is done (a drag already moved them all).
+        let upto = if self.local.is_some() { self.active + 1 } else { self.levels.len() - 1 };
+        self.propagate_through(self.active, upto);
         self.snapshot = None;
         self.monitor.reset();
         self.blocks.reset();
