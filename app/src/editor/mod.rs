@@ -30,9 +30,9 @@ pub mod menus;
 pub mod mesh_ops;
 #[cfg(test)]
 mod mesh_ops_tests;
+pub mod mirror;
 #[cfg(test)]
 mod modelling_gesture_tests;
-pub mod mirror;
 pub mod new_primitive;
 #[cfg(test)]
 mod panel_tests;
