@@ -36,7 +36,7 @@ impl BlockMonitor {
 
     /// Records the positions at the end of sweep `iteration` (of the region, or the whole level).
     pub fn push(&mut self, iteration: usize, op: &Operator, region: Option<&Region>, p: &[DVec3]) {
-        if iteration % BLOCK != 0 {
+        if !iteration.is_multiple_of(BLOCK) {
             return;
         }
         let now: Vec<DVec3> = match region {
