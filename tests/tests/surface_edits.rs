@@ -266,7 +266,7 @@ fn cages_of_any_finite_size_are_smoothed_and_scale_exactly() {
         let mut solver =
             SurfaceSolver::new(&doc).unwrap_or_else(|e| panic!("a cage {scale:e} across was refused: {e}"));
         let reports = solver.solve().unwrap_or_else(|e| panic!("{scale:e}: {e}"));
-        assert!(reports.iter().all(|r| r.converged));
+        assert!(reports.iter().all(|r| r.converged), "{scale:e}: {reports:?}");
         let scaled: Vec<DVec3> = solver.surface_positions().iter().map(|&p| p / scale).collect();
         let error = max_distance(&scaled, &base);
         assert!(error < 1e-9, "a cage {scale:e} across differs from the unit one by {error:e} of its size");

@@ -286,6 +286,55 @@ fn a_plane_lock_keeps_the_locked_coordinate_bit_for_bit_and_a_second_press_unloc
 }
 
 #[test]
+fn absolute_grid_snapping_puts_the_centre_on_the_grid() {
+    // Two corners whose centre is off the grid; a free snapped grab puts it on the grid in every
+    // component, an X-locked one only in x (y and z keep their bits).
+    let (a, b) = (VertexId(6), VertexId(7));
+    let mut h = cube_in_view(StandardView::Perspective, vec![a, b]);
+    h.state_mut().editor.edit(taut_core::Edit::MoveVertices(vec![(a, DVec3::new(0.537, 0.512, 0.4871))]));
+    h.state_mut().editor.gizmo.snap =
+        super::snapping::SnapSettings { always: true, fixed_step: Some(0.25), absolute: true, ..Default::default() };
+    frames(&mut h);
+    let centre = |h: &Harness<'_, App>| {
+        let cage = &h.state().editor.document.doc().cage;
+        (cage.position(a) + cage.position(b)) / 2.0
+    };
+    let on_grid = |x: f64| (x / 0.25 - (x / 0.25).round()).abs() < 1e-9;
+    for lock in [None, Some(Key::X)] {
+        let before = centre(&h);
+        assert!(!on_grid(before.x), "the centre starts off the grid: {before}");
+        let start = pixel_of(&h, before);
+        h.hover_at(pos2(start.x, start.y));
+        frames(&mut h);
+        h.key_press(Key::G);
+        frames(&mut h);
+        if let Some(key) = lock {
+            h.key_press(key);
+            frames(&mut h);
+        }
+        for k in 1..=4 {
+            h.hover_at(pos2(start.x + 41.0 * k as f32, start.y + 19.0 * k as f32));
+            frames(&mut h);
+        }
+        h.key_press(Key::Enter);
+        frames(&mut h);
+        let after = centre(&h);
+        assert_ne!(after, before, "it moved");
+        match lock {
+            None => assert!(after.to_array().into_iter().all(on_grid), "{after} is on the 0.25 grid"),
+            Some(_) => {
+                assert!(on_grid(after.x), "{after}: x on the grid");
+                assert_eq!((after.y.to_bits(), after.z.to_bits()), (before.y.to_bits(), before.z.to_bits()));
+            }
+        }
+        // Back off the grid for the next round.
+        let p = h.state().editor.document.doc().cage.position(a);
+        h.state_mut().editor.edit(taut_core::Edit::MoveVertices(vec![(a, p + DVec3::splat(0.0371))]));
+        frames(&mut h);
+    }
+}
+
+#[test]
 fn snapping_lands_on_multiples_of_each_step() {
     let v = VertexId(7);
     let mut h = cube_in_view(StandardView::Perspective, vec![v]);

@@ -6,8 +6,12 @@
 //!
 //! The offset of a move is snapped component by component in world axes (an axis-locked move
 //! along its axis, a move along a custom direction along it), so the moved points land on the
-//! step's multiples relative to where they began, not on an absolute grid: Blender's
-//! "increment" snap, not its "absolute grid" snap. Typed values are never snapped.
+//! step's multiples relative to where they began: Blender's "increment" snap. With "absolute
+//! grid" on (the steps menu), a move instead puts the selection's centre on the grid itself, the
+//! multiples of the step in model coordinates, in every component the move is free in (a locked
+//! axis or plane keeps its coordinate; a move along a custom direction, such as extrude's
+//! normal, stays an increment snap): Blender's "absolute grid" snap. Typed values are never
+//! snapped.
 
 use glam::DVec3;
 use taut_render::{Camera, DisplayFrame};
@@ -23,11 +27,13 @@ pub struct SnapSettings {
     pub degrees: f64,
     /// Scale increment.
     pub scale: f64,
+    /// Moves put the selection's centre on the grid instead of moving by whole steps.
+    pub absolute: bool,
 }
 
 impl Default for SnapSettings {
     fn default() -> Self {
-        SnapSettings { always: false, fixed_step: None, degrees: 5.0, scale: 0.1 }
+        SnapSettings { always: false, fixed_step: None, degrees: 5.0, scale: 0.1, absolute: false }
     }
 }
 
@@ -66,6 +72,14 @@ pub fn to_multiple(x: f64, step: f64) -> f64 {
 /// A move's offset snapped to multiples of `step` in every world component.
 pub fn snap_offset(offset: DVec3, step: f64) -> DVec3 {
     DVec3::new(to_multiple(offset.x, step), to_multiple(offset.y, step), to_multiple(offset.z, step))
+}
+
+/// The offset that puts `centre + offset` on the multiples of `step` in every component the
+/// move changes (a component the offset leaves exactly zero is locked and stays).
+pub fn snap_to_grid(centre: DVec3, offset: DVec3, step: f64) -> DVec3 {
+    DVec3::from_array(std::array::from_fn(|k| {
+        if offset[k] == 0.0 { 0.0 } else { to_multiple(centre[k] + offset[k], step) - centre[k] }
+    }))
 }
 
 #[cfg(test)]

@@ -60,6 +60,9 @@ impl EditorState {
                     ui.label(format!("grid step {view_step} (follows the zoom)"));
                 }
             }
+            ui.checkbox(&mut snap.absolute, "absolute grid").on_hover_text(
+                "A snapped move puts the selection's centre on the grid instead of moving it by whole steps",
+            );
             let label = ui.label("rotate step °");
             ui.add(egui::DragValue::new(&mut snap.degrees).speed(0.5).range(0.01..=180.0))
                 .labelled_by(label.id)

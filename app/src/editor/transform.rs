@@ -392,7 +392,14 @@ impl EditorState {
             (None, None, None) => view_plane(None),
         };
         let offset = display * frame.scale;
-        if t.snap { snapping::snap_offset(offset, t.grid_step) } else { offset }
+        if !t.snap {
+            offset
+        } else if self.gizmo.snap.absolute {
+            let centre = t.start.iter().map(|&(_, p)| p).sum::<DVec3>() / t.start.len() as f64;
+            snapping::snap_to_grid(centre, offset, t.grid_step)
+        } else {
+            snapping::snap_offset(offset, t.grid_step)
+        }
     }
 
     /// Drops a transform whose cage was replaced under it (a file opened from the menu while it

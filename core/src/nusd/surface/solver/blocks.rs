@@ -16,6 +16,8 @@ use crate::DVec3;
 use crate::nusd::surface::local::Region;
 use crate::nusd::surface::operator::{Operator, Role};
 
+/// A block displacement under this share of the threshold is taken as settled.
+pub const FLOOR: f64 = 1e-3;
 /// The share of the threshold the block estimate must fall under: its measured rate still rises
 /// while faster modes die out, so it too ends low.
 pub const MARGIN: f64 = 0.5;
@@ -58,15 +60,16 @@ impl BlockMonitor {
     }
 
     /// The estimated distance left (infinite until three blocks have been seen): the tail of the
-    /// last block's displacement at the larger of the last two block rates.
-    pub fn remaining(&self) -> f64 {
+    /// last block's displacement at the larger of the last two block rates. A displacement under
+    /// `floor` counts as what is left (at rounding level it no longer contracts).
+    pub fn remaining(&self, floor: f64) -> f64 {
         let d = &self.displacements;
         let n = d.len();
         if n == 0 {
             return f64::INFINITY;
         }
-        if d[n - 1] == 0.0 {
-            return 0.0;
+        if d[n - 1] <= floor {
+            return d[n - 1];
         }
         if n < 3 || d[n - 2] <= 0.0 || d[n - 3] <= 0.0 {
             return f64::INFINITY;

@@ -252,7 +252,7 @@ impl SurfaceSolver {
             };
             self.roll_back(why);
         } else if self.monitor.converged(self.threshold)
-            && (!tensioned || self.blocks.remaining() < blocks::MARGIN * self.threshold)
+            && (!tensioned || self.blocks.remaining(blocks::FLOOR * self.threshold) < blocks::MARGIN * self.threshold)
         {
             if self.local_accepts(self.plain_remaining()) {
                 self.finish_level(true);
@@ -271,7 +271,7 @@ impl SurfaceSolver {
     /// The plain iteration's estimate of the distance left on the active level.
     fn plain_remaining(&self) -> f64 {
         let steps = self.monitor.remaining();
-        if self.tensioned_level() { steps.max(self.blocks.remaining()) } else { steps }
+        if self.tensioned_level() { steps.max(self.blocks.remaining(blocks::FLOOR * self.threshold)) } else { steps }
     }
 
     /// The timing record of `level` in this solve.
