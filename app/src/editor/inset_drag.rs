@@ -111,27 +111,7 @@ impl EditorState {
         let Some(d) = &mut ui_state.inset_drag else { return false };
         let (mut enter, mut escape) = (false, false);
         ctx.input_mut(|i| {
-            let digits = [
-                (Key::Num0, '0'),
-                (Key::Num1, '1'),
-                (Key::Num2, '2'),
-                (Key::Num3, '3'),
-                (Key::Num4, '4'),
-                (Key::Num5, '5'),
-                (Key::Num6, '6'),
-                (Key::Num7, '7'),
-                (Key::Num8, '8'),
-                (Key::Num9, '9'),
-                (Key::Period, '.'),
-            ];
-            for (key, c) in digits {
-                if shortcuts::take_plain(i, key) {
-                    d.typed.push(c);
-                }
-            }
-            if shortcuts::take_plain(i, Key::Backspace) {
-                d.typed.pop();
-            }
+            shortcuts::take_typed_number(i, &mut d.typed, false);
             enter = shortcuts::take_plain(i, Key::Enter);
             escape = shortcuts::take_plain(i, Key::Escape);
             i.events.retain(|e| !matches!(e, egui::Event::Text(_)));

@@ -245,6 +245,33 @@ pub fn pressed(input: &mut egui::InputState) -> Vec<Action> {
 
 /// Plain presses of `key` (no Ctrl, Shift or Alt) this frame, consumed: the axis locks and Esc
 /// while a drag is under way.
+/// The digits, '.' (and '-' when `signed`) and Backspace typed while a gesture runs (a typed
+/// distance, angle, factor or thickness), taken from the input into `typed`.
+pub fn take_typed_number(input: &mut egui::InputState, typed: &mut String, signed: bool) {
+    const KEYS: [(Key, char); 12] = [
+        (Key::Num0, '0'),
+        (Key::Num1, '1'),
+        (Key::Num2, '2'),
+        (Key::Num3, '3'),
+        (Key::Num4, '4'),
+        (Key::Num5, '5'),
+        (Key::Num6, '6'),
+        (Key::Num7, '7'),
+        (Key::Num8, '8'),
+        (Key::Num9, '9'),
+        (Key::Period, '.'),
+        (Key::Minus, '-'),
+    ];
+    for (key, c) in KEYS {
+        if (signed || c != '-') && take_plain(input, key) {
+            typed.push(c);
+        }
+    }
+    if take_plain(input, Key::Backspace) {
+        typed.pop();
+    }
+}
+
 pub fn take_plain(input: &mut egui::InputState, key: Key) -> bool {
     let mut found = false;
     input.events.retain(|event| match event {

@@ -255,28 +255,7 @@ impl EditorState {
                     (t.axis, t.direction) = (None, None);
                 }
             }
-            let digits = [
-                (Key::Num0, '0'),
-                (Key::Num1, '1'),
-                (Key::Num2, '2'),
-                (Key::Num3, '3'),
-                (Key::Num4, '4'),
-                (Key::Num5, '5'),
-                (Key::Num6, '6'),
-                (Key::Num7, '7'),
-                (Key::Num8, '8'),
-                (Key::Num9, '9'),
-                (Key::Period, '.'),
-                (Key::Minus, '-'),
-            ];
-            for (key, c) in digits {
-                if shortcuts::take_plain(i, key) {
-                    t.typed.push(c);
-                }
-            }
-            if shortcuts::take_plain(i, Key::Backspace) {
-                t.typed.pop();
-            }
+            shortcuts::take_typed_number(i, &mut t.typed, true);
             if shortcuts::take_plain(i, Key::Enter) {
                 finish = Some(true);
             } else if shortcuts::take_plain(i, Key::Escape) {

@@ -318,41 +318,32 @@ pub fn restrict(fine: &mut Grid<'_>, coarse: &mut Grid<'_>) {
     let target = coarse.work.as_deref_mut().expect("a coarse grid has scratch");
     let transfer = transfer.expect("a level above the coarsest has a transfer");
     match coarse_region {
-        Some(region) if epoch != 0 && target.injected == epoch => {
-            for &c in &region.vertices {
-                let c = c as usize;
-                target.state.p[c] = source.p[c];
-                target.state.r[c] = source.r[c];
-            }
-            kernel::residual_on(
-                coarse.operator,
-                &coarse.topology.mesh,
-                &mut target.state,
-                None,
-                &mut target.forcing,
-                region,
-            );
-            for &c in &region.vertices {
-                let c = c as usize;
-                target.start_p[c] = target.state.p[c];
-                target.start_r[c] = target.state.r[c];
-            }
-            transfer.right_hand_side_on(residual, &coarse.operator.role, &mut target.forcing, region);
-        }
         Some(region) => {
-            target.state.p.copy_from_slice(&source.p[..n]);
-            target.state.r.copy_from_slice(&source.r[..n]);
-            kernel::update_fixed(coarse.operator, &mut target.state);
-            kernel::residual_on(
-                coarse.operator,
-                &coarse.topology.mesh,
-                &mut target.state,
-                None,
-                &mut target.forcing,
-                region,
-            );
-            target.start_p.copy_from_slice(&target.state.p);
-            target.start_r.copy_from_slice(&target.state.r);
+            // Within an epoch only the region changes; the first injection of one copies all.
+            let again = epoch != 0 && target.injected == epoch;
+            if again {
+                for &c in &region.vertices {
+                    let c = c as usize;
+                    target.state.p[c] = source.p[c];
+                    target.state.r[c] = source.r[c];
+                }
+            } else {
+                target.state.p.copy_from_slice(&source.p[..n]);
+                target.state.r.copy_from_slice(&source.r[..n]);
+                kernel::update_fixed(coarse.operator, &mut target.state);
+            }
+            let (operator, mesh) = (coarse.operator, &coarse.topology.mesh);
+            kernel::residual_on(operator, mesh, &mut target.state, None, &mut target.forcing, region);
+            if again {
+                for &c in &region.vertices {
+                    let c = c as usize;
+                    target.start_p[c] = target.state.p[c];
+                    target.start_r[c] = target.state.r[c];
+                }
+            } else {
+                target.start_p.copy_from_slice(&target.state.p);
+                target.start_r.copy_from_slice(&target.state.r);
+            }
             transfer.right_hand_side_on(residual, &coarse.operator.role, &mut target.forcing, region);
             target.injected = epoch;
         }
