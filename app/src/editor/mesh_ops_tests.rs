@@ -17,7 +17,7 @@ fn counts(h: &Harness<'_, App>) -> (usize, usize, usize) {
     (c.vertex_count(), c.edge_count(), c.face_count())
 }
 
-fn top_face(cage: &PolyMesh) -> FaceId {
+pub(super) fn top_face(cage: &PolyMesh) -> FaceId {
     cage.faces().find(|&f| cage.face_vertices(f).all(|v| cage.position(v).z > 0.0)).unwrap()
 }
 

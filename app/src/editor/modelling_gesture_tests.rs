@@ -5,17 +5,14 @@
 
 use super::gizmo_tests::pixel_of;
 use super::mesh_ops::OFFSET_FRACTION;
+use super::mesh_ops_tests::top_face;
 use super::panel_tests::{App, cube_editor, frames};
 use super::select_modes::SelectMode;
 use egui::{Key, Modifiers, PointerButton, pos2};
 use egui_kittest::Harness;
 use taut_core::mesh::edit::{self, FaceGrouping};
-use taut_core::{DVec3, Document, EdgeId, FaceId, PolyMesh};
+use taut_core::{DVec3, Document, EdgeId};
 use taut_render::StandardView;
-
-fn top_face(cage: &PolyMesh) -> FaceId {
-    cage.faces().find(|&f| cage.face_vertices(f).all(|v| cage.position(v).z > 0.0)).unwrap()
-}
 
 /// The cube in face mode with its top face selected, zoomed out in the front view.
 fn top_face_selected() -> Harness<'static, App> {
@@ -155,8 +152,9 @@ fn cube_with_front_edge() -> (Harness<'static, App>, EdgeId) {
     (h, edge)
 }
 
-#[test]
-fn ctrl_r_previews_then_a_click_cuts_and_the_mouse_slides_to_the_cores_cut_in_one_undo_step() {
+/// The cube with the mouse over the middle of its front edge and Ctrl+R pressed: the document
+/// before and the pixels of the edge's ends.
+fn ctrl_r_over_the_front_edge() -> (Harness<'static, App>, EdgeId, Document, [glam::Vec2; 2]) {
     let (mut h, edge) = cube_with_front_edge();
     let before = h.state().editor.document.doc().clone();
     let (a, b) = before.cage.edge_vertices(edge);
@@ -166,6 +164,13 @@ fn ctrl_r_previews_then_a_click_cuts_and_the_mouse_slides_to_the_cores_cut_in_on
     frames(&mut h);
     h.key_press_modifiers(Modifiers::COMMAND, Key::R);
     frames(&mut h);
+    (h, edge, before, [pa, pb])
+}
+
+#[test]
+fn ctrl_r_previews_then_a_click_cuts_and_the_mouse_slides_to_the_cores_cut_in_one_undo_step() {
+    let (mut h, edge, before, [pa, pb]) = ctrl_r_over_the_front_edge();
+    let middle = (pa + pb) * 0.5;
     frames(&mut h);
     match &h.state().ui.loop_cut {
         Some(super::loop_slide::LoopCutTool::Preview { edge: Some(e), lines, refusal: None }) => {
@@ -196,15 +201,8 @@ fn ctrl_r_previews_then_a_click_cuts_and_the_mouse_slides_to_the_cores_cut_in_on
 
 #[test]
 fn esc_while_sliding_cancels_the_whole_cut_and_leaves_no_undo_step() {
-    let (mut h, edge) = cube_with_front_edge();
-    let before = h.state().editor.document.doc().clone();
-    let (a, b) = before.cage.edge_vertices(edge);
-    let (pa, pb) = (pixel_of(&h, before.cage.position(a)), pixel_of(&h, before.cage.position(b)));
+    let (mut h, _, before, [pa, pb]) = ctrl_r_over_the_front_edge();
     let middle = (pa + pb) * 0.5;
-    h.hover_at(pos2(middle.x, middle.y));
-    frames(&mut h);
-    h.key_press_modifiers(Modifiers::COMMAND, Key::R);
-    frames(&mut h);
     click(&mut h, PointerButton::Primary, middle);
     h.hover_at(pos2(pa.x + 10.0, pa.y));
     frames(&mut h);
