@@ -68,7 +68,8 @@
 //! noisy points no nearer the true curve. Dense noisy curves (hundreds of points) keep a scattered
 //! discrete LCG however long they are filtered, because the LCG differentiates the curvature again.
 
-use super::filter_geometry::{Geometry, Local, PARALLEL_FROM, Shape, Spatial, Window};
+use super::filter_geometry::{Geometry, Local, PARALLEL_FROM, Shape, Spatial, Window, window_span};
+use super::filter_planar::{PlanarCurve, Rules};
 use super::law::{LineSums, law_value, radius_from_law};
 use crate::curve::{Plane, PointSequence};
 use crate::{DVec3, Error, Result};
@@ -163,8 +164,9 @@ pub struct FilterStatus {
 pub struct CurveFilter {
     points: Vec<DVec3>,
     closed: bool,
-    /// The plane of a planar filter (its normal orients the signed curvature).
-    plane: Option<Plane>,
+    /// The planar filter's points in its plane (whose normal orients the signed curvature);
+    /// `None` for the spatial filter. `points` follows it after every run.
+    planar: Option<PlanarCurve>,
     alpha: Vec<f64>,
     settings: FilterSettings,
     status: FilterStatus,
@@ -175,7 +177,7 @@ pub struct CurveFilter {
     scratch: Scratch,
 }
 
-/// Buffers a pass works in, kept from pass to pass so that a pass allocates nothing.
+/// Buffers a spatial pass works in, kept from pass to pass so that a pass allocates nothing.
 #[derive(Clone, Debug, Default)]
 struct Scratch {
     geometry: Geometry,
@@ -243,9 +245,9 @@ impl CurveFilter {
         let free = |i: usize| closed || (i > 0 && i + 1 < n);
         let colours = (0..count).map(|c| (0..n).filter(|&i| colour(i) == c && free(i)).collect()).collect();
         Ok(CurveFilter {
+            planar: plane.map(|plane| PlanarCurve::new(&sequence.points, plane)),
             points: sequence.points,
             closed,
-            plane,
             alpha,
             settings,
             status,
@@ -267,7 +269,7 @@ impl CurveFilter {
 
     /// The plane of the planar filter, `None` for the spatial one.
     pub fn plane(&self) -> Option<Plane> {
-        self.plane
+        self.planar.as_ref().map(PlanarCurve::plane)
     }
 
     /// How far the farthest input point was from the plane the planar filter projected it onto.
@@ -294,13 +296,21 @@ impl CurveFilter {
     /// degenerate (a non-finite coordinate or two points merging), in which case the points of
     /// the last good pass are kept.
     pub fn run(&mut self, passes: usize) -> Result<FilterStatus> {
+        let mut result = Ok(self.status);
         for _ in 0..passes {
             if self.status.converged {
                 break;
             }
-            self.pass()?;
+            if let Err(e) = self.pass() {
+                result = Err(e);
+                break;
+            }
+            result = Ok(self.status);
         }
-        Ok(self.status)
+        if let Some(planar) = &mut self.planar {
+            planar.write_back(&mut self.points);
+        }
+        result
     }
 
     /// Runs passes until converged or [`FilterSettings::max_passes`] in all.
@@ -311,10 +321,55 @@ impl CurveFilter {
 
     /// One red–black pass.
     fn pass(&mut self) -> Result<()> {
-        let mut scratch = std::mem::take(&mut self.scratch);
-        let result = self.pass_in(&mut scratch);
-        self.scratch = scratch;
-        result
+        let totals = match &mut self.planar {
+            Some(planar) => {
+                let rules = Rules {
+                    closed: self.closed,
+                    window: self.settings.window,
+                    alpha: &self.alpha,
+                    uniform_alpha: matches!(self.settings.alpha, Alpha::Uniform(_)),
+                    clothoid: self.settings.inflection == InflectionRule::Clothoid,
+                    relaxation: self.settings.relaxation,
+                };
+                planar.pass(&self.colours, &rules)
+            }
+            None => {
+                let mut scratch = std::mem::take(&mut self.scratch);
+                let totals = self.spatial_pass(&mut scratch);
+                self.scratch = scratch;
+                totals
+            }
+        };
+        let largest = totals.largest2.sqrt();
+        let (shortest, mean_gap) = (totals.shortest2.sqrt(), totals.mean_gap);
+        let failure = if !largest.is_finite() {
+            Some("a point became non-finite")
+        } else if shortest.is_nan() || shortest <= 1e-9 * mean_gap {
+            Some("two points merged (the curve folded)")
+        } else {
+            None
+        };
+        if let Some(what) = failure {
+            match &mut self.planar {
+                Some(planar) => planar.restore(),
+                None => std::mem::swap(&mut self.points, &mut self.scratch.before),
+            }
+            return Err(Error::Solver(format!(
+                "the filter diverged at pass {}: {what}; use a larger window, a smaller relaxation or an α closer \
+                 to the curve's",
+                self.status.passes + 1
+            )));
+        }
+        let last_move = largest / mean_gap;
+        self.status = FilterStatus {
+            passes: self.status.passes + 1,
+            last_move,
+            residual: if totals.k2 > 0.0 { (totals.err2 / totals.k2).sqrt() } else { 0.0 },
+            held: totals.held,
+            capped: totals.capped,
+            converged: last_move < self.settings.tolerance,
+        };
+        Ok(())
     }
 
     fn shape(&self) -> Shape {
@@ -322,21 +377,20 @@ impl CurveFilter {
             Alpha::Uniform(alpha) => Some(alpha),
             Alpha::PerPoint(_) => None,
         };
-        Shape { closed: self.closed, plane: self.plane, uniform_alpha }
+        Shape { closed: self.closed, uniform_alpha }
     }
 
-    fn pass_in(&mut self, scratch: &mut Scratch) -> Result<()> {
+    /// One red–black pass of the spatial filter.
+    fn spatial_pass(&mut self, scratch: &mut Scratch) -> PassTotals {
         let n = self.points.len();
         scratch.before.clone_from(&self.points);
-        let (mut held, mut capped, mut err2, mut k2) = (0, 0, 0.0, 0.0);
-        let mut mean_gap = 0.0;
-        let mut largest2: f64 = 0.0;
+        let mut totals = PassTotals::default();
         let shape = self.shape();
         for c in 0..self.colours.len() {
             scratch.geometry.update(&self.points, shape);
             let geometry = &scratch.geometry;
             if c == 0 {
-                mean_gap = geometry.total / geometry.segments.len() as f64;
+                totals.mean_gap = geometry.total / geometry.gaps.len() as f64;
             }
             let step = |&i: &usize| self.move_point(geometry, i);
             if n >= PARALLEL_FROM {
@@ -349,49 +403,24 @@ impl CurveFilter {
                 let kappa = geometry.local[i].kappa;
                 match m.target {
                     Some(t) => {
-                        err2 += (kappa - t).powi(2);
-                        k2 += kappa.powi(2);
+                        totals.err2 += (kappa - t).powi(2);
+                        totals.k2 += kappa.powi(2);
                     }
-                    None => held += 1,
+                    None => totals.held += 1,
                 }
-                capped += m.capped as usize;
+                totals.capped += m.capped as usize;
                 let d2 = self.points[i].distance_squared(m.position);
                 // Not f64::max: a NaN must be seen.
-                if d2 > largest2 || d2.is_nan() {
-                    largest2 = d2;
+                if d2 > totals.largest2 || d2.is_nan() {
+                    totals.largest2 = d2;
                 }
                 self.points[i] = m.position;
             }
         }
-        let largest = largest2.sqrt();
         let p = &self.points;
         let closing = if self.closed { p[n - 1].distance_squared(p[0]) } else { f64::INFINITY };
-        let shortest = p.windows(2).map(|w| w[0].distance_squared(w[1])).fold(closing, f64::min).sqrt();
-        let failure = if !largest.is_finite() {
-            Some("a point became non-finite")
-        } else if shortest.is_nan() || shortest <= 1e-9 * mean_gap {
-            Some("two points merged (the curve folded)")
-        } else {
-            None
-        };
-        if let Some(what) = failure {
-            std::mem::swap(&mut self.points, &mut scratch.before);
-            return Err(Error::Solver(format!(
-                "the filter diverged at pass {}: {what}; use a larger window, a smaller relaxation or an α closer \
-                 to the curve's",
-                self.status.passes + 1
-            )));
-        }
-        let last_move = largest / mean_gap;
-        self.status = FilterStatus {
-            passes: self.status.passes + 1,
-            last_move,
-            residual: if k2 > 0.0 { (err2 / k2).sqrt() } else { 0.0 },
-            held,
-            capped,
-            converged: last_move < self.settings.tolerance,
-        };
-        Ok(())
+        totals.shortest2 = p.windows(2).map(|w| w[0].distance_squared(w[1])).fold(closing, f64::min);
+        totals
     }
 
     fn neighbours(&self, i: usize) -> Option<(usize, usize)> {
@@ -410,12 +439,7 @@ impl CurveFilter {
     #[inline]
     fn window(&self, g: &Geometry, i: usize, first_defined: usize, defined: usize) -> Window {
         let n = self.points.len();
-        let len = (2 * self.settings.window + 1).min(defined);
-        let start = if self.closed {
-            (i + n - self.settings.window.min(n)) % n
-        } else {
-            i.saturating_sub(self.settings.window).clamp(first_defined, first_defined + defined - len)
-        };
+        let (start, len) = window_span(i, n, self.settings.window, self.closed, first_defined, defined);
         let window = Window { start, len, n, point: i, at: 0.0 };
         Window { at: window.local_arc_length(g, i), ..window }
     }
@@ -466,6 +490,7 @@ impl CurveFilter {
         radius_from_law(c * window.at + d, exponent).map(|r| sign / r)
     }
 
+    /// Where the spatial filter moves point `i`.
     fn move_point(&self, g: &Geometry, i: usize) -> Move {
         let stay = Move { position: self.points[i], target: None, capped: false };
         let Some((a, b)) = self.neighbours(i) else { return stay };
@@ -478,28 +503,18 @@ impl CurveFilter {
         let Some(target) = self.law_target(g, window, local, |l| l.kappa, precomputed, self.alpha[i], clothoid) else {
             return stay;
         };
-        let (h0, h1) = (g.gap_before(i), g.segments[i].gap);
-        let (pa, pb) = (self.points[a], self.points[b]);
-        let centre = (pa + pb) * 0.5;
-        let chord = local[i].chord;
+        let (h0, h1) = (g.gap_before(i), g.gaps[i]);
+        let centre = (self.points[a] + self.points[b]) * 0.5;
         let k = 2.0 / (h0 * h1);
-        let half_chord = 0.5 * chord;
-        let (mut phi, normal, binormal) = match self.plane {
-            // Left normal in the plane; the curvature is −k φ / |U|², |U| = chord / (h0 + h1).
-            Some(plane) => {
-                let r = chord / (h0 + h1);
-                (-target * r * r * (0.5 * h0 * h1), plane.normal.cross(pb - pa) * (1.0 / chord), DVec3::ZERO)
-            }
-            None => {
-                let s = &g.spatial[i];
-                if s.normal == DVec3::ZERO {
-                    return stay;
-                }
-                // The principal normal points from the point towards P_ic (V = −k (P − P_ic));
-                // at −φ N the curvature is k |φ| / |U|².
-                (-target.abs() * s.u.length_squared() / k, s.normal, s.u.normalize().cross(s.normal))
-            }
-        };
+        let half_chord = 0.5 * g.local[i].chord;
+        let s = &g.spatial[i];
+        if s.normal == DVec3::ZERO {
+            return stay;
+        }
+        // The principal normal points from the point towards P_ic (V = −k (P − P_ic)); at −φ N
+        // the curvature is k |φ| / |U|².
+        let (mut phi, normal, binormal) =
+            (-target.abs() * s.u.length_squared() / k, s.normal, s.u.normalize().cross(s.normal));
         let mut capped = false;
         if phi.abs() > half_chord {
             phi = half_chord.copysign(phi);
@@ -571,7 +586,24 @@ pub(crate) fn nearest_root(a: f64, b: f64, c: f64, near: f64) -> Option<f64> {
     Some(if (r1 - near).abs() <= (r2 - near).abs() { r1 } else { r2 })
 }
 
-/// Where one point goes in a pass.
+/// What a pass did, in the units of the points it moved.
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct PassTotals {
+    /// Largest squared move (NaN when a move was).
+    pub largest2: f64,
+    /// Sums over the moved points of `(κ − κ*)²` and of `κ²`.
+    pub err2: f64,
+    pub k2: f64,
+    /// Points held, and moves cut back to the half chord.
+    pub held: usize,
+    pub capped: usize,
+    /// Mean segment length before the pass.
+    pub mean_gap: f64,
+    /// Smallest squared segment length after the pass.
+    pub shortest2: f64,
+}
+
+/// Where the spatial filter moves one point in a pass.
 #[derive(Clone, Copy, Debug)]
 struct Move {
     position: DVec3,

@@ -1,34 +1,16 @@
-//! The per-pass geometry of the log-aesthetic curve filter ([`super::filter`]): chord gaps, arc
-//! length and, per point, the discrete curvature (paper sec. 3.1 eqs. 1 and 3) with the law value
-//! `ρ^α` the window fits use, and for the space filter the frame and torsion (sec. 4.2).
+//! The per-pass geometry of the space-curve log-aesthetic filter ([`super::filter`], paper sec.
+//! 4.2): chord gaps, arc length and, per point, the discrete curvature (sec. 3.1 eqs. 1 and 3)
+//! with the law value `ρ^α` the window fits use, the frame and the torsion. The planar filter
+//! works in its plane's coordinates instead ([`super::filter_planar`]).
 //!
-//! The filter moves one colour of points and then needs the curvature of every point again (each
-//! curvature involves a point of the other colour), so this runs twice a pass and is most of a
-//! pass's cost. It therefore works in buffers kept from pass to pass (a pass allocates nothing),
-//! computes each segment's length and unit direction once for the two points that share it, and
-//! evaluates the planar curvature in the closed form of the paper's derivatives rather than
-//! through them: with `U = (P_{i+1} − P_{i−1})/(h0 + h1)` and the three-point `V`,
-//! `U × V = 2 (P_i − P_{i−1}) × (P_{i+1} − P_i) / ((h0 + h1) h0 h1)`, so with `t0`, `t1` the unit
-//! directions of the two segments and `d = P_{i+1} − P_{i−1}`,
-//! `κ = (U × V)·n / |U|³ = 2 (t0 × t1)·n (h0 + h1)² / |d|³`: one division and one square root a
-//! point instead of a dozen divisions, and every factor is scale-free or a length, so it neither
-//! overflows nor underflows on the sizes [`crate::curve::PointSequence::validate`] admits. It is
-//! the same number as `crate::curve::derivatives` gives up to rounding. The space filter keeps
-//! the derivatives themselves (it needs `U`, `V` and `W`). Points are independent, so from
+//! The filter moves one colour of points and then needs the geometry of every point again (each
+//! curvature involves a point of the other colour), so this runs once a colour, in buffers kept
+//! from pass to pass (a pass allocates nothing). Points are independent, so from
 //! [`PARALLEL_FROM`] points they are computed on several threads with the same result for any
 //! count; the arc-length prefix sums stay sequential.
-//!
-//! Where it is weak: everything is recomputed for every point each colour, although a window
-//! only needs its own 2m + 1 curvatures; with the default m = 3 every point is in some window,
-//! so there is nothing to leave out. Measured (`cargo bench -p taut-core --bench aesthetic`, two
-//! shared cores): a pass over 1,000 points costs about 2.3 curvature evaluations of the same
-//! points (3.5 before these buffers and closed forms), and the window fits, not this geometry,
-//! are now most of it; a full fairing of 1,000 noisy points (371 passes) takes about 25 ms, still
-//! more than a 16 ms frame. Running the passes of 1,000 points on two threads made them slower.
 
 use super::law::law_value;
 use crate::DVec3;
-use crate::curve::Plane;
 use crate::curve::derivatives::{first_derivative, second_derivative, third_derivative};
 use rayon::prelude::*;
 
@@ -36,15 +18,8 @@ use rayon::prelude::*;
 /// threads cost more than they save). The result does not depend on it.
 pub(super) const PARALLEL_FROM: usize = 4096;
 
-/// One segment: its chord length and unit direction.
-#[derive(Clone, Copy, Debug, Default)]
-pub(super) struct Segment {
-    pub gap: f64,
-    pub dir: DVec3,
-}
-
-/// Per point: the chord of its neighbours `|P_{i+1} − P_{i−1}|`, the curvature (signed about the
-/// plane normal for the planar filter, NaN at the ends of an open curve) and
+/// Per point: the chord of its neighbours `|P_{i+1} − P_{i−1}|`, the curvature (NaN at the ends
+/// of an open curve) and
 /// `law_value(1/|κ|, α)` when α is the same everywhere (NaN otherwise).
 #[derive(Clone, Copy, Debug, Default)]
 pub(super) struct Local {
@@ -66,14 +41,14 @@ pub(super) struct Spatial {
 /// The geometry of the current points, in buffers reused from pass to pass.
 #[derive(Clone, Debug, Default)]
 pub(super) struct Geometry {
-    /// Segment `e` joins point `e` to point `e + 1` (the closing one last on a closed curve).
-    pub segments: Vec<Segment>,
+    /// Length of segment `e`, which joins point `e` to point `e + 1` (the closing one last on a
+    /// closed curve).
+    pub gaps: Vec<f64>,
     /// Cumulative arc length at each point.
     pub arc: Vec<f64>,
     /// Total length, the closing segment included.
     pub total: f64,
     pub local: Vec<Local>,
-    /// Empty for the planar filter.
     pub spatial: Vec<Spatial>,
 }
 
@@ -81,8 +56,6 @@ pub(super) struct Geometry {
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Shape {
     pub closed: bool,
-    /// The plane of the planar filter; `None`: the space filter.
-    pub plane: Option<Plane>,
     /// α when it is the same at every point.
     pub uniform_alpha: Option<f64>,
 }
@@ -102,7 +75,7 @@ impl Geometry {
     /// The gap of the segment before point `i` (the closing one before point 0).
     #[inline]
     pub fn gap_before(&self, i: usize) -> f64 {
-        self.segments[if i == 0 { self.segments.len() - 1 } else { i - 1 }].gap
+        self.gaps[if i == 0 { self.gaps.len() - 1 } else { i - 1 }]
     }
 
     /// Recomputes everything for the points `p`.
@@ -111,23 +84,19 @@ impl Geometry {
         let closed = shape.closed;
         let parallel = n >= PARALLEL_FROM;
         let count = if closed { n } else { n - 1 };
-        self.segments.resize(count, Segment::default());
-        fill(parallel, &mut self.segments, |e| {
-            let d = p[if e + 1 == n { 0 } else { e + 1 }] - p[e];
-            let gap = d.length();
-            Segment { gap, dir: d * (1.0 / gap) }
-        });
+        self.gaps.resize(count, 0.0);
+        fill(parallel, &mut self.gaps, |e| p[if e + 1 == n { 0 } else { e + 1 }].distance(p[e]));
         self.arc.clear();
         let mut total = 0.0;
-        for s in &self.segments {
+        for g in &self.gaps {
             self.arc.push(total);
-            total += s.gap;
+            total += g;
         }
         if self.arc.len() < n {
             self.arc.push(total);
         }
         self.total = total;
-        let segments = &self.segments;
+        let gaps = &self.gaps;
         let neighbours = |i: usize| {
             if i > 0 && i + 1 < n {
                 Some((i - 1, i + 1))
@@ -140,59 +109,63 @@ impl Geometry {
         let law = |kappa: f64| shape.uniform_alpha.map_or(f64::NAN, |alpha| law_value(1.0 / kappa.abs(), alpha));
         let undefined = Local { chord: 0.0, kappa: f64::NAN, law: f64::NAN };
         self.local.resize(n, undefined);
-        match shape.plane {
-            Some(plane) => {
-                self.spatial.clear();
-                fill(parallel, &mut self.local, |i| {
-                    let Some((a, b)) = neighbours(i) else { return undefined };
-                    // Segment a joins a to i (the closing one when i = 0).
-                    let (before, after) = (segments[a], segments[i]);
-                    let chord = p[b].distance(p[a]);
-                    let r = (before.gap + after.gap) / chord;
-                    let kappa = 2.0 * before.dir.cross(after.dir).dot(plane.normal) * r * r / chord;
-                    Local { chord, kappa, law: law(kappa) }
-                });
-            }
-            None => {
-                self.spatial.resize(n, Spatial::default());
-                let gap_before = |i: usize| segments[if i == 0 { count - 1 } else { i - 1 }].gap;
-                let spatial = |i: usize| -> (Local, Spatial) {
-                    let none = Spatial { tau: f64::NAN, ..Spatial::default() };
-                    let Some((a, b)) = neighbours(i) else { return (undefined, none) };
-                    let (h0, h1) = (gap_before(i), segments[i].gap);
-                    let u = first_derivative(p[a], p[b], h0, h1);
-                    let v = second_derivative(p[a], p[i], p[b], h0, h1);
-                    let cross = u.cross(v);
-                    let kappa = cross.length() / (u.length_squared() * u.length());
-                    let t = u / u.length();
-                    // Principal normal: the part of V across the tangent.
-                    let mut s = Spatial { u, normal: (v - v.dot(t) * t).normalize_or_zero(), ..none };
-                    if let (Some((aa, _)), Some((_, bb))) = (neighbours(a), neighbours(b))
-                        && aa != b
-                        && bb != a
-                    {
-                        let t4 = [-(h0 + gap_before(a)), -h0, h1, h1 + segments[b].gap];
-                        s.w = third_derivative([p[aa], p[a], p[b], p[bb]], t4);
-                        let b2 = cross.length_squared();
-                        if b2 > 0.0 {
-                            s.tau = cross.dot(s.w) / b2;
-                        }
-                    }
-                    (Local { chord: p[b].distance(p[a]), kappa, law: law(kappa) }, s)
-                };
-                let pairs = self.local.iter_mut().zip(self.spatial.iter_mut());
-                if parallel {
-                    self.local.par_iter_mut().zip(self.spatial.par_iter_mut()).enumerate().for_each(|(i, (l, s))| {
-                        (*l, *s) = spatial(i);
-                    });
-                } else {
-                    for (i, (l, s)) in pairs.enumerate() {
-                        (*l, *s) = spatial(i);
-                    }
+        self.spatial.resize(n, Spatial::default());
+        let gap_before = |i: usize| gaps[if i == 0 { count - 1 } else { i - 1 }];
+        let spatial = |i: usize| -> (Local, Spatial) {
+            let none = Spatial { tau: f64::NAN, ..Spatial::default() };
+            let Some((a, b)) = neighbours(i) else { return (undefined, none) };
+            let (h0, h1) = (gap_before(i), gaps[i]);
+            let u = first_derivative(p[a], p[b], h0, h1);
+            let v = second_derivative(p[a], p[i], p[b], h0, h1);
+            let cross = u.cross(v);
+            let kappa = cross.length() / (u.length_squared() * u.length());
+            let t = u / u.length();
+            // Principal normal: the part of V across the tangent.
+            let mut s = Spatial { u, normal: (v - v.dot(t) * t).normalize_or_zero(), ..none };
+            if let (Some((aa, _)), Some((_, bb))) = (neighbours(a), neighbours(b))
+                && aa != b
+                && bb != a
+            {
+                let t4 = [-(h0 + gap_before(a)), -h0, h1, h1 + gaps[b]];
+                s.w = third_derivative([p[aa], p[a], p[b], p[bb]], t4);
+                let b2 = cross.length_squared();
+                if b2 > 0.0 {
+                    s.tau = cross.dot(s.w) / b2;
                 }
+            }
+            (Local { chord: p[b].distance(p[a]), kappa, law: law(kappa) }, s)
+        };
+        if parallel {
+            self.local.par_iter_mut().zip(self.spatial.par_iter_mut()).enumerate().for_each(|(i, (l, s))| {
+                (*l, *s) = spatial(i);
+            });
+        } else {
+            for (i, (l, s)) in self.local.iter_mut().zip(self.spatial.iter_mut()).enumerate() {
+                (*l, *s) = spatial(i);
             }
         }
     }
+}
+
+/// The window of point `i` among the `defined` points from `first_defined` (all `n` points of a
+/// closed curve): its first sample and its length, 2m + 1 samples centred on the point where
+/// they fit, shifted inside the defined points near the ends of an open curve.
+#[inline]
+pub(super) fn window_span(
+    i: usize,
+    n: usize,
+    m: usize,
+    closed: bool,
+    first_defined: usize,
+    defined: usize,
+) -> (usize, usize) {
+    let len = (2 * m + 1).min(defined);
+    let start = if closed {
+        (i + n - m.min(n)) % n
+    } else {
+        i.saturating_sub(m).clamp(first_defined, first_defined + defined - len)
+    };
+    (start, len)
 }
 
 /// A window of consecutive samples: `len` of them from `start` (mod `n`); `at` is the arc

@@ -19,6 +19,7 @@ pub mod coons;
 pub mod estimate;
 pub mod filter;
 mod filter_geometry;
+mod filter_planar;
 pub mod law;
 pub mod lcg;
 pub mod segment;
