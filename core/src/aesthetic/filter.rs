@@ -32,6 +32,15 @@
 //!   default ([`InflectionRule::Clothoid`]) we fit the signed curvature κ = c s + d instead, which
 //!   is the law with α = −1: the clothoid, the log-aesthetic curve that passes through an
 //!   inflection.
+//! - A target never bends more sharply than the sharpest sample of its window: the law's value is
+//!   kept to at most the window's largest curvature magnitude. The windows near the ends of an
+//!   open curve are shifted inside it, so there the fitted line is read off beyond the window's
+//!   middle, and for α > 0 the law reaches ρ = 0 at a finite arc length: on dense noisy curves the
+//!   end's curvature then fed on itself until the end curled into a hook of about half a spacing
+//!   radius (measured on spirals and involutes, α = 0.5, 1 and 2, of 300, 1,000 and 3,000 points
+//!   with 0.05, 0.1 and 0.2 of the spacing as noise, six draws each: 57 of the 162 never
+//!   converged). With the cap all 162 converge, and a sampled log-aesthetic curve, whose end
+//!   sample is the window's extreme, stays a fixed point.
 //! - A move is capped so the point stays within the half chord of its neighbours (a target that
 //!   asks for more would fold the curve); the number of capped moves is reported.
 //!
@@ -58,8 +67,8 @@
 //! that bias across a window (the tests measure moves of 3e-5 of the length on 20 points, 2e-6 on
 //! 40); the ends of an open curve are fixed and their neighbours are fitted with one-sided
 //! windows, so on dense, noisy curves (a thousand points with noise of a tenth of the spacing)
-//! the first and last few points can settle with curvature of the wrong sign, a hook a few
-//! spacings long and far smaller than the noise in position. A curve far from log-aesthetic with the chosen α is reshaped, not just smoothed: the
+//! the last few points can keep some of the noise in their curvature (up to about ten times the
+//! curve's, over a few spacings, far smaller than the noise in position). A curve far from log-aesthetic with the chosen α is reshaped, not just smoothed: the
 //! line fit across a curvature extremum flattens it a little every pass (a sine wave faired with
 //! α = 1 ends far from the sine), which is the filter's purpose but means a designer should stop
 //! early or estimate α per piece. Torsion is a third derivative: near a helix it hardly depends on
@@ -476,18 +485,20 @@ impl CurveFilter {
         // line through ρ^α (α > 0) and throw the target off.
         one_signed &= smallest * MAX_CURVATURE_RATIO > largest;
         // Only the one line that is used is fitted.
+        // A target never bends more sharply than the window's samples (module docs).
         if !one_signed {
             if !clothoid {
                 return None;
             }
             let (c, d) = fit_window(g, window, data, &x)?;
-            return Some(c * window.at + d);
+            let sharpest = largest.max(-smallest);
+            return Some((c * window.at + d).clamp(-sharpest, sharpest));
         }
         let (c, d) = match &law {
             Some(l) => fit_window(g, window, data, l)?,
             None => fit_window(g, window, data, |d| law_value(1.0 / (x(d) * sign), exponent))?,
         };
-        radius_from_law(c * window.at + d, exponent).map(|r| sign / r)
+        radius_from_law(c * window.at + d, exponent).map(|r| sign * (1.0 / r).min(largest))
     }
 
     /// Where the spatial filter moves point `i`.

@@ -434,8 +434,9 @@ impl PlanarCurve {
         let line_at = |sy: f64, sxy: f64| (sxx * sy - sx * sxy + at * (n * sxy - sx * sy)) / det;
         // ρ → ∞ counts as an inflection too: a sample of nearly zero curvature would dominate the
         // line through ρ^α (α > 0) and throw the target off.
+        // A target never bends more sharply than the window's samples (see `filter`'s docs).
         if one_signed && smallest * MAX_CURVATURE_RATIO > largest {
-            return radius_from_law(line_at(sy, sxy), alpha).map(|r| sign / r);
+            return radius_from_law(line_at(sy, sxy), alpha).map(|r| sign * (1.0 / r).min(largest));
         }
         if !rules.clothoid {
             return None;
@@ -449,7 +450,8 @@ impl PlanarCurve {
                 s += gap;
             }
         }
-        Some(line_at(sk, sxk))
+        let sharpest = largest.max(-smallest);
+        Some(line_at(sk, sxk).clamp(-sharpest, sharpest))
     }
 
     /// Where point `i` moves to bring its curvature `relaxation` of the way to `target`, and
