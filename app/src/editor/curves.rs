@@ -161,6 +161,9 @@ pub struct CurvesWorkspace {
     /// The selected Coons patch (a curve and a patch are never selected together).
     pub selected_patch: Option<usize>,
     pub patch_samples: usize,
+    /// Time the live filter may take a frame ([`FILTER_BUDGET`]; at least one pass a frame
+    /// whatever it is).
+    pub filter_budget: Duration,
     /// α of a new segment.
     pub segment_alpha: f64,
     /// The stroke being drawn, in model coordinates, and the last mouse position sampled.
@@ -185,6 +188,7 @@ impl Default for CurvesWorkspace {
             picked: Vec::new(),
             selected_patch: None,
             patch_samples: 24,
+            filter_budget: FILTER_BUDGET,
             segment_alpha: 1.0,
             stroke: None,
             control_drag: None,
@@ -239,6 +243,15 @@ impl EditorState {
             self.curves.selected_patch = None;
         }
         self.sync_curves_view();
+    }
+
+    /// Picks curve `i` for a Coons patch, or unpicks it when it is picked.
+    pub fn toggle_pick(&mut self, i: usize) {
+        if self.curves.picked.contains(&i) {
+            self.curves.picked.retain(|&p| p != i);
+        } else if i < self.curve_set().curves.len() {
+            self.curves.picked.push(i);
+        }
     }
 
     /// Selects a Coons patch (or none); a selected curve is deselected.
@@ -397,6 +410,22 @@ impl EditorState {
         if d > 0.0 { d } else { self.document.doc().cage.bounding_diagonal().max(1e-9) }
     }
 
+    /// Frames the selected curve or Coons patch, else the picked curves, else everything the
+    /// workspace shows.
+    pub fn frame_curves_selection(&mut self) {
+        let set = self.curve_set();
+        let points: Vec<DVec3> = match (self.curves.selected, self.curves.selected_patch) {
+            (Some(i), _) => self.shown_points(i).to_vec(),
+            (None, Some(k)) => set.patches[k].boundaries.iter().flatten().copied().collect(),
+            (None, None) => self.curves.picked.iter().flat_map(|&i| self.shown_points(i).iter().copied()).collect(),
+        };
+        if points.is_empty() {
+            self.frame_all();
+        } else {
+            self.frame_model_points(&points);
+        }
+    }
+
     /// Every point of the curves and patch boundaries.
     pub(super) fn curve_points(&self) -> Vec<DVec3> {
         let set = self.curve_set();
@@ -481,6 +510,7 @@ impl EditorState {
     }
 
     /// One frame of filter work within `budget`; commits when the run converges.
+    /// Runs the live filter for about `budget` (one pass at least) and commits it when it ends.
     pub fn step_curves(&mut self, budget: Duration) {
         let Some(run) = &self.curves.run else { return };
         // A run whose curve changed under it (undo, delete) is dropped.
@@ -496,7 +526,7 @@ impl EditorState {
         let run = self.curves.run.as_mut().expect("checked above");
         let mut failure = None;
         let mut passes = 1;
-        while started.elapsed() < budget {
+        loop {
             let t = Instant::now();
             match run.filter.run(passes) {
                 Ok(status) if status.converged => break,
@@ -505,6 +535,9 @@ impl EditorState {
                     failure = Some(e.to_string());
                     break;
                 }
+            }
+            if started.elapsed() >= budget {
+                break;
             }
             // Double the passes while they are fast, to keep the clock checks cheap.
             if t.elapsed() < budget / 16 {

@@ -4,7 +4,7 @@
 //! length, and the logarithmic curvature graph with its fitted line and α per piece, both of the
 //! curve as shown (they follow a running filter).
 
-use super::curves::{CurveTool, DrawPlane, FILTER_BUDGET};
+use super::curves::{CurveTool, DrawPlane};
 use super::state::EditorState;
 use super::ui::{PathPurpose, UiState};
 use egui_plot::{Legend, Line, Plot, Points};
@@ -29,7 +29,7 @@ impl EditorState {
 
     /// The whole frame of the Curves workspace below the menu bar.
     pub(super) fn curves_workspace_ui(&mut self, ui_root: &mut egui::Ui, ui_state: &mut UiState) {
-        self.step_curves(FILTER_BUDGET);
+        self.step_curves(self.curves.filter_budget);
         egui::Panel::bottom("status").show(ui_root, |ui| self.curves_status_bar(ui, ui_state));
         if self.notice.is_some() {
             egui::Panel::bottom("notice").show(ui_root, |ui| self.notice_strip(ui, ui_state));
@@ -104,12 +104,12 @@ impl EditorState {
         for (i, (name, count, is_segment)) in names.into_iter().enumerate() {
             ui.horizontal(|ui| {
                 let mut picked = self.curves.picked.contains(&i);
-                if ui.checkbox(&mut picked, "").on_hover_text("Pick for a Coons patch (four curves)").changed() {
-                    if picked {
-                        self.curves.picked.push(i);
-                    } else {
-                        self.curves.picked.retain(|&p| p != i);
-                    }
+                if ui
+                    .checkbox(&mut picked, "")
+                    .on_hover_text("Pick for a Coons patch (four curves; or Shift+click the curve in the viewport)")
+                    .changed()
+                {
+                    self.toggle_pick(i);
                 }
                 let kind = if is_segment { "segment" } else { "points" };
                 let text = format!("{name}  ({count} {kind})");

@@ -353,3 +353,110 @@ fn cage_keys_do_nothing_in_the_curves_workspace() {
     harness.run_steps(2);
     assert_eq!(harness.state().editor.document.doc().cage.vertex_count(), 7, "X deletes the vertex there");
 }
+
+/// Clicks the primary button at `at` with `modifiers` held.
+fn click_with(harness: &mut Harness<'_, App>, at: Pos2, modifiers: Modifiers) {
+    let press = |pressed| Event::PointerButton { pos: at, button: PointerButton::Primary, pressed, modifiers };
+    harness.input_mut().events.push(Event::ModifiersChanged(modifiers));
+    harness.input_mut().events.push(Event::PointerMoved(at));
+    harness.run_steps(1);
+    harness.input_mut().events.push(press(true));
+    harness.run_steps(1);
+    harness.input_mut().events.push(press(false));
+    harness.run_steps(1);
+    harness.input_mut().events.push(Event::ModifiersChanged(Modifiers::NONE));
+    harness.run_steps(1);
+}
+
+#[test]
+fn shift_click_picks_curves_for_a_patch_and_a_click_on_the_patch_selects_it() {
+    // The four sides of a 2 × 1.5 rectangle in the XY plane, seen from the top.
+    let c = [DVec3::ZERO, DVec3::new(2.0, 0.0, 0.0), DVec3::new(2.0, 1.5, 0.0), DVec3::new(0.0, 1.5, 0.0)];
+    let curves = (0..4)
+        .map(|k| {
+            let (a, b) = (c[k], c[(k + 1) % 4]);
+            DocCurve::new(format!("side {k}"), (0..=10).map(|t| a.lerp(b, t as f64 / 10.0)).collect(), false)
+        })
+        .collect();
+    let mut harness = curves_editor(curves);
+    harness.state_mut().editor.camera.set_view(taut_render::StandardView::Top);
+    harness.state_mut().editor.frame_all();
+    harness.run_steps(2);
+    let at = |harness: &Harness<'_, App>, p: DVec3| {
+        let pixel = super::super::gizmo_tests::pixel_of(harness, p);
+        Pos2::new(pixel.x, pixel.y)
+    };
+    let middle = |k: usize| c[k].lerp(c[(k + 1) % 4], 0.5);
+
+    // Shift+click picks a curve and leaves the selection; a second one unpicks it.
+    let side = at(&harness, middle(1));
+    click_with(&mut harness, side, Modifiers::SHIFT);
+    assert_eq!(harness.state().editor.curves.picked, vec![1]);
+    assert_eq!(harness.state().editor.curves.selected, None, "picking is not selecting");
+    click_with(&mut harness, side, Modifiers::SHIFT);
+    assert!(harness.state().editor.curves.picked.is_empty(), "Shift+click again unpicks");
+    // A plain click selects it.
+    click_with(&mut harness, side, Modifiers::NONE);
+    assert_eq!(harness.state().editor.curves.selected, Some(1));
+
+    for k in [2, 0, 3, 1] {
+        let side = at(&harness, middle(k));
+        click_with(&mut harness, side, Modifiers::SHIFT);
+    }
+    assert_eq!(harness.state().editor.curves.picked, vec![2, 0, 3, 1], "in the order picked");
+    assert!(shows(&harness, "Build Coons patch (4 of 4 picked)"), "the panel counts the viewport's picks");
+    harness.get(By::new().label_contains("Build Coons patch")).click();
+    harness.run_steps(2);
+    assert_eq!(harness.state().editor.curve_set().patches.len(), 1, "{:?}", harness.state().editor.notice);
+
+    // A click inside the patch, away from its sides, selects the patch; outside, nothing.
+    let inside = at(&harness, DVec3::new(0.7, 0.6, 0.0));
+    click_with(&mut harness, inside, Modifiers::NONE);
+    let editor = &harness.state().editor;
+    assert_eq!((editor.curves.selected_patch, editor.curves.selected), (Some(0), None));
+    let outside = at(&harness, DVec3::new(1.0, 1.9, 0.0));
+    let [x, y, w, h] = harness.state().ui.viewport_px.expect("laid out").map(|v| v as f32);
+    assert!(egui::Rect::from_min_size(Pos2::new(x, y), egui::vec2(w, h)).contains(outside), "{outside:?}");
+    click_with(&mut harness, outside, Modifiers::NONE);
+    let editor = &harness.state().editor;
+    assert_eq!((editor.curves.selected_patch, editor.curves.selected), (None, None));
+
+    // Undo takes the patch back, and the notice that it was built goes with it.
+    assert!(harness.state().editor.notice.is_some(), "building said something");
+    harness.key_press_modifiers(Modifiers::COMMAND, egui::Key::Z);
+    harness.run_steps(2);
+    let editor = &harness.state().editor;
+    assert!(editor.curve_set().patches.is_empty() && editor.notice.is_none(), "{:?}", editor.notice);
+}
+
+#[test]
+fn home_frames_the_curves_and_period_the_selected_one() {
+    // Two small curves far from the cube: Home in the Curves workspace frames the curves (not the
+    // cage ghost behind them), "." the selected curve alone.
+    let arc = |x0: f64, length: f64| -> Vec<DVec3> {
+        (0..=20).map(|k| DVec3::new(x0 + length * k as f64 / 20.0, 30.0 + 0.1 * (k as f64 * 0.3).sin(), 0.0)).collect()
+    };
+    let curves = vec![DocCurve::new("long", arc(40.0, 2.0), false), DocCurve::new("short", arc(43.0, 0.2), false)];
+    let mut harness = curves_editor(curves);
+    harness.state_mut().editor.camera.set_view(taut_render::StandardView::Top);
+    harness.run_steps(2);
+    let [_, _, width, height] = harness.state().ui.viewport_px.expect("laid out").map(|v| v as f32);
+    // The extent on screen of curve `i`, as a fraction of the viewport's width and height.
+    let extent = |harness: &Harness<'_, App>, i: usize| {
+        let points = harness.state().editor.curve_set().curves[i].points.clone();
+        let pixels: Vec<glam::Vec2> = points.iter().map(|&p| super::super::gizmo_tests::pixel_of(harness, p)).collect();
+        let (lo, hi) = pixels.iter().fold((glam::Vec2::MAX, glam::Vec2::MIN), |(lo, hi), p| (lo.min(*p), hi.max(*p)));
+        ((hi.x - lo.x) / width).max((hi.y - lo.y) / height)
+    };
+    harness.hover_at(Pos2::new(500.0, 400.0));
+    harness.key_press(egui::Key::Home);
+    harness.run_steps(2);
+    let both = extent(&harness, 0).max(extent(&harness, 1));
+    assert!(both > 0.4, "Home frames the curves: the long one spans {both} of the viewport");
+    harness.state_mut().editor.select_curve(Some(1));
+    harness.key_press(egui::Key::Period);
+    harness.run_steps(2);
+    let short = extent(&harness, 1);
+    assert!(short > 0.4, "\".\" frames the selected curve: it spans {short} of the viewport");
+    assert!(!harness.state().editor.document.can_undo(), "framing is no change of the design");
+}

@@ -1,5 +1,6 @@
 //! The Curves workspace's viewport: drawing a curve with the mouse or a pen on the chosen plane,
-//! selecting a curve by clicking near it, dragging a segment's control points, orbiting,
+//! selecting a curve by clicking near it (Shift+click picks it for a Coons patch) or a Coons patch
+//! by clicking on it, dragging a segment's control points, orbiting,
 //! panning and zooming as in the surface workspace; and what it draws over the Coons patches:
 //! the curves, the selected one's curvature comb, the segments' control polygons.
 //!
@@ -10,6 +11,7 @@
 
 use super::curves::CurveTool;
 use super::interaction::{self, ViewportRect};
+use super::select_modes;
 use super::state::EditorState;
 use super::ui::UiState;
 use egui::{PointerButton, Sense};
@@ -93,6 +95,41 @@ impl EditorState {
         best.map(|(i, _)| i)
     }
 
+    /// The Coons patch under the mouse: the nearest one the mouse ray meets.
+    fn pick_patch(&self, view: &ViewportRect, mouse: glam::Vec2) -> Option<usize> {
+        let (o, d) = interaction::unproject_ray(&self.camera, view, mouse);
+        let frame = self.display_frame;
+        let (o, d) = (frame.to_model(o), (frame.to_model(o + d) - frame.to_model(o)).normalize());
+        let mut best: Option<(f64, usize)> = None;
+        for k in 0..self.curve_set().patches.len() {
+            let Ok(mesh) = self.shown_patch(k).mesh() else { continue };
+            if let Some((t, _)) = select_modes::ray_mesh(o, d, &mesh)
+                && best.is_none_or(|(b, _)| t < b)
+            {
+                best = Some((t, k));
+            }
+        }
+        best.map(|(_, k)| k)
+    }
+
+    /// A click of the Select tool at `mouse`: a curve is selected (with Shift, picked or unpicked
+    /// for a Coons patch), else the patch under the mouse is selected, else nothing is (Shift
+    /// keeps the selection).
+    pub(super) fn click_curves(&mut self, view: &ViewportRect, mouse: glam::Vec2, shift: bool) {
+        match self.pick_curve(view, mouse) {
+            Some(i) if shift => self.toggle_pick(i),
+            Some(i) => self.select_curve(Some(i)),
+            None => match self.pick_patch(view, mouse) {
+                Some(k) => self.select_patch(Some(k)),
+                None if !shift => {
+                    self.select_curve(None);
+                    self.select_patch(None);
+                }
+                None => {}
+            },
+        }
+    }
+
     pub(super) fn curves_viewport(&mut self, ui: &mut egui::Ui, ui_state: &mut UiState) {
         let (rect, response) = ui.allocate_exact_size(ui.available_size(), Sense::click_and_drag());
         let ppp = ui.ctx().pixels_per_point();
@@ -164,15 +201,17 @@ impl EditorState {
             && self.curves.tool == CurveTool::Select
             && let Some(m) = mouse
         {
-            let hit = self.pick_curve(&view, m);
-            self.select_curve(hit);
+            self.click_curves(&view, m, shift);
         }
 
         let painter = ui.painter_at(rect);
         let hint = match (self.curves.tool, &self.curves.stroke) {
             (CurveTool::Draw, Some(_)) => "drawing: let go to finish the curve".to_string(),
             (CurveTool::Draw, None) => format!("Draw: drag on the {} to draw a curve", self.curves.plane.label()),
-            (CurveTool::Select, _) => "Select: click a curve; drag a segment's green control points".to_string(),
+            (CurveTool::Select, _) => {
+                "Select: click a curve or patch; Shift+click picks curves for a patch; drag a segment's green control points"
+                    .to_string()
+            }
         };
         painter.text(
             rect.left_top() + egui::vec2(8.0, 8.0),

@@ -299,9 +299,15 @@ pub fn select_loop_or_ring(cage: &PolyMesh, selection: &mut Selection, edge: Edg
 /// where its fan is).
 pub fn pick_face(camera: &Camera, rect: &ViewportRect, cage: &PolyMesh, mouse: Vec2) -> Option<FaceId> {
     let (origin, direction) = interaction::unproject_ray(camera, rect, mouse);
+    ray_mesh(origin, direction, cage).map(|(_, f)| f)
+}
+
+/// Where the ray first meets `mesh` (its polygons as fans, as [`pick_face`]): the ray parameter
+/// and the face.
+pub fn ray_mesh(origin: DVec3, direction: DVec3, mesh: &PolyMesh) -> Option<(f64, FaceId)> {
     let mut best: Option<(f64, FaceId)> = None;
-    for f in cage.faces() {
-        let ring: Vec<DVec3> = cage.face_vertices(f).map(|v| cage.position(v)).collect();
+    for f in mesh.faces() {
+        let ring: Vec<DVec3> = mesh.face_vertices(f).map(|v| mesh.position(v)).collect();
         for k in 1..ring.len().saturating_sub(1) {
             if let Some(t) = ray_triangle(origin, direction, ring[0], ring[k], ring[k + 1])
                 && best.is_none_or(|(b, _)| t < b)
@@ -310,7 +316,7 @@ pub fn pick_face(camera: &Camera, rect: &ViewportRect, cage: &PolyMesh, mouse: V
             }
         }
     }
-    best.map(|(_, f)| f)
+    best
 }
 
 /// Möller–Trumbore: the ray parameter where it meets the triangle (both sides), if ahead.

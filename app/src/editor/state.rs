@@ -402,9 +402,17 @@ impl EditorState {
         })
     }
 
-    /// Frames the whole cage and surface: a display frame fitted to them, and the camera filling
-    /// the viewport (left of the legend, when one is shown).
+    /// Frames the whole cage and surface (in the Curves workspace, its curves and patches when
+    /// there are any): a display frame fitted to them, and the camera filling the viewport (left
+    /// of the legend, when one is shown).
     pub fn frame_all(&mut self) {
+        if self.curves.workspace == taut_core::curve::Workspace::Curves {
+            let points = self.curve_points();
+            if !points.is_empty() {
+                self.frame_model_points(&points);
+                return;
+            }
+        }
         let cage = &self.document.doc().cage;
         let mut points: Vec<taut_core::DVec3> = cage.positions().to_vec();
         points.extend(self.mirror_frame_points());
@@ -413,11 +421,17 @@ impl EditorState {
             let step = (mesh.vertex_count() / 20_000).max(1);
             points.extend(mesh.positions().iter().step_by(step));
         }
+        self.frame_model_points(&points);
+    }
+
+    /// A display frame fitted to model points, and the camera framing them; nothing without
+    /// points.
+    pub(super) fn frame_model_points(&mut self, points: &[taut_core::DVec3]) {
         if points.is_empty() {
             return;
         }
-        self.display_frame = DisplayFrame::for_points(&points);
-        self.frame_display_points(&points);
+        self.display_frame = DisplayFrame::for_points(points);
+        self.frame_display_points(points);
     }
 
     /// Frames model points in the current display frame.

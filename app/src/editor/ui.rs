@@ -314,17 +314,21 @@ impl EditorState {
         }
     }
 
+    /// Undoes the last step; the notice of what was undone goes (it no longer holds).
     pub fn undo(&mut self) {
         if self.document.undo() {
             self.prune_selection();
             self.curves_after_undo();
+            self.notice = None;
         }
     }
 
+    /// Redoes the last undone step; the notice of the state before goes.
     pub fn redo(&mut self) {
         if self.document.redo() {
             self.prune_selection();
             self.curves_after_undo();
+            self.notice = None;
         }
     }
 

@@ -65,11 +65,15 @@
 //! Where it is weak: the discrete curvature on chord parameters is biased by about `κ² h²/4`
 //! relative, so an exactly sampled log-aesthetic curve is a fixed point only up to the change of
 //! that bias across a window (the tests measure moves of 3e-5 of the length on 20 points, 2e-6 on
-//! 40); the ends of an open curve are fixed and their neighbours are fitted with one-sided
-//! windows, so on dense, noisy curves (a thousand points with noise of a tenth of the spacing)
-//! the last few points can keep some of the noise in their curvature (up to about ten times the
-//! curve's, over a few spacings, far smaller than the noise in position). A curve far from log-aesthetic with the chosen α is reshaped, not just smoothed: the
-//! line fit across a curvature extremum flattens it a little every pass (a sine wave faired with
+//! 40). The law fixes how the curvature changes along the curve, not its value at a free end:
+//! the ends of an open curve are fixed points whose neighbours are fitted with shifted windows,
+//! and on dense noisy curves (a thousand points with noise of a tenth of the spacing) the last
+//! ten or so points can settle on a tighter spiral of the same law, curvature rising to up to
+//! about ten times the curve's at the end point, far smaller than the noise in position; the
+//! default tolerance also stops these curves with waves in their curvature a few tens of points
+//! long (a larger window, or a smaller tolerance, smooths them further). A curve far from
+//! log-aesthetic with the chosen α is reshaped, not just smoothed: the line fit across a
+//! curvature extremum flattens it a little every pass (a sine wave faired with
 //! α = 1 ends far from the sine), which is the filter's purpose but means a designer should stop
 //! early or estimate α per piece. Torsion is a third derivative: near a helix it hardly depends on
 //! the binormal offset (the third derivative has no normal part), so the quadratic for ψ is

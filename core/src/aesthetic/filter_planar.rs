@@ -10,15 +10,17 @@
 //! the chord of the neighbours,
 //! `κ = 2 (d0 × d1) (g0 + g1)² / (g0 g1 |d|³)`, the paper's `|U × V| / |U|³` for the central
 //! differences on chord-length parameters, signed about the plane's normal; the radius is the same
-//! quotient turned over. The point goes to `P_ic + φ N` with `N = n × d / |d|`; the curvature
-//! there is `−κ* ` when `φ = −κ* |d|² g0 g1 / (2 (g0 + g1)²)` (the first derivative does not
-//! involve `P_i` and the second is affine in it), so the move is one division.
+//! quotient turned over. The point goes to `P_ic + φ N` with `N = n × d / |d|`; its signed
+//! curvature there is the target κ* when `φ = −κ* |d|² g0 g1 / (2 (g0 + g1)²)` (the first
+//! derivative does not involve `P_i` and the second is affine in it), so the move is one division.
 //!
-//! A pass computes, per colour, the geometry of every point into flat arrays (segments, arc
-//! length, chord, curvature and the law value `ρ^α`), loops the compiler can run on several
-//! lanes at once, and then the moves of that colour from those arrays: per point one scan of its
-//! window that both checks for an inflection and sums the least-squares line. The model-space
-//! points are written back only when the caller asks for them, and only the points that moved.
+//! A pass computes, per colour, the geometry of every point into flat arrays (segments, chord,
+//! curvature, radius and the law value `ρ^α`), loops the compiler can run on several lanes at
+//! once; then the target of every point of that colour from those arrays, one scan of its window
+//! that both checks for an inflection and sums the least-squares line over the arc length added
+//! up from the window's gaps; then the moves. Targets first and moves after keep the long chain of
+//! dependent operations of one point from holding up the next. The model-space points are
+//! written back only when the caller asks for them, and only the points that moved.
 //! From [`PARALLEL_FROM`] points the geometry and the moves run on several threads; every
 //! value is computed the same way on any thread, and the sums over moves are added in order, so
 //! the result does not depend on the thread count.
