@@ -62,7 +62,7 @@ pub fn pressed(input: &mut egui::InputState) -> Vec<CurveKeyAction> {
 
 /// The rows Help adds for the Curves workspace: (key, what it does).
 pub fn help_rows() -> impl Iterator<Item = (&'static str, &'static str)> {
-    CURVE_KEYS.iter().map(|k| (k.key.name(), k.describe))
+    CURVE_KEYS.iter().map(|k| (super::shortcuts::key_name(k.key), k.describe))
 }
 
 impl EditorState {

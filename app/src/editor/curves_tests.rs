@@ -459,4 +459,7 @@ fn home_frames_the_curves_and_period_the_selected_one() {
     let short = extent(&harness, 1);
     assert!(short > 0.4, "\".\" frames the selected curve: it spans {short} of the viewport");
     assert!(!harness.state().editor.document.can_undo(), "framing is no change of the design");
+    harness.key_press(egui::Key::F1);
+    harness.run_steps(2);
+    assert!(label_containing(&harness, "Curves workspace: frame the selected curve").is_some(), "Help lists the key");
 }

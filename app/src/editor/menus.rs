@@ -151,29 +151,34 @@ impl EditorState {
     /// Help ▸ Keyboard shortcuts: every key of the table, and the mouse.
     fn shortcuts_window(&mut self, ctx: &egui::Context, ui_state: &mut UiState) {
         let mut open = ui_state.show_shortcuts;
-        egui::Window::new("Keyboard shortcuts").open(&mut open).collapsible(false).resizable(false).show(ctx, |ui| {
-            egui::Grid::new("shortcut table").striped(true).num_columns(2).show(ui, |ui| {
-                let mut seen = Vec::new();
-                for s in shortcuts::SHORTCUTS {
-                    if seen.contains(&s.action) {
-                        continue;
+        let window = egui::Window::new("Keyboard shortcuts").open(&mut open).collapsible(false).auto_sized();
+        // Scrolled: the table is taller than a laptop's window.
+        let height = 0.8 * ctx.content_rect().height();
+        window.show(ctx, |ui| {
+            egui::ScrollArea::vertical().max_height(height).show(ui, |ui| {
+                egui::Grid::new("shortcut table").striped(true).num_columns(2).show(ui, |ui| {
+                    let mut seen = Vec::new();
+                    for s in shortcuts::SHORTCUTS {
+                        if seen.contains(&s.action) {
+                            continue;
+                        }
+                        seen.push(s.action);
+                        ui.label(shortcuts::all_labels(s.action));
+                        ui.label(shortcuts::describe(s.action));
+                        ui.end_row();
                     }
-                    seen.push(s.action);
-                    ui.label(shortcuts::all_labels(s.action));
-                    ui.label(shortcuts::describe(s.action));
-                    ui.end_row();
-                }
-                for (keys, what) in super::curves_keys::help_rows() {
-                    ui.label(keys);
-                    ui.label(what);
-                    ui.end_row();
-                }
-                for (keys, what) in MOUSE_AND_DRAG_KEYS {
-                    ui.label(*keys);
-                    ui.label(*what);
-                    ui.end_row();
-                }
-            });
+                    for (keys, what) in super::curves_keys::help_rows() {
+                        ui.label(keys);
+                        ui.label(what);
+                        ui.end_row();
+                    }
+                    for (keys, what) in MOUSE_AND_DRAG_KEYS {
+                        ui.label(*keys);
+                        ui.label(*what);
+                        ui.end_row();
+                    }
+                });
+            })
         });
         ui_state.show_shortcuts = open;
     }

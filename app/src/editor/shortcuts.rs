@@ -162,7 +162,8 @@ impl Shortcut {
     }
 }
 
-fn key_name(key: Key) -> &'static str {
+/// The name of a key as Help and the menus print it.
+pub(super) fn key_name(key: Key) -> &'static str {
     match key {
         Key::Num1 => "1",
         Key::Num3 => "3",
