@@ -14,7 +14,7 @@
 //! left. An undo (or any other change of that curve) under a run drops the run.
 //!
 //! Where it is weak: the filter runs on the UI thread within [`FILTER_BUDGET`] a frame, so a
-//! curve of 100,000 points moves a pass every few frames; drawn strokes keep the mouse's samples
+//! curve of 100,000 points moves about a pass a frame (7 ms); drawn strokes keep the mouse's samples
 //! (3 points apart on screen), which the filter then smooths; four drawn curves rarely meet, so a
 //! Coons patch snaps their ends together when they are within [`SNAP_FRACTION`] of the patch's
 //! size (each side bent linearly along its length), and refuses them when they are farther.

@@ -25,10 +25,13 @@
 //! value is computed the same way on any thread, and the sums over moves are added in order, so
 //! the result does not depend on the thread count.
 //!
-//! Measured (`cargo bench -p taut-core --bench aesthetic`, two shared cores, against the same
-//! bench before this file, run alternately): a pass over 1,000 points 59 → 30 µs, a full fairing
-//! of 1,000 noisy points (371 passes) 21.5 → 10.8 ms, within one 16 ms frame; the points differ
-//! from the former pass's by rounding (about 1e-15 of the curve's size after the same passes).
+//! Measured (`cargo bench -p taut-core --bench aesthetic`, two shared cores, alternating with the
+//! same bench before this file): a pass over 20 points 1.0–1.5 → 0.6–1.0 µs, over 1,000 points
+//! 55–61 → 30–37 µs, over 100,000 points 9.6–10.4 → 6.7–7.0 ms; a full fairing of 1,000 noisy
+//! points 20.3–21.6 ms (371 passes) → 10.8–11.5 ms (370 passes), within one 16 ms frame, and
+//! eight other draws of the noise (207 to 386 passes) at most 11.9 ms. While the host was busy
+//! both ran slower (31.5 against 15.3 ms, the slowest draw 16.5 ms). The points differ from the
+//! former pass's by rounding (about 1e-15 of the curve's size after the same passes).
 //!
 //! Where it is weak: the geometry is recomputed for every point each colour (every window of the
 //! other colour holds points of both), and each window is summed afresh (sums slid from window to
