@@ -166,6 +166,62 @@ fn dense_noisy_curves_settle_without_hooks_at_their_ends() {
     }
 }
 
+/// The largest distance between corresponding points.
+fn farthest_apart(a: &[DVec3], b: &[DVec3]) -> f64 {
+    a.iter().zip(b).map(|(p, q)| p.distance(*q)).fold(0.0, f64::max)
+}
+
+#[test]
+fn the_planar_filter_moves_as_the_space_filter_does_on_a_plane_curve() {
+    // An independent reference for the planar pass: the space filter computes the curvature through
+    // the derivatives, fits its windows and moves along the principal normal by its own code. On a
+    // plane curve without inflections its torsion is zero, so it has no torsion target and makes
+    // the planar filter's moves: the two agree to rounding. Open with α per point (two pieces, so
+    // some windows mix them), closed with an odd count (three colours), and closed on threads.
+    let run = |points: &[DVec3], closed: bool, alpha: Alpha, passes: usize, space: bool| {
+        let settings = FilterSettings { alpha, torsion_beta: space.then_some(1.0), ..FilterSettings::default() };
+        let mut f = CurveFilter::new(&PointSequence::new(points.to_vec(), closed), settings).unwrap();
+        let status = f.run(passes).unwrap();
+        assert!(status.passes > 0 && status.capped == 0, "{status:?}");
+        f.points().to_vec()
+    };
+    let seg = segment(1.0);
+    let spacing = seg.length() / 59.0;
+    let open = with_noise(&seg.sample(60), 0.002 * spacing, 21);
+    let pieces = Alpha::PerPoint((0..60).map(|i| if i < 30 { 1.0 } else { 2.0 }).collect());
+    let (planar, space) = (run(&open, false, pieces.clone(), 150, false), run(&open, false, pieces, 150, true));
+    assert!(farthest_apart(&open, &planar) > 1e-4 * spacing, "the points moved");
+    let apart = farthest_apart(&planar, &space) / seg.length();
+    assert!(apart < 1e-9, "open, α in two pieces: {apart:e} of the length apart");
+
+    let ellipse = |n: usize| -> Vec<DVec3> {
+        let mut noise = Noise(77);
+        (0..n)
+            .map(|i| {
+                let t = std::f64::consts::TAU * i as f64 / n as f64;
+                let wobble = 1.0 + 1e-3 / n as f64 * noise.next();
+                DVec3::new(2.0 * t.cos() * wobble, t.sin() * wobble, 0.0)
+            })
+            .collect()
+    };
+    let closed = ellipse(41);
+    let (planar, space) =
+        (run(&closed, true, Alpha::Uniform(1.0), 150, false), run(&closed, true, Alpha::Uniform(1.0), 150, true));
+    assert!(farthest_apart(&closed, &planar) > 1e-6, "the points moved");
+    let apart = farthest_apart(&planar, &space);
+    assert!(apart < 1e-9, "closed, 41 points: {apart:e} apart");
+
+    let many = ellipse(5001);
+    let threads = |count: usize, space: bool| {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(count).build().unwrap();
+        pool.install(|| run(&many, true, Alpha::Uniform(1.0), 3, space))
+    };
+    let (one, two) = (threads(1, false), threads(2, false));
+    assert!(one.iter().zip(&two).all(|(p, q)| p.to_array().map(f64::to_bits) == q.to_array().map(f64::to_bits)));
+    let apart = farthest_apart(&one, &threads(2, true));
+    assert!(apart < 1e-9, "closed, 5001 points on threads: {apart:e} apart");
+}
+
 #[test]
 fn alpha_is_recovered_from_exact_samples() {
     // 100 samples: within 0.03 (measured at most 0.021); one piece, as the curvature is monotone.
@@ -489,6 +545,9 @@ fn bad_curves_are_refused_with_one_clear_line() {
         FilterSettings { alpha: Alpha::Uniform(f64::INFINITY), ..FilterSettings::default() },
         "α must be",
     );
+    let mut hairpin = good.clone();
+    hairpin[9] = hairpin[7];
+    expect(hairpin, FilterSettings::default(), "turns back on itself at point 8 (points 7 and 9");
     expect(good.clone(), FilterSettings { window: 0, ..FilterSettings::default() }, "window");
     expect(good.clone(), FilterSettings { relaxation: 1.5, ..FilterSettings::default() }, "relaxation");
     expect(

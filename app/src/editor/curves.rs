@@ -413,10 +413,9 @@ impl EditorState {
     /// Frames the selected curve or Coons patch, else the picked curves, else everything the
     /// workspace shows.
     pub fn frame_curves_selection(&mut self) {
-        let set = self.curve_set();
         let points: Vec<DVec3> = match (self.curves.selected, self.curves.selected_patch) {
             (Some(i), _) => self.shown_points(i).to_vec(),
-            (None, Some(k)) => set.patches[k].boundaries.iter().flatten().copied().collect(),
+            (None, Some(k)) => self.shown_patch(k).boundaries.iter().flatten().copied().collect(),
             (None, None) => self.curves.picked.iter().flat_map(|&i| self.shown_points(i).iter().copied()).collect(),
         };
         if points.is_empty() {

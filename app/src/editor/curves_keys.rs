@@ -14,8 +14,6 @@ use egui::{Event, Key};
 pub enum CurveKeyAction {
     /// Delete the selected curve or Coons patch.
     DeleteSelected,
-    /// Frame the selected curve or patch (the picked curves, or every curve, without one).
-    FrameSelected,
 }
 
 /// A plain key of the Curves workspace (no Ctrl, Shift or Alt).
@@ -27,18 +25,11 @@ pub struct CurveKey {
 }
 
 /// Every key of the Curves workspace, in the order Help lists them.
-pub const CURVE_KEYS: &[CurveKey] = &[
-    CurveKey {
-        key: Key::Delete,
-        action: CurveKeyAction::DeleteSelected,
-        describe: "Curves workspace: delete the selected curve or Coons patch",
-    },
-    CurveKey {
-        key: Key::Period,
-        action: CurveKeyAction::FrameSelected,
-        describe: "Curves workspace: frame the selected curve or patch (else the picked curves, else all)",
-    },
-];
+pub const CURVE_KEYS: &[CurveKey] = &[CurveKey {
+    key: Key::Delete,
+    action: CurveKeyAction::DeleteSelected,
+    describe: "Curves workspace: delete the selected curve or Coons patch",
+}];
 
 /// The Curves-workspace actions pressed this frame, their key events consumed so that the main
 /// table does not see them.
@@ -70,7 +61,6 @@ impl EditorState {
     pub(super) fn run_curve_key(&mut self, action: CurveKeyAction) {
         match action {
             CurveKeyAction::DeleteSelected => self.delete_selected_curve_item(),
-            CurveKeyAction::FrameSelected => self.frame_curves_selection(),
         }
     }
 }

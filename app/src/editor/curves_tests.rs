@@ -461,5 +461,8 @@ fn home_frames_the_curves_and_period_the_selected_one() {
     assert!(!harness.state().editor.document.can_undo(), "framing is no change of the design");
     harness.key_press(egui::Key::F1);
     harness.run_steps(2);
-    assert!(label_containing(&harness, "Curves workspace: frame the selected curve").is_some(), "Help lists the key");
+    assert!(
+        label_containing(&harness, "in the Curves workspace: the selected curve or patch").is_some(),
+        "Help lists the key"
+    );
 }

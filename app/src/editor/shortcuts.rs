@@ -57,7 +57,6 @@ impl Action {
             self,
             Action::SelectAll
                 | Action::SelectNone
-                | Action::FrameSelection
                 | Action::Crease
                 | Action::CycleSelectMode
                 | Action::SelectLinked
@@ -200,7 +199,7 @@ pub fn describe(action: Action) -> &'static str {
         Action::SelectAll => "Select all",
         Action::SelectNone => "Select none (while dragging: cancel the drag)",
         Action::FrameAll => "Frame all",
-        Action::FrameSelection => "Frame the selection",
+        Action::FrameSelection => "Frame the selection (in the Curves workspace: the selected curve or patch)",
         Action::ViewFront => "Front view",
         Action::ViewRight => "Right view",
         Action::ViewTop => "Top view",

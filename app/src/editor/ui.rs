@@ -288,6 +288,9 @@ impl EditorState {
                 ui_state.box_select = None;
             }
             Action::FrameAll => self.frame_all(),
+            Action::FrameSelection if self.curves.workspace == taut_core::curve::Workspace::Curves => {
+                self.frame_curves_selection()
+            }
             Action::FrameSelection => self.frame_selection(),
             Action::ViewFront => self.camera.set_view(StandardView::Front),
             Action::ViewRight => self.camera.set_view(StandardView::Right),

@@ -40,7 +40,8 @@
 //!   radius (measured on spirals and involutes, α = 0.5, 1 and 2, of 300, 1,000 and 3,000 points
 //!   with 0.05, 0.1 and 0.2 of the spacing as noise, six draws each: 57 of the 162 never
 //!   converged). With the cap all 162 converge, and a sampled log-aesthetic curve, whose end
-//!   sample is the window's extreme, stays a fixed point.
+//!   sample is the window's extreme, stays a fixed point. The space filter's torsion target is
+//!   kept within its window's sharpest torsion the same way.
 //! - A move is capped so the point stays within the half chord of its neighbours (a target that
 //!   asks for more would fold the curve); the number of capped moves is reported.
 //!
@@ -250,6 +251,18 @@ impl CurveFilter {
         };
         let sequence = PointSequence::new(points, curve.closed);
         sequence.validate(least)?;
+        // Where the neighbours of a point coincide the curve turns back on itself: it has no
+        // tangent there and its curvature is 0 / 0.
+        let size = sequence.diagonal();
+        let n = sequence.len();
+        if let Some((i, (a, b))) = (0..n)
+            .filter_map(|i| sequence.neighbours(i).map(|ab| (i, ab)))
+            .find(|&(_, (a, b))| sequence.points[a].distance(sequence.points[b]) <= 1e-12 * size)
+        {
+            return Err(Error::Input(format!(
+                "the curve turns back on itself at point {i} (points {a} and {b} are at the same place); remove point {i}"
+            )));
+        }
         let status = FilterStatus { last_move: f64::INFINITY, ..FilterStatus::default() };
         // A closed curve with an odd count has two even neighbours at the seam: a third colour.
         let closed = curve.closed;

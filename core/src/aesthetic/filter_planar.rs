@@ -21,17 +21,18 @@
 //! up from the window's gaps; then the moves. Targets first and moves after keep the long chain of
 //! dependent operations of one point from holding up the next. The model-space points are
 //! written back only when the caller asks for them, and only the points that moved.
-//! From [`PARALLEL_FROM`] points the geometry and the moves run on several threads; every
-//! value is computed the same way on any thread, and the sums over moves are added in order, so
-//! the result does not depend on the thread count.
+//! From [`PARALLEL_FROM`] points the geometry and the targets are computed on several threads;
+//! every value is computed the same way on any thread, and the moves and their sums are made in
+//! order, so the result does not depend on the thread count.
 //!
 //! Measured (`cargo bench -p taut-core --bench aesthetic`, two shared cores, alternating with the
 //! same bench before this file): a pass over 20 points 1.0–1.5 → 0.6–1.0 µs, over 1,000 points
 //! 55–61 → 30–37 µs, over 100,000 points 9.6–10.4 → 6.7–7.0 ms; a full fairing of 1,000 noisy
 //! points 20.3–21.6 ms (371 passes) → 10.8–11.5 ms (370 passes), within one 16 ms frame, and
 //! eight other draws of the noise (207 to 386 passes) at most 11.9 ms. While the host was busy
-//! both ran slower (31.5 against 15.3 ms, the slowest draw 16.5 ms). The points differ from the
-//! former pass's by rounding (about 1e-15 of the curve's size after the same passes).
+//! both ran slower (31.5 against 15.3 ms, the slowest draw 16.5 ms). Before the cap on targets
+//! (see [`super::filter`]) the points differed from the former pass's by rounding only (about
+//! 1e-15 of the curve's size after the same passes); the cap changes them where it binds.
 //!
 //! Where it is weak: the geometry is recomputed for every point each colour (every window of the
 //! other colour holds points of both), and each window is summed afresh (sums slid from window to
@@ -85,8 +86,8 @@ pub(super) struct PlanarCurve {
     kappa: Vec<f64>,
     rho: Vec<f64>,
     law: Vec<f64>,
-    /// The target curvature of each point of the colour being moved (NaN: held).
-    targets: Vec<f64>,
+    /// The target curvature of each point of the colour being moved (`None`: held).
+    targets: Vec<Option<f64>>,
 }
 
 /// The curvature of a point from the segments before and after it: the chord of its neighbours,
@@ -168,12 +169,13 @@ impl Default for WindowSums {
 }
 
 impl WindowSums {
-    /// Adds consecutive samples: the gap after each, its curvature and its law value.
+    /// Adds consecutive samples: the gap after each, its curvature and its law value
+    /// (`law(k)` for the k-th of them).
     #[inline(always)]
-    fn add_run(&mut self, sign: f64, gap: &[f64], kappa: &[f64], law: &[f64]) {
+    fn add_run(&mut self, sign: f64, gap: &[f64], kappa: &[f64], law: impl Fn(usize) -> f64) {
         // Slices of one length, so that the loop has no bounds checks.
         let len = gap.len();
-        let (kappa, law) = (&kappa[..len], &law[..len]);
+        let kappa = &kappa[..len];
         let WindowSums { mut s, mut sx, mut sxx, mut sy, mut sxy, mut one_signed, mut largest, mut smallest } = *self;
         for j in 0..len {
             let v = kappa[j] * sign;
@@ -182,7 +184,7 @@ impl WindowSums {
             // `one_signed` already).
             largest = if v > largest { v } else { largest };
             smallest = if v < smallest { v } else { smallest };
-            let y = law[j];
+            let y = law(j);
             sx += s;
             sxx += s * s;
             sy += y;
@@ -285,7 +287,7 @@ impl PlanarCurve {
             // First every target of the colour (independent of each other, so the processor
             // overlaps them), then the moves, in order.
             let mut targets = std::mem::take(&mut self.targets);
-            let target = |&i: &usize| self.target(i, rules).unwrap_or(f64::NAN);
+            let target = |&i: &usize| self.target(i, rules);
             if self.x.len() >= PARALLEL_FROM {
                 colour.par_iter().map(target).collect_into_vec(&mut targets);
             } else {
@@ -296,10 +298,11 @@ impl PlanarCurve {
             // loop wait on it).
             let (mut largest2, mut nan) = (totals.largest2, false);
             for (&i, &target) in colour.iter().zip(&targets) {
-                if target.is_nan() {
+                // A NaN target (from a NaN curvature) moves the point to NaN, and the pass fails.
+                let Some(target) = target else {
                     totals.held += 1;
                     continue;
-                }
+                };
                 totals.err2 += (self.kappa[i] - target).powi(2);
                 totals.k2 += self.kappa[i].powi(2);
                 let (x, y, capped) = self.moved(i, target, rules.relaxation);
@@ -414,12 +417,14 @@ impl PlanarCurve {
         // gaps (more accurate than differences of the arc length from the curve's start).
         let mut window = WindowSums::default();
         for &(lo, hi) in &runs {
+            let len = hi - lo;
             let (gap, kappa, law, rho) = (&self.gap[lo..hi], &self.kappa[lo..hi], &law[lo..hi], &self.rho[lo..hi]);
             if own_alpha {
-                window.add_run(sign, gap, kappa, law);
+                let law = &law[..len];
+                window.add_run(sign, gap, kappa, |k| law[k]);
             } else {
-                let law: Vec<f64> = rho.iter().map(|r| law_value(*r, alpha)).collect();
-                window.add_run(sign, gap, kappa, &law);
+                let rho = &rho[..len];
+                window.add_run(sign, gap, kappa, |k| law_value(rho[k], alpha));
             }
         }
         let WindowSums { largest, smallest, one_signed, sx, sxx, sy, sxy, .. } = window;
