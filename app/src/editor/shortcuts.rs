@@ -243,8 +243,6 @@ pub fn pressed(input: &mut egui::InputState) -> Vec<Action> {
     actions
 }
 
-/// Plain presses of `key` (no Ctrl, Shift or Alt) this frame, consumed: the axis locks and Esc
-/// while a drag is under way.
 /// The digits, '.' (and '-' when `signed`) and Backspace typed while a gesture runs (a typed
 /// distance, angle, factor or thickness), taken from the input into `typed`.
 pub fn take_typed_number(input: &mut egui::InputState, typed: &mut String, signed: bool) {
