@@ -244,7 +244,8 @@ impl EditorState {
         self.surface = None;
         self.comparison = None;
         self.progress = None;
-        self.selection.clear();
+        // A new document starts in vertex mode, whatever the last one was left in.
+        self.selection = Selection::default();
         self.surface_error = None;
         self.load_curves_view();
         self.cage.original = None;
