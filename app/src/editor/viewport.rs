@@ -37,6 +37,7 @@ impl EditorState {
             _ => 0.0,
         };
         self.viewport_shape = (rect.width() / rect.height().max(1.0), margin);
+        self.keep_new_document_framed();
         // Interaction works in points; the viewport rectangle in the same units.
         let view = ViewportRect {
             min: glam::Vec2::new(rect.min.x, rect.min.y),
