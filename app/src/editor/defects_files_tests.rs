@@ -219,6 +219,24 @@ fn the_cage_dialog_default_fits_blenders_monkey() {
     let report = &editor.cage.original.as_ref().expect("the cage was made").report;
     assert_eq!(report.input_triangles, 968);
     assert!(report.cage_faces < 968);
+
+    // The panel's explanations are at the UI's text size (they were at the small size).
+    harness.run_steps(2);
+    for text in ["The original is not saved in the .taut file", "times: read"] {
+        let node = harness.get(By::new().label_contains(text).include_labels());
+        let (rect, full) = (node.rect(), node.accesskit_node().value().or(node.accesskit_node().label()).unwrap());
+        // Laid out again at the body size and the label's own width: the same lines, so the same
+        // height when the label is drawn at the body size.
+        let body = harness.ctx.global_style().text_styles[&egui::TextStyle::Body].clone();
+        let galley =
+            harness.ctx.fonts_mut(|f| f.layout(full.to_string(), body, egui::Color32::WHITE, rect.width() + 0.5));
+        assert!(
+            (galley.size().y - rect.height()).abs() < 1.0,
+            "{text:?} is drawn {} high, {} at the body size",
+            rect.height(),
+            galley.size().y
+        );
+    }
 }
 
 /// In the Curves workspace the LCG plot lies wholly inside the right panel, on a laptop's window
@@ -263,4 +281,54 @@ fn the_lcg_plot_fits_in_the_curves_panel() {
     );
     assert!((lcg.height() - curvature.height()).abs() < 1.0, "the LCG plot is clipped: {lcg:?} against {curvature:?}");
     assert!(lcg.height() >= 60.0, "the plots are too small to read: {lcg:?}");
+}
+
+/// The surface's box in points on the screen, as the viewport shows it.
+fn model_box_in_points(harness: &Harness<'_, App>) -> egui::Rect {
+    let [x, y, w, h] = harness.state().ui.viewport_px.expect("the viewport was laid out").map(|v| v as f32);
+    let (lo, hi) = projected_box(harness);
+    let to_point = |ndc: glam::Vec2| egui::pos2(x + (ndc.x + 1.0) * 0.5 * w, y + (1.0 - ndc.y) * 0.5 * h);
+    egui::Rect::from_two_pos(to_point(lo), to_point(hi))
+}
+
+/// The legend of a view, found by its title, is an egui label (the UI's font) in a strip at the
+/// viewport's right, and the framed model stays out of the strip.
+fn assert_legend_beside_the_model(harness: &mut Harness<'_, App>, title: &str) {
+    harness.key_press(Key::Home);
+    harness.run_steps(2);
+    let label = harness
+        .query_all(By::new().label_contains(title).include_labels())
+        .map(|n| n.rect())
+        .find(|r| r.left() > 260.0 && r.right() < 1280.0 - 270.0)
+        .unwrap_or_else(|| panic!("no legend titled {title:?} drawn with the UI's font in the viewport"));
+    let [x, _, w, _] = harness.state().ui.viewport_px.unwrap().map(|v| v as f32);
+    let strip_left = x + w - super::legend::LEGEND_WIDTH;
+    assert!(label.left() >= strip_left, "the title {label:?} is not in the strip from {strip_left}");
+    let model = model_box_in_points(harness);
+    assert!(model.right() <= strip_left, "{title}: the model {model:?} reaches under the legend from {strip_left}");
+    assert!(model.width() > 0.5 * (strip_left - x), "{title}: the model is framed too small: {model:?}");
+}
+
+/// The curvature legend and the curve mesh's continuity legend sit beside the model.
+#[test]
+fn legends_are_drawn_beside_the_framed_model() {
+    let mut harness = cube_editor();
+    harness.state_mut().editor.display.mode = super::state::DisplayMode::Curvature;
+    settle(&mut harness);
+    let title = harness.state().editor.legend().expect("a legend").title;
+    assert_legend_beside_the_model(&mut harness, &title);
+
+    let mut harness = cube_editor();
+    harness.state_mut().editor.selection.clear();
+    settle(&mut harness);
+    harness.get(By::new().role(Role::ComboBox).label("scheme")).click();
+    harness.run_steps(2);
+    harness.get_by_label(taut_core::surface::SchemeKind::CurveMesh.display_name()).click();
+    frames(&mut harness);
+    settle(&mut harness);
+    harness.get_by_label("Continuity").click();
+    frames(&mut harness);
+    harness.run_steps(2);
+    assert!(harness.state().editor.curve_mesh_legend().is_some());
+    assert_legend_beside_the_model(&mut harness, "G2 jump");
 }

@@ -26,6 +26,7 @@ pub mod gizmo;
 mod gizmo_tests;
 pub mod inset_drag;
 pub mod interaction;
+mod legend;
 pub mod live;
 pub mod loop_slide;
 pub mod menus;

@@ -459,7 +459,8 @@ impl EditorState {
     fn frame_display_points(&mut self, points: &[taut_core::DVec3]) {
         let display: Vec<glam::Vec3> = points.iter().map(|&p| self.display_frame.point(p)).collect();
         let (aspect, margin_fraction) = self.viewport_shape;
-        let margin_fraction = if self.colours_shown() { margin_fraction } else { 0.0 };
+        let legend = self.colours_shown() || self.curve_mesh_legend().is_some();
+        let margin_fraction = if legend { margin_fraction } else { 0.0 };
         self.camera.frame_points(&display, aspect * (1.0 - margin_fraction));
         // Centre the model in what the legend leaves free: half the margin to the left, in
         // pixels of a viewport one unit high.
