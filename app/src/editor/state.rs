@@ -176,8 +176,9 @@ pub struct EditorState {
     pub viewport_shape: (f32, f32),
     /// A new or opened document is framed again each frame until its surface has settled (the
     /// surface can reach beyond the cage, and the viewport's shape is known only once laid
-    /// out): the camera as last framed, so a designer's own move of the view ends it.
-    pub(super) auto_frame: Option<Camera>,
+    /// out): the camera as last framed and the revision it framed, so a designer's own move of
+    /// the view or edit of the document ends it.
+    pub(super) auto_frame: Option<(Camera, u64)>,
     /// The Curves workspace.
     pub curves: super::curves::CurvesWorkspace,
     /// File ▸ Make cage from mesh…: its dialog, the running fit, the original of the cage.
@@ -221,22 +222,23 @@ impl EditorState {
         };
         state.load_curves_view();
         state.frame_all();
-        state.auto_frame = Some(state.camera);
+        state.auto_frame = Some((state.camera, state.document.revision()));
         state
     }
 
     /// Frames a new or opened document again, once the viewport is laid out and while its
     /// surface settles, so the whole surface shows with a margin; stops when the surface has
-    /// settled or the designer has moved the view.
+    /// settled or the designer has moved the view or edited the document (a drag must not move
+    /// the camera under the mouse).
     pub(super) fn keep_new_document_framed(&mut self) {
-        let Some(framed) = self.auto_frame else { return };
-        if self.camera != framed {
+        let Some((camera, revision)) = self.auto_frame else { return };
+        if self.camera != camera || self.document.revision() != revision {
             self.auto_frame = None;
             return;
         }
         self.frame_all();
         let settled = self.surface_error.is_some() || (self.surface.is_some() && !self.busy());
-        self.auto_frame = (!settled).then_some(self.camera);
+        self.auto_frame = (!settled).then_some((self.camera, revision));
     }
 
     /// Applies an edit, reporting a refused one as a notice.
@@ -272,7 +274,7 @@ impl EditorState {
             let _ = self.recent.add(&path);
         }
         self.frame_all();
-        self.auto_frame = Some(self.camera);
+        self.auto_frame = Some((self.camera, self.document.revision()));
     }
 
     /// Opens a file; an unreadable one is reported and the current document stays.
