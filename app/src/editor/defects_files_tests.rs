@@ -307,6 +307,13 @@ fn assert_legend_beside_the_model(harness: &mut Harness<'_, App>, title: &str) {
     let model = model_box_in_points(harness);
     assert!(model.right() <= strip_left, "{title}: the model {model:?} reaches under the legend from {strip_left}");
     assert!(model.width() > 0.5 * (strip_left - x), "{title}: the model is framed too small: {model:?}");
+    // A message over the viewport's bottom leaves the legend's lowest number in sight.
+    // (A long one: it wraps at the width the message has.)
+    let text = "a message over the viewport, ".repeat(12);
+    harness.state_mut().editor.notify(text.clone(), false);
+    harness.run_steps(2);
+    let message = harness.get(By::new().label(&text).include_labels()).rect();
+    assert!(message.right() <= strip_left, "the message {message:?} covers the legend from {strip_left}");
 }
 
 /// The curvature legend and the curve mesh's continuity legend sit beside the model.
