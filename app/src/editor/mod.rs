@@ -16,6 +16,8 @@ mod curves_render;
 mod curves_viewport;
 #[cfg(test)]
 mod defect_tests;
+#[cfg(test)]
+mod defects_files_tests;
 pub mod document;
 mod extrude_move;
 pub mod files;
@@ -24,6 +26,7 @@ pub mod gizmo;
 mod gizmo_tests;
 pub mod inset_drag;
 pub mod interaction;
+mod legend;
 pub mod live;
 pub mod loop_slide;
 pub mod menus;
