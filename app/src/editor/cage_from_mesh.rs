@@ -39,6 +39,10 @@ const PROGRESS_REPAINT: Duration = Duration::from_millis(300);
 /// The fastest the distance view re-measures while the cage is being edited.
 const MIN_REMEASURE: Duration = Duration::from_millis(150);
 
+/// Why Browse… is off: there is no system file dialog to show.
+pub const NO_FILE_DIALOG: &str =
+    "No system file dialog is available here (no desktop portal on the session bus): type the mesh's path in the field";
+
 /// The settings of the Make cage dialog.
 #[derive(Clone, Debug, PartialEq)]
 pub struct CageDialog {
@@ -53,7 +57,9 @@ pub struct CageDialog {
 
 impl Default for CageDialog {
     fn default() -> Self {
-        CageDialog { path: String::new(), by_faces: true, faces: 1000, ratio: 0.25, rounds: 1 }
+        // A ratio fits every mesh (a face count above the mesh's triangles is refused); the
+        // face count a designer switches to starts at a size that suits most parts.
+        CageDialog { path: String::new(), by_faces: false, faces: 1000, ratio: 0.25, rounds: 1 }
     }
 }
 
@@ -263,7 +269,13 @@ impl EditorState {
                     ui.add(egui::TextEdit::singleline(&mut dialog.path).desired_width(300.0))
                         .labelled_by(name.id)
                         .on_hover_text("The dense mesh to fit a cage to: a scan or a heavy export");
-                    browse = ui.button("Browse…").clicked();
+                    // Without a system file dialog Browse would only open another path field.
+                    let can_browse = !ui_state.no_native_dialogs && super::ui::native_dialogs_available();
+                    browse = ui
+                        .add_enabled(can_browse, egui::Button::new("Browse…"))
+                        .on_hover_text("Pick the mesh in the system's file dialog")
+                        .on_disabled_hover_text(NO_FILE_DIALOG)
+                        .clicked();
                 });
                 ui.horizontal(|ui| {
                     ui.radio_value(&mut dialog.by_faces, true, "face count")
@@ -368,14 +380,14 @@ impl EditorState {
         });
         let kept = if r.kept_round > 0 { format!("kept: fitted (round {})", r.kept_round) } else { "kept: QEM".into() };
         ui.label(kept);
-        ui.add(egui::Label::new(egui::RichText::new(&r.verdict).small()).wrap());
+        ui.add(egui::Label::new(&r.verdict).wrap());
         let mut times = vec![
             format!("read {:.2} s", original.import_seconds),
             format!("prepare {:.2} s", original.prepare_seconds),
         ];
         times.extend(r.steps.iter().map(|s| format!("{} {:.2} s", s.step, s.seconds)));
         times.push(format!("ghost {:.2} s", original.ghost_seconds));
-        ui.add(egui::Label::new(egui::RichText::new(format!("times: {}", times.join(", "))).small()).wrap());
+        ui.add(egui::Label::new(format!("times: {}", times.join(", "))).wrap());
         let (mut ghost, mut distance) = (original.show_ghost, original.show_distance);
         ui.checkbox(&mut ghost, "original as ghost").on_hover_text("The mesh the cage was made from, translucent blue");
         let distance_changed = ui
@@ -384,11 +396,8 @@ impl EditorState {
             .changed();
         ui.add(
             egui::Label::new(
-                egui::RichText::new(
-                    "The original is not saved in the .taut file, only the cage: make the cage again from the mesh \
-                     to compare after reopening.",
-                )
-                .small(),
+                "The original is not saved in the .taut file, only the cage: make the cage again from the mesh \
+                 to compare after reopening.",
             )
             .wrap(),
         );

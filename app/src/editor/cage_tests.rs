@@ -55,7 +55,7 @@ fn has_label(harness: &Harness<'_, App>, text: &str) -> bool {
     harness.query_all(By::new().label_contains(text).include_labels()).next().is_some()
 }
 
-/// Opens the dialog from the File menu and types the mesh's path and the face count into it.
+/// Opens the dialog from the File menu, types the mesh's path and sizes the cage by this face count.
 fn fill_dialog(harness: &mut Harness<'_, App>, mesh: &Path, faces: usize) {
     harness.get_by_label("File").click();
     harness.run_steps(2);
@@ -67,7 +67,9 @@ fn fill_dialog(harness: &mut Harness<'_, App>, mesh: &Path, faces: usize) {
     harness.get_by_label("mesh file (.obj, .stl, .ply, .gltf, .glb)").type_text(&mesh.display().to_string());
     harness.run_steps(1);
     // The face count is a number field; a designer types it, the test sets it.
-    harness.state_mut().editor.cage.dialog.as_mut().unwrap().faces = faces;
+    let dialog = harness.state_mut().editor.cage.dialog.as_mut().unwrap();
+    dialog.by_faces = true;
+    dialog.faces = faces;
     harness.run_steps(1);
     let dialog = harness.state().editor.cage.dialog.clone().unwrap();
     assert_eq!(PathBuf::from(dialog.path), mesh, "the path typed into the dialog");

@@ -10,8 +10,10 @@ use super::ui::{PathPurpose, UiState};
 use egui_plot::{Legend, Line, Plot, Points};
 use taut_core::curve::Workspace;
 
-/// Height of each plot, in points.
+/// Height of each plot, in points, where the panel has room.
 const PLOT_HEIGHT: f32 = 170.0;
+/// The least height of a plot: below it the panel scrolls instead.
+const MIN_PLOT_HEIGHT: f32 = 80.0;
 
 impl EditorState {
     /// The Surface / Curves switch in the menu bar.
@@ -31,9 +33,6 @@ impl EditorState {
     pub(super) fn curves_workspace_ui(&mut self, ui_root: &mut egui::Ui, ui_state: &mut UiState) {
         self.step_curves(self.curves.filter_budget);
         egui::Panel::bottom("status").show(ui_root, |ui| self.curves_status_bar(ui, ui_state));
-        if self.notice.is_some() {
-            egui::Panel::bottom("notice").show(ui_root, |ui| self.notice_strip(ui, ui_state));
-        }
         egui::Panel::left("curves").resizable(false).exact_size(270.0).show(ui_root, |ui| {
             egui::ScrollArea::vertical().show(ui, |ui| self.curve_list_panel(ui, ui_state));
         });
@@ -44,7 +43,9 @@ impl EditorState {
                 self.plots_panel(ui);
             });
         });
-        egui::CentralPanel::no_frame().show(ui_root, |ui| self.curves_viewport(ui, ui_state));
+        let viewport =
+            egui::CentralPanel::no_frame().show(ui_root, |ui| self.curves_viewport(ui, ui_state)).response.rect;
+        self.notice_overlay(&ui_root.ctx().clone(), viewport, ui_state);
         if self.curves_busy() {
             ui_root.ctx().request_repaint();
         }
@@ -249,7 +250,13 @@ impl EditorState {
         let kappa: Vec<[f64; 2]> =
             graph.arc_length.iter().zip(&graph.curvature).filter_map(|(s, k)| k.map(|k| [*s, k])).collect();
         ui.label("curvature κ against arc length s");
-        Plot::new("curvature plot").height(PLOT_HEIGHT).x_axis_label("s").y_axis_label("κ").show(ui, |p| {
+        // Both plots share what is left of the panel below this line, with the labels between
+        // them, so the LCG plot is not cut off at the panel's bottom.
+        let row = ui.text_style_height(&egui::TextStyle::Body) + ui.spacing().item_spacing.y;
+        let rows = 1 + plots.pieces.len() + usize::from(plots.estimate_error.is_some());
+        let room = ui.clip_rect().bottom() - ui.cursor().top() - rows as f32 * row - 3.0 * ui.spacing().item_spacing.y;
+        let plot_height = (0.5 * room).clamp(MIN_PLOT_HEIGHT, PLOT_HEIGHT);
+        Plot::new("curvature plot").height(plot_height).x_axis_label("s").y_axis_label("κ").show(ui, |p| {
             p.line(Line::new("κ(s)", kappa));
         });
         let alpha_text = match graph.fit {
@@ -267,7 +274,7 @@ impl EditorState {
         let x_range =
             lcg.iter().map(|p| p[0]).fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), x| (lo.min(x), hi.max(x)));
         Plot::new("lcg plot")
-            .height(PLOT_HEIGHT)
+            .height(plot_height)
             .x_axis_label("log ρ")
             .y_axis_label("log |ρ ds/dρ|")
             .legend(Legend::default())

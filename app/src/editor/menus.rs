@@ -268,6 +268,26 @@ impl EditorState {
                 None => ui_state.pending = Some(action),
             }
         }
+        if let Some(path) = ui_state.replace.take() {
+            let mut answer = None;
+            egui::Modal::new(egui::Id::unique("replace")).show(ctx, |ui| {
+                ui.label(format!("{} exists already. Replace it?", path.display()));
+                ui.label("Replacing it writes this cage over the file; it cannot be undone.");
+                ui.horizontal(|ui| {
+                    if ui.button("Replace").clicked() {
+                        answer = Some(true);
+                    }
+                    if ui.button("Cancel").clicked() || ui.input(|i| i.key_pressed(Key::Escape)) {
+                        answer = Some(false);
+                    }
+                });
+            });
+            match answer {
+                Some(true) => self.save_as(&path),
+                Some(false) => {}
+                None => ui_state.replace = Some(path),
+            }
+        }
         if let Some(recovery) = ui_state.recovery.take() {
             let mut answer = None;
             egui::Modal::new(egui::Id::unique("recovery")).show(ctx, |ui| {

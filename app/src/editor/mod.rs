@@ -17,6 +17,8 @@ mod curves_viewport;
 #[cfg(test)]
 mod defect_tests;
 #[cfg(test)]
+mod defects_files_tests;
+#[cfg(test)]
 mod defects_mode_tests;
 pub mod document;
 mod extrude_move;
@@ -26,6 +28,7 @@ pub mod gizmo;
 mod gizmo_tests;
 pub mod inset_drag;
 pub mod interaction;
+mod legend;
 pub mod live;
 pub mod loop_slide;
 pub mod menus;

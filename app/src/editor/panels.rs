@@ -97,6 +97,28 @@ impl EditorState {
     }
 
     /// The newest message, wrapped to the window's width, with its dismiss and history buttons.
+    /// The message over the bottom of the viewport, `viewport` in points: drawn on top rather
+    /// than in a panel of its own, so the viewport keeps its size (and the model stays put)
+    /// whether a message shows or not. It leaves the legend's strip at the right free.
+    pub(super) fn notice_overlay(&mut self, ctx: &egui::Context, viewport: egui::Rect, ui_state: &mut UiState) {
+        if self.notice.is_none() {
+            return;
+        }
+        let mut viewport = viewport;
+        viewport.set_right(viewport.right() - self.viewport_shape.1 * viewport.width());
+        egui::Area::new(egui::Id::unique("notice"))
+            .order(egui::Order::Foreground)
+            .pivot(egui::Align2::LEFT_BOTTOM)
+            .fixed_pos(viewport.left_bottom())
+            .show(ctx, |ui| {
+                egui::Frame::side_top_panel(ui.style()).show(ui, |ui| {
+                    let width = viewport.width() - 2.0 * ui.style().spacing.window_margin.leftf();
+                    ui.set_width(width.max(1.0));
+                    self.notice_strip(ui, ui_state);
+                });
+            });
+    }
+
     pub(super) fn notice_strip(&mut self, ui: &mut egui::Ui, ui_state: &mut UiState) {
         let Some(notice) = self.notice.clone() else { return };
         ui.horizontal(|ui| {

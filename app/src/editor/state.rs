@@ -174,6 +174,11 @@ pub struct EditorState {
     /// The viewport's width over height and the legend's margin at its right, in points, as last
     /// laid out (framing fits the model into what the legend leaves free).
     pub viewport_shape: (f32, f32),
+    /// A new or opened document is framed again each frame until its surface has settled (the
+    /// surface can reach beyond the cage, and the viewport's shape is known only once laid
+    /// out): the camera as last framed and the revision it framed, so a designer's own move of
+    /// the view or edit of the document ends it.
+    pub(super) auto_frame: Option<(Camera, u64)>,
     /// The Curves workspace.
     pub curves: super::curves::CurvesWorkspace,
     /// File ▸ Make cage from mesh…: its dialog, the running fit, the original of the cage.
@@ -208,6 +213,7 @@ impl EditorState {
             obj_up: UpAxis::default(),
             display_frame: DisplayFrame::IDENTITY,
             viewport_shape: (1.6, 0.0),
+            auto_frame: None,
             curves: Default::default(),
             cage: Default::default(),
             curve_mesh: Default::default(),
@@ -216,7 +222,23 @@ impl EditorState {
         };
         state.load_curves_view();
         state.frame_all();
+        state.auto_frame = Some((state.camera, state.document.revision()));
         state
+    }
+
+    /// Frames a new or opened document again, once the viewport is laid out and while its
+    /// surface settles, so the whole surface shows with a margin; stops when the surface has
+    /// settled or the designer has moved the view or edited the document (a drag must not move
+    /// the camera under the mouse).
+    pub(super) fn keep_new_document_framed(&mut self) {
+        let Some((camera, revision)) = self.auto_frame else { return };
+        if self.camera != camera || self.document.revision() != revision {
+            self.auto_frame = None;
+            return;
+        }
+        self.frame_all();
+        let settled = self.surface_error.is_some() || (self.surface.is_some() && !self.busy());
+        self.auto_frame = (!settled).then_some((self.camera, revision));
     }
 
     /// Applies an edit, reporting a refused one as a notice.
@@ -253,6 +275,7 @@ impl EditorState {
             let _ = self.recent.add(&path);
         }
         self.frame_all();
+        self.auto_frame = Some((self.camera, self.document.revision()));
     }
 
     /// Opens a file; an unreadable one is reported and the current document stays.
@@ -439,7 +462,8 @@ impl EditorState {
     fn frame_display_points(&mut self, points: &[taut_core::DVec3]) {
         let display: Vec<glam::Vec3> = points.iter().map(|&p| self.display_frame.point(p)).collect();
         let (aspect, margin_fraction) = self.viewport_shape;
-        let margin_fraction = if self.colours_shown() { margin_fraction } else { 0.0 };
+        let legend = self.colours_shown() || self.curve_mesh_legend().is_some();
+        let margin_fraction = if legend { margin_fraction } else { 0.0 };
         self.camera.frame_points(&display, aspect * (1.0 - margin_fraction));
         // Centre the model in what the legend leaves free: half the margin to the left, in
         // pixels of a viewport one unit high.

@@ -97,6 +97,8 @@ pub struct UiState {
     pub path_dialog: Option<(PathPurpose, String)>,
     /// An action waiting for "save changes?".
     pub pending: Option<Pending>,
+    /// A Save As onto a file that exists, waiting for "replace it?".
+    pub replace: Option<PathBuf>,
     /// A crash recovery offered at start.
     pub recovery: Option<Recovery>,
     /// Set when the editor should close.
@@ -172,9 +174,6 @@ impl EditorState {
             return;
         }
         egui::Panel::bottom("status").show(ui_root, |ui| self.status_bar(ui, ui_state));
-        if self.notice.is_some() {
-            egui::Panel::bottom("notice").show(ui_root, |ui| self.notice_strip(ui, ui_state));
-        }
         egui::Panel::left("cage").resizable(false).exact_size(260.0).show(ui_root, |ui| {
             egui::ScrollArea::vertical().show(ui, |ui| self.cage_panel(ui, ui_state));
         });
@@ -186,7 +185,8 @@ impl EditorState {
                 self.cage_fit_panel(ui);
             });
         });
-        egui::CentralPanel::no_frame().show(ui_root, |ui| self.viewport(ui, ui_state));
+        let viewport = egui::CentralPanel::no_frame().show(ui_root, |ui| self.viewport(ui, ui_state)).response.rect;
+        self.notice_overlay(&ctx, viewport, ui_state);
         self.cage_window(&ctx, ui_state);
         self.dialogs(&ctx, ui_state);
     }
@@ -197,6 +197,7 @@ impl EditorState {
         if ctx.text_edit_focused()
             || ui_state.path_dialog.is_some()
             || ui_state.pending.is_some()
+            || ui_state.replace.is_some()
             || ui_state.recovery.is_some()
             || ui_state.new_primitive.is_some()
         {
@@ -275,7 +276,9 @@ impl EditorState {
                 }
             }
             Action::SaveAs => self.ask_path(PathPurpose::SaveAs, ui_state),
-            Action::Open => self.request(Pending::Open(None), ui_state),
+            // The file first, then "save changes?": the path typed or picked is kept through
+            // the question and opened after Save or Discard.
+            Action::Open => self.ask_path(PathPurpose::Open, ui_state),
             Action::Quit => self.request(Pending::Quit, ui_state),
             Action::SelectAll => {
                 self.selection.clear();
@@ -409,8 +412,8 @@ impl EditorState {
 
     pub(super) fn path_chosen(&mut self, purpose: PathPurpose, path: PathBuf, ui_state: &mut UiState) {
         match purpose {
-            PathPurpose::Open => self.open(&path),
-            PathPurpose::SaveAs => self.save_as(&path),
+            PathPurpose::Open => self.request(Pending::Open(Some(path)), ui_state),
+            PathPurpose::SaveAs => self.save_as_asking(&path, ui_state),
             PathPurpose::ExportObj => self.export(&super::state::with_extension_if_missing(&path, "obj")),
             PathPurpose::ExportGlb => self.export(&super::state::with_extension_if_missing(&path, "glb")),
             PathPurpose::Screenshot => {
@@ -423,6 +426,20 @@ impl EditorState {
                     dialog.path = path.display().to_string();
                 }
             }
+        }
+    }
+}
+
+impl EditorState {
+    /// Save As to `path`, asking first when a file is there already (whichever way the path was
+    /// chosen: the system dialog or the path field): nothing is written until the designer says
+    /// Replace.
+    pub fn save_as_asking(&mut self, path: &std::path::Path, ui_state: &mut UiState) {
+        let path = super::state::with_extension_if_missing(path, "taut");
+        if std::fs::symlink_metadata(&path).is_ok() {
+            ui_state.replace = Some(path);
+        } else {
+            self.save_as(&path);
         }
     }
 }

@@ -10,16 +10,16 @@
 
 use super::document::Edit;
 use super::interaction::{self, ViewportRect};
-use super::state::{DisplayMode, EditorState};
+use super::state::EditorState;
 use super::ui::{BoxSelect, CreaseDrag, UiState, VertexDrag};
 
 /// Shift+E: points of mouse travel per unit of sharpness.
 const CREASE_POINTS_PER_LEVEL: f64 = 100.0;
 /// Shift+E: the largest sharpness the mouse sets (larger ones are typed or "infinitely sharp").
 const CREASE_DRAG_MAX: f64 = 10.0;
+use super::legend::{draw_legend, legend_strip};
 use egui::{PointerButton, Sense};
 use taut_core::{DVec3, PolyMesh, VertexId};
-use taut_render::passes::overlay2d::legend_margin;
 
 impl EditorState {
     pub(super) fn viewport(&mut self, ui: &mut egui::Ui, ui_state: &mut UiState) {
@@ -32,11 +32,18 @@ impl EditorState {
             (rect.height() * ppp).round().max(1.0) as u32,
         ];
         ui_state.viewport_px = Some([px, py, pw, ph]);
-        let margin = match (self.display.mode, self.legend()) {
-            (DisplayMode::Curvature, Some(legend)) => legend_margin(&legend, pw, ph) as f32 / pw as f32,
-            _ => 0.0,
+        // A legend takes a strip at the right, drawn here with the UI's font; the model is
+        // framed in the rest.
+        let margin = match self.curve_mesh_legend().or_else(|| self.legend()) {
+            Some(legend) => {
+                let strip = legend_strip(rect);
+                draw_legend(ui, strip, &legend);
+                strip.width() / rect.width().max(1.0)
+            }
+            None => 0.0,
         };
         self.viewport_shape = (rect.width() / rect.height().max(1.0), margin);
+        self.keep_new_document_framed();
         // Interaction works in points; the viewport rectangle in the same units.
         let view = ViewportRect {
             min: glam::Vec2::new(rect.min.x, rect.min.y),

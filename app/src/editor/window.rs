@@ -262,7 +262,9 @@ impl Running {
         self.ghost.upload(&self.gpu, &self.editor);
         self.patches.upload(&self.gpu, &self.editor);
         self.original_ghost.upload(&self.gpu, &self.editor);
-        let overlays = self.editor.workspace_overlays();
+        let mut overlays = self.editor.workspace_overlays();
+        // The window's legend is drawn by egui in the viewport's strip (see `legend.rs`).
+        overlays.legend = None;
         let scene = match self.patches.scene(&self.editor, self.gpu_surface.as_ref(), &overlays) {
             Some(scene) => Scene { viewport: self.ui.viewport_px, ..scene },
             None => Scene {
