@@ -10,6 +10,7 @@
 
 use super::document::Edit;
 use super::interaction::{self, ViewportRect};
+use super::select_modes::SelectMode;
 use super::state::EditorState;
 use super::ui::{BoxSelect, CreaseDrag, UiState, VertexDrag};
 
