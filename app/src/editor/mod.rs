@@ -16,6 +16,8 @@ mod curves_render;
 mod curves_viewport;
 #[cfg(test)]
 mod defect_tests;
+#[cfg(test)]
+mod defects_solver_tests;
 pub mod document;
 mod extrude_move;
 pub mod files;
