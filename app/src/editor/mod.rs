@@ -44,6 +44,7 @@ pub mod primitives;
 #[cfg(test)]
 mod scheme_tests;
 pub mod select_modes;
+mod selection_history;
 pub mod shortcuts;
 pub mod snapping;
 pub mod state;

@@ -7,6 +7,7 @@ use super::document::{Edit, EditorDocument};
 use super::files::{Autosave, RecentFiles};
 use super::live::{CompareMode, Comparison, SurfaceView};
 use super::select_modes::SelectMode;
+use super::selection_history::SelectionHistory;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 use taut_core::curvature::CurvatureQuantity;
@@ -155,6 +156,8 @@ pub struct EditorState {
     pub comparison: Option<Comparison>,
     pub camera: Camera,
     pub selection: Selection,
+    /// The selection of each state of the undo history.
+    pub(super) selection_history: SelectionHistory,
     pub display: Display,
     pub notice: Option<Notice>,
     /// Every message of the session, oldest first (at most [`MAX_MESSAGES`]).
@@ -213,6 +216,7 @@ impl EditorState {
             curve_mesh: Default::default(),
             gizmo: Default::default(),
             mirror: Default::default(),
+            selection_history: Default::default(),
         };
         state.load_curves_view();
         state.frame_all();
@@ -245,6 +249,7 @@ impl EditorState {
         self.comparison = None;
         self.progress = None;
         self.selection.clear();
+        self.selection_history.clear();
         self.surface_error = None;
         self.load_curves_view();
         self.cage.original = None;
