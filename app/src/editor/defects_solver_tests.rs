@@ -36,6 +36,75 @@ fn typed(key: Key, text: &str) -> [Event; 3] {
     [key_event(true), Event::Text(text.to_string()), key_event(false)]
 }
 
+/// Mirror on, S, then 0 . 5 slowly (a frame or more each), Enter: while the value read 0 the
+/// top face collapsed onto the mirror plane, where the mirror kept its corners for the rest of
+/// the gesture; the solve diverged at every λ and stayed so with "lower the tensions" (no tension
+/// is set). The value 0 is not previewed and the message names the face; the scale by 0.5 is
+/// exact and the solve converges with the designer's λ.
+#[test]
+fn a_scale_through_zero_with_the_mirror_on_leaves_the_solver_healthy() {
+    let mut h = top_face_selected();
+    h.key_press_modifiers(Modifiers::SHIFT, Key::M);
+    frames(&mut h);
+    assert!(h.state().editor.document.doc().mirror.is_some(), "Shift+M turns the mirror on");
+    settle(&mut h);
+    let lambda = h.state().editor.document.doc().settings.lambda;
+    let start = h.state().editor.document.doc().cage.clone();
+    let mut collapsed_said = false;
+    for key in [Key::S, Key::Num0, Key::Period, Key::Num5] {
+        h.key_press(key);
+        for _ in 0..5 {
+            frames(&mut h);
+            let notice = h.state().editor.notice.clone();
+            collapsed_said |= notice.is_some_and(|n| n.is_error && n.text.contains("would collapse face"));
+        }
+    }
+    assert!(collapsed_said, "the collapsed face is named while the typed value reads 0");
+    h.key_press(Key::Enter);
+    frames(&mut h);
+    settle(&mut h);
+    let editor = &h.state().editor;
+    let progress = editor.progress.clone().expect("progress");
+    assert_eq!(progress.phase, Phase::Done);
+    assert!(progress.converged && !progress.summary.contains("reduced"), "{}", progress.summary);
+    assert!(editor.messages.iter().all(|m| !m.text.contains("lower the tensions")), "{:?}", editor.messages);
+    assert!(editor.messages.iter().all(|m| !m.text.contains("diverged")), "{:?}", editor.messages);
+    assert_eq!(editor.surface_error, None);
+    assert!(editor.notice.as_ref().is_none_or(|n| !n.text.contains("collapsed")), "the message went with the cause");
+    assert_eq!(editor.document.doc().settings.lambda, lambda);
+    // The top face scaled by exactly 0.5 about its centre (0, 0, 0.5), the bottom untouched.
+    let cage = &editor.document.doc().cage;
+    for v in cage.vertices() {
+        let p = start.position(v);
+        let expected = if p.z > 0.0 { DVec3::new(0.5 * p.x, 0.5 * p.y, p.z) } else { p };
+        assert_eq!(cage.position(v), expected, "{v:?}");
+    }
+}
+
+/// Without the mirror the solve recovered, but with λ "reduced to 0.01875" for every later
+/// solve. A moved cage starts again from the designer's λ.
+#[test]
+fn a_reduced_lambda_comes_back_once_the_cage_moves_on() {
+    let mut h = top_face_selected();
+    settle(&mut h);
+    let cage = h.state().editor.document.doc().cage.clone();
+    let top: Vec<VertexId> = cage.vertices().filter(|&v| cage.position(v).z > 0.0).collect();
+    let centre = DVec3::new(0.0, 0.0, 0.5);
+    let scaled = |f: f64| top.iter().map(|&v| (v, centre + f * (cage.position(v) - centre))).collect::<Vec<_>>();
+    // Nearly collapsed (not quite: the editor solves it): the solve needs a smaller λ.
+    h.state_mut().editor.edit(Edit::MoveVertices(scaled(1e-4)));
+    let mut reduced = false;
+    for _ in 0..100 {
+        h.state_mut().editor.step_solver(SOLVER_BUDGET);
+        reduced |= h.state().editor.progress.as_ref().is_some_and(|p| p.summary.contains("reduced"));
+    }
+    assert!(reduced, "the shape did not make the solve reduce λ: the test needs another shape");
+    h.state_mut().editor.edit(Edit::MoveVertices(scaled(0.5)));
+    settle(&mut h);
+    let summary = h.state().editor.progress.clone().expect("progress").summary;
+    assert!(!summary.contains("reduced"), "{summary}");
+}
+
 /// G X then 0 . 5 in one frame (12 ms between keys) read "05." and moved by 5: the keys are
 /// applied in the order they came.
 #[test]
@@ -91,4 +160,62 @@ fn undo_and_redo_restore_the_selection_of_their_step() {
         return;
     }
     panic!("no edge of the cube is renumbered by Triangulate: the test needs another case");
+}
+
+/// Chooses a scheme in the Surface panel's combo box, as a designer does.
+fn choose_scheme(h: &mut Harness<'_, App>, scheme: SchemeKind) {
+    h.get(By::new().role(Role::ComboBox).label("scheme")).click();
+    h.run_steps(2);
+    h.get_by_label(scheme.display_name()).click();
+    frames(h);
+    h.run_steps(2);
+}
+
+/// Loop on quads says "triangulate first"; after Triangulate, Loop succeeds and the message goes.
+#[test]
+fn the_loop_refusal_goes_once_loop_succeeds() {
+    let mut h = cube_editor();
+    h.state_mut().editor.selection.clear();
+    frames(&mut h);
+    choose_scheme(&mut h, SchemeKind::Loop);
+    let notice = h.state().editor.notice.clone().expect("a message");
+    assert!(notice.is_error && notice.text.contains("triangulate"), "{}", notice.text);
+    h.state_mut().editor.mesh_op(MeshOp::Triangulate);
+    frames(&mut h);
+    choose_scheme(&mut h, SchemeKind::Loop);
+    let editor = &h.state().editor;
+    assert_eq!(editor.document.doc().scheme, SchemeKind::Loop);
+    assert!(editor.notice.as_ref().is_none_or(|n| !n.text.contains("triangulate")), "{:?}", editor.notice);
+}
+
+/// A circle has no α to estimate: "give α instead"; with α given the run goes and the message
+/// with it.
+#[test]
+fn the_give_alpha_notice_goes_once_alpha_is_given_and_the_run_starts() {
+    let arc: Vec<DVec3> = (0..60)
+        .map(|i| {
+            let t = 2.0 * i as f64 / 59.0;
+            DVec3::new(t.cos(), t.sin(), 0.0)
+        })
+        .collect();
+    let mut doc = super::primitives::cube();
+    doc.curves.curves = vec![DocCurve::new("arc", arc, false)];
+    let mut h = super::panel_tests::editor_on(doc);
+    h.get_by_label("Curves workspace").click();
+    h.run_steps(2);
+    h.state_mut().editor.select_curve(Some(0));
+    h.state_mut().editor.curves.filter.estimate = true;
+    h.run_steps(1);
+    h.get_by_label("Run").click();
+    h.run_steps(1);
+    let notice = h.state().editor.notice.clone().expect("a message");
+    assert!(notice.text.contains("give α instead"), "{}", notice.text);
+    h.state_mut().editor.curves.filter.estimate = false;
+    h.state_mut().editor.curves.filter.alpha = 1.0;
+    h.run_steps(1);
+    h.get_by_label("Run").click();
+    h.run_steps(1);
+    let editor = &h.state().editor;
+    assert!(editor.curves.run.is_some(), "the run started: {:?}", editor.notice);
+    assert!(editor.notice.as_ref().is_none_or(|n| !n.text.contains("give α")), "{:?}", editor.notice);
 }

@@ -158,6 +158,8 @@ pub struct EditorState {
     pub selection: Selection,
     /// The selection of each state of the undo history.
     pub(super) selection_history: SelectionHistory,
+    /// The kind of the last refused edit and its message, while shown.
+    refused_edit: Option<(std::mem::Discriminant<Edit>, String)>,
     pub display: Display,
     pub notice: Option<Notice>,
     /// Every message of the session, oldest first (at most [`MAX_MESSAGES`]).
@@ -217,6 +219,7 @@ impl EditorState {
             gizmo: Default::default(),
             mirror: Default::default(),
             selection_history: Default::default(),
+            refused_edit: None,
         };
         state.load_curves_view();
         state.frame_all();
@@ -224,10 +227,21 @@ impl EditorState {
     }
 
     /// Applies an edit, reporting a refused one as a notice.
+    /// A refused edit's message goes when an edit of the same kind then succeeds (Loop refused
+    /// on quads, chosen again after Triangulate).
     pub fn edit(&mut self, edit: Edit) {
         self.mirror_check_move(&edit);
-        if let Err(message) = self.document.apply(edit) {
-            self.notify(message, true);
+        let kind = std::mem::discriminant(&edit);
+        match self.document.apply(edit) {
+            Err(message) => {
+                self.refused_edit = Some((kind, message.clone()));
+                self.notify(message, true);
+            }
+            Ok(()) => {
+                if let Some((_, message)) = self.refused_edit.take_if(|(refused, _)| *refused == kind) {
+                    self.retract(&message);
+                }
+            }
         }
     }
 
