@@ -27,6 +27,9 @@ use glam::DMat3;
 use glam::Vec2;
 use taut_core::{DVec3, VertexId};
 
+/// The end of the message of a transform value that is not previewed.
+const PREVIEW_WAITS: &str = "the preview waits for a value that keeps it open";
+
 /// Which transform.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum TransformKind {
@@ -287,14 +290,17 @@ impl EditorState {
             // collapse a face, and under the mirror its corners would stay on the plane for the
             // rest of the gesture. The cage waits at the gesture's start.
             let what = if t.typed.is_empty() { "this position".to_string() } else { format!("the value {}", t.typed) };
-            let text =
-                format!("{what} would collapse face {}; the preview waits for a value that keeps it open", face.0);
+            let text = format!("{what} would collapse face {}; {PREVIEW_WAITS}", face.0);
             let start = t.start.clone();
             if self.notice.as_ref().is_none_or(|n| n.text != text) {
                 self.notify(text, true);
             }
             self.edit(Edit::MoveVertices(start));
             return;
+        }
+        // A value that keeps every face open: the refusal of an earlier one no longer holds.
+        if self.notice.as_ref().is_some_and(|n| n.text.ends_with(PREVIEW_WAITS)) {
+            self.notice = None;
         }
         self.edit(Edit::MoveVertices(moved));
     }
