@@ -81,6 +81,33 @@ fn a_scale_through_zero_with_the_mirror_on_leaves_the_solver_healthy() {
     }
 }
 
+/// A collapsed face reached another way (an edit that is not a transform) is not solved over:
+/// the message names the face, nothing diverges, and the surface is solved again with the
+/// designer's λ once the face opens.
+#[test]
+fn a_collapsed_face_is_named_and_not_solved_over() {
+    let mut h = top_face_selected();
+    settle(&mut h);
+    let cage = h.state().editor.document.doc().cage.clone();
+    let top: Vec<VertexId> = cage.vertices().filter(|&v| cage.position(v).z > 0.0).collect();
+    let centre = DVec3::new(0.0, 0.0, 0.5);
+    let scaled = |f: f64| top.iter().map(|&v| (v, centre + f * (cage.position(v) - centre))).collect::<Vec<_>>();
+    h.state_mut().editor.edit(Edit::MoveVertices(scaled(0.0)));
+    for _ in 0..20 {
+        frames(&mut h);
+    }
+    let editor = &h.state().editor;
+    let notice = editor.notice.clone().expect("a message");
+    assert!(notice.is_error && notice.text.contains("face") && notice.text.contains("collapsed"), "{}", notice.text);
+    assert!(editor.messages.iter().all(|m| !m.text.contains("diverged")), "{:?}", editor.messages);
+    h.state_mut().editor.edit(Edit::MoveVertices(scaled(0.5)));
+    settle(&mut h);
+    let editor = &h.state().editor;
+    let progress = editor.progress.clone().expect("progress");
+    assert!(progress.converged && !progress.summary.contains("reduced"), "{}", progress.summary);
+    assert!(editor.notice.as_ref().is_none_or(|n| !n.text.contains("collapsed")), "{:?}", editor.notice);
+}
+
 /// Without the mirror the solve recovered, but with λ "reduced to 0.01875" for every later
 /// solve. A moved cage starts again from the designer's λ.
 #[test]
