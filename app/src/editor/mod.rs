@@ -18,6 +18,8 @@ mod curves_viewport;
 mod defect_tests;
 #[cfg(test)]
 mod defects_files_tests;
+#[cfg(test)]
+mod defects_solver_tests;
 pub mod document;
 mod extrude_move;
 pub mod files;
@@ -45,6 +47,7 @@ pub mod primitives;
 #[cfg(test)]
 mod scheme_tests;
 pub mod select_modes;
+mod selection_history;
 pub mod shortcuts;
 pub mod snapping;
 pub mod state;
