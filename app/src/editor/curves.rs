@@ -452,13 +452,18 @@ impl EditorState {
             return;
         }
         let seq = curve.sequence();
+        let refused = format!("cannot fair '{}': ", curve.name);
         match self.make_filter(&seq) {
             Ok(filter) => {
+                // An earlier refusal (no α to estimate) no longer holds.
+                if self.notice.as_ref().is_some_and(|n| n.text.starts_with(&refused)) {
+                    self.notice = None;
+                }
                 let before = curvature_graph(&seq, filter.plane().map(|p| p.normal)).fit.map(|f| f.residual);
                 self.curves.run =
                     Some(FilterRun { curve: i, filter, running: true, base: seq.points, residual_before: before });
             }
-            Err(e) => self.notify(format!("cannot fair '{}': {e}", curve.name), true),
+            Err(e) => self.notify(format!("{refused}{e}"), true),
         }
     }
 
@@ -469,7 +474,7 @@ impl EditorState {
             seq.validate(2 * c.window + 1)?;
             let normal = if c.space { None } else { Plane::fit(&seq.points).map(|p| p.normal) };
             let estimate = estimate_alpha(seq, normal, &EstimateSettings::default())
-                .map_err(|e| taut_core::Error::Input(format!("cannot estimate α ({e}); give α instead")))?;
+                .map_err(|e| taut_core::Error::Input(format!("cannot estimate α: {e}")))?;
             Alpha::PerPoint(estimate.per_point())
         } else {
             Alpha::Uniform(c.alpha)

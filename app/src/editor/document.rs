@@ -174,6 +174,20 @@ impl EditorDocument {
         self.revision
     }
 
+    /// Identity of the current content: a fresh number per change, the same again after undo or
+    /// redo returns to it (it counts from zero in each document).
+    pub fn state(&self) -> u64 {
+        self.state
+    }
+
+    /// The states undo and redo can reach, and the current one.
+    pub fn history_states(&self) -> Vec<u64> {
+        let mut states: Vec<u64> = self.undo.iter().chain(&self.redo).map(|s| s.state).collect();
+        states.extend(self.gesture.as_ref().map(|g| g.before.state));
+        states.push(self.state);
+        states
+    }
+
     /// True when the document differs from the state last saved or loaded.
     pub fn is_dirty(&self) -> bool {
         self.saved_state != Some(self.state)

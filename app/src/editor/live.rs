@@ -80,6 +80,22 @@ impl EditorState {
             self.solved_revision = Some(revision);
             let whole = self.mirrored_surface_document();
             let doc = whole.as_ref().unwrap_or(self.document.doc());
+            if doc.scheme == SchemeKind::Nusd
+                && let Some(face) = collapsed_face(&self.document.doc().cage).or_else(|| collapsed_face(&doc.cage))
+            {
+                // A passing state of a gesture (a scale through 0): the solver never sees it, so
+                // it cannot poison the solve; the last surface stays until the face opens again.
+                let text = format!(
+                    "face {} has collapsed (its corners meet at a point or on a line): the surface is not \
+                     solved until it opens again",
+                    face.0
+                );
+                if self.surface_error.as_deref() != Some(&text) {
+                    self.notify(text.clone(), true);
+                }
+                self.surface_error = Some(text);
+                return;
+            }
             let result = match &mut self.surface {
                 Some(view) if view.scheme.kind() == doc.scheme => view.scheme.update(doc),
                 _ => surface::build(doc).map(|s| self.surface = Some(SurfaceView::new(s))),
@@ -89,7 +105,13 @@ impl EditorState {
                 view.values_stale = true;
             }
             match result {
-                Ok(()) => self.surface_error = None,
+                Ok(()) => {
+                    // The message of the surface that could not be made no longer holds.
+                    if let Some(old) = self.surface_error.take() {
+                        self.retract(&old);
+                        self.retract(&format!("cannot make the surface: {old}"));
+                    }
+                }
                 Err(e) => {
                     self.surface = None;
                     if self.surface_error.as_deref() != Some(&e.to_string()) {
@@ -111,8 +133,18 @@ impl EditorState {
             self.remember(Notice { text: format!("solver: {event}"), is_error: true });
         }
         if progress.phase == Phase::Diverged && before.phase != Phase::Diverged {
+            let doc = self.document.doc();
+            let tensioned = doc.vertex_tension.iter().chain(&doc.edge_tension).any(|&t| t > 0.0);
+            let advice = if tensioned {
+                "lower the tensions"
+            } else {
+                "the cage has no tension, so its shape defeats the iteration: look for nearly coincident vertices \
+                 or folded faces"
+            };
             self.notify(
-                "the solve diverged even with the smallest λ and was rolled back to the last good surface; lower the tensions",
+                format!(
+                    "the solve diverged even with the smallest λ and was rolled back to the last good surface; {advice}"
+                ),
                 true,
             );
         }
@@ -162,6 +194,14 @@ impl EditorState {
         }
         self.messages.push(notice.clone());
         self.notice = Some(notice);
+    }
+
+    /// Takes a message off the status bar when it is the one shown: what it said no longer holds
+    /// (it stays in the history).
+    pub(super) fn retract(&mut self, text: &str) {
+        if self.notice.as_ref().is_some_and(|n| n.text == text) {
+            self.notice = None;
+        }
     }
 
     /// True while the surface still has work: the window keeps redrawing.
@@ -259,4 +299,29 @@ impl EditorState {
     pub fn surface_curves(&self) -> Vec<Vec<DVec3>> {
         self.surface.as_ref().map_or_else(Vec::new, |s| s.scheme.curves())
     }
+}
+
+/// The first face of `cage` that has collapsed: an edge shorter than a billionth of the cage's
+/// size, or no area (its corners on one line). NUSD cannot solve over such a face: its step
+/// grows at every λ.
+pub(super) fn collapsed_face(cage: &PolyMesh) -> Option<taut_core::FaceId> {
+    collapsed_faces(cage).into_iter().next()
+}
+
+/// Every face of `cage` that has collapsed (see [`collapsed_face`]).
+pub(super) fn collapsed_faces(cage: &PolyMesh) -> Vec<taut_core::FaceId> {
+    let Some((lo, hi)) = cage.bounding_box() else { return Vec::new() };
+    let size = taut_core::mesh::diagonal_length(lo, hi);
+    if !(size > 0.0 && size.is_finite()) {
+        return Vec::new();
+    }
+    let (short, small) = (1e-9 * size, 1e-12 * size * size);
+    cage.faces()
+        .filter(|&f| {
+            let edge_collapsed = cage
+                .face_halfedges(f)
+                .any(|h| (cage.position(cage.to_vertex(h)) - cage.position(cage.from_vertex(h))).length() <= short);
+            edge_collapsed || cage.face_area_vector(f).length() <= small
+        })
+        .collect()
 }

@@ -20,6 +20,8 @@ mod defect_tests;
 mod defects_files_tests;
 #[cfg(test)]
 mod defects_mode_tests;
+#[cfg(test)]
+mod defects_solver_tests;
 pub mod document;
 mod extrude_move;
 pub mod files;
@@ -47,6 +49,7 @@ pub mod primitives;
 #[cfg(test)]
 mod scheme_tests;
 pub mod select_modes;
+mod selection_history;
 pub mod shortcuts;
 pub mod snapping;
 pub mod state;

@@ -260,14 +260,25 @@ pub fn take_typed_number(input: &mut egui::InputState, typed: &mut String, signe
         (Key::Period, '.'),
         (Key::Minus, '-'),
     ];
-    for (key, c) in KEYS {
-        if (signed || c != '-') && take_plain(input, key) {
-            typed.push(c);
+    // One frame may hold several keys (typed fast): they are applied in the order they came,
+    // each press once, so "0", ".", "5" reads 0.5 and "5", "5" reads 55.
+    input.events.retain(|event| {
+        let Event::Key { key, pressed: true, modifiers, .. } = event else { return true };
+        if modifiers.command || modifiers.shift || modifiers.alt {
+            return true;
         }
-    }
-    if take_plain(input, Key::Backspace) {
-        typed.pop();
-    }
+        if *key == Key::Backspace {
+            typed.pop();
+            return false;
+        }
+        match KEYS.iter().find(|(k, c)| k == key && (signed || *c != '-')) {
+            Some(&(_, c)) => {
+                typed.push(c);
+                false
+            }
+            None => true,
+        }
+    });
 }
 
 pub fn take_plain(input: &mut egui::InputState, key: Key) -> bool {

@@ -7,6 +7,7 @@ use super::document::{Edit, EditorDocument};
 use super::files::{Autosave, RecentFiles};
 use super::live::{CompareMode, Comparison, SurfaceView};
 use super::select_modes::SelectMode;
+use super::selection_history::SelectionHistory;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 use taut_core::curvature::CurvatureQuantity;
@@ -155,6 +156,10 @@ pub struct EditorState {
     pub comparison: Option<Comparison>,
     pub camera: Camera,
     pub selection: Selection,
+    /// The selection of each state of the undo history.
+    pub(super) selection_history: SelectionHistory,
+    /// The kind of the last refused edit and its message, while shown.
+    refused_edit: Option<(std::mem::Discriminant<Edit>, String)>,
     pub display: Display,
     pub notice: Option<Notice>,
     /// Every message of the session, oldest first (at most [`MAX_MESSAGES`]).
@@ -219,6 +224,8 @@ impl EditorState {
             curve_mesh: Default::default(),
             gizmo: Default::default(),
             mirror: Default::default(),
+            selection_history: Default::default(),
+            refused_edit: None,
         };
         state.load_curves_view();
         state.frame_all();
@@ -242,10 +249,21 @@ impl EditorState {
     }
 
     /// Applies an edit, reporting a refused one as a notice.
+    /// A refused edit's message goes when an edit of the same kind then succeeds (Loop refused
+    /// on quads, chosen again after Triangulate).
     pub fn edit(&mut self, edit: Edit) {
         self.mirror_check_move(&edit);
-        if let Err(message) = self.document.apply(edit) {
-            self.notify(message, true);
+        let kind = std::mem::discriminant(&edit);
+        match self.document.apply(edit) {
+            Err(message) => {
+                self.refused_edit = Some((kind, message.clone()));
+                self.notify(message, true);
+            }
+            Ok(()) => {
+                if let Some((_, message)) = self.refused_edit.take_if(|(refused, _)| *refused == kind) {
+                    self.retract(&message);
+                }
+            }
         }
     }
 
@@ -268,6 +286,7 @@ impl EditorState {
         self.progress = None;
         // A new document starts in vertex mode, whatever the last one was left in.
         self.selection = Selection::default();
+        self.selection_history.clear();
         self.surface_error = None;
         self.load_curves_view();
         self.cage.original = None;

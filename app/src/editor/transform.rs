@@ -27,6 +27,9 @@ use glam::DMat3;
 use glam::Vec2;
 use taut_core::{DVec3, VertexId};
 
+/// The end of the message of a transform value that is not previewed.
+const PREVIEW_WAITS: &str = "the preview waits for a value that keeps it open";
+
 /// Which transform.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum TransformKind {
@@ -282,7 +285,35 @@ impl EditorState {
             let (Some(view), Some(from), Some(to)) = (view, t.mouse_start, t.mouse_now) else { return };
             self.mouse_positions(t, view, from, to)
         };
+        if let Some(face) = self.newly_collapsed_face(&moved) {
+            // A passing value of the gesture (a scale through 0) is not previewed: it would
+            // collapse a face, and under the mirror its corners would stay on the plane for the
+            // rest of the gesture. The cage waits at the gesture's start.
+            let what = if t.typed.is_empty() { "this position".to_string() } else { format!("the value {}", t.typed) };
+            let text = format!("{what} would collapse face {}; {PREVIEW_WAITS}", face.0);
+            let start = t.start.clone();
+            if self.notice.as_ref().is_none_or(|n| n.text != text) {
+                self.notify(text, true);
+            }
+            self.edit(Edit::MoveVertices(start));
+            return;
+        }
+        // A value that keeps every face open: the refusal of an earlier one no longer holds.
+        if self.notice.as_ref().is_some_and(|n| n.text.ends_with(PREVIEW_WAITS)) {
+            self.notice = None;
+        }
         self.edit(Edit::MoveVertices(moved));
+    }
+
+    /// A face that `moved` would collapse and that is open now, if any.
+    fn newly_collapsed_face(&self, moved: &[(VertexId, DVec3)]) -> Option<taut_core::FaceId> {
+        let doc = self.document.doc();
+        let mut trial = doc.clone();
+        if trial.apply(Edit::MoveVertices(moved.to_vec())).is_err() {
+            return None;
+        }
+        let before = super::live::collapsed_faces(&doc.cage);
+        super::live::collapsed_faces(&trial.cage).into_iter().find(|f| !before.contains(f))
     }
 
     fn mouse_positions(&self, t: &Transform, view: &ViewportRect, from: Vec2, to: Vec2) -> Vec<(VertexId, DVec3)> {

@@ -157,6 +157,8 @@ impl EditorState {
     /// Draws the whole UI for one frame and handles its input.
     pub fn ui(&mut self, ui_root: &mut egui::Ui, ui_state: &mut UiState) {
         let ctx = ui_root.ctx().clone();
+        // The selection this state began with, for undo and redo to put back.
+        self.note_selection();
         self.shortcuts(&ctx, ui_state);
         egui::Panel::top("menu").show(ui_root, |ui| {
             egui::MenuBar::new().ui(ui, |ui| {
@@ -322,8 +324,9 @@ impl EditorState {
 
     /// Undoes the last step; the notice of what was undone goes (it no longer holds).
     pub fn undo(&mut self) {
+        self.note_selection();
         if self.document.undo() {
-            self.prune_selection();
+            self.restore_selection();
             self.curves_after_undo();
             self.notice = None;
         }
@@ -331,8 +334,9 @@ impl EditorState {
 
     /// Redoes the last undone step; the notice of the state before goes.
     pub fn redo(&mut self) {
+        self.note_selection();
         if self.document.redo() {
-            self.prune_selection();
+            self.restore_selection();
             self.curves_after_undo();
             self.notice = None;
         }

@@ -489,7 +489,10 @@ impl SurfaceSolver {
                 self.levels[0].state.p[v] = self.cage.positions()[v];
             }
         }
-        if doc.settings.lambda != self.settings.lambda
+        // A reduced λ belongs to the shape that needed it: a moved cage (a gesture past a bad
+        // state) starts again from the designer's λ, and reduces it again only if it must.
+        if moved
+            || doc.settings.lambda != self.settings.lambda
             || doc.vertex_tension != self.vertex_tension
             || doc.edge_tension != self.edge_tension
         {
