@@ -18,8 +18,8 @@
 //! and handles seen end on (an arrow pointing at the eye) are hard to grab, as in Blender.
 
 use super::interaction::{self, Axis, ViewportRect};
-use super::select_modes::SelectMode;
 use super::pivot::Pivot;
+use super::select_modes::SelectMode;
 use super::snapping::SnapSettings;
 use super::state::EditorState;
 use super::transform::TransformKind;
