@@ -60,6 +60,7 @@ pub fn run(args: &AestheticCurveArgs) -> Result<(), String> {
     if crate::surface_cmd::extension(&args.output) != "json" {
         return Err(format!("{}: the segment is written as JSON; use a .json file name", args.output.display()));
     }
+    crate::cli::check_output(false, &[], &args.output)?;
     if !(2..=1_000_000).contains(&args.samples) {
         return Err(format!("--samples {}: use between 2 and 1000000 points", args.samples));
     }
@@ -87,6 +88,11 @@ pub fn run(args: &AestheticCurveArgs) -> Result<(), String> {
     let length = segment.length();
     let curvature: Vec<f64> =
         (0..args.samples).map(|k| segment.curvature_at(length * k as f64 / (args.samples - 1) as f64)).collect();
+    if !(length.is_finite() && curvature.iter().all(|k| k.is_finite()) && points.iter().all(|p| p.is_finite())) {
+        return Err("the segment's points or curvature are not finite numbers; move the middle control point \
+                    further off the line P0–P2"
+            .into());
+    }
     let out = SegmentFile {
         points: io::points::to_json_arrays(&points, dimension),
         curvature,

@@ -38,8 +38,11 @@ impl FileFlags {
     }
 }
 
-/// Refuses to write `output` over one of `inputs` unless `force`.
+/// Refuses, before any work is done, an `output` that cannot take the result (a device, a FIFO, a
+/// folder, a read-only file, a missing folder) and, unless `force`, one that is one of `inputs`.
+/// A command with several outputs checks every one before it writes any.
 pub fn check_output(force: bool, inputs: &[&Path], output: &Path) -> Result<(), String> {
+    taut_core::io::file::check_writable(output).map_err(|e| e.to_string())?;
     if force {
         return Ok(());
     }
@@ -80,7 +83,65 @@ pub fn one_line(error: &clap::Error) -> String {
     format!("{message}{tip}; see taut --help")
 }
 
+/// Longest quoted value an error repeats before it is cut short.
+pub const MAX_QUOTED_CHARS: usize = 48;
+
+/// An error message with every quoted value ('…', `…` or "…") longer than
+/// [`MAX_QUOTED_CHARS`] cut short, and the whole at most 1,000 characters, so that a refusal of a
+/// hostile file (a 500 MB value in a `.taut`) stays one short line.
+pub fn clip_quotes(message: &str) -> String {
+    let chars: Vec<char> = message.chars().collect();
+    let word = |k: Option<&char>| k.is_some_and(|c| c.is_alphanumeric());
+    let mut out = String::with_capacity(message.len().min(1100));
+    let mut quote: Option<(char, usize)> = None;
+    for (k, &c) in chars.iter().enumerate() {
+        let before = k.checked_sub(1).and_then(|b| chars.get(b));
+        match quote {
+            // An apostrophe inside a word ("Taut's") neither opens nor closes a quote.
+            Some((q, _)) if c == q && !(q == '\'' && word(chars.get(k + 1))) => {
+                quote = None;
+                out.push(c);
+            }
+            Some((q, n)) => {
+                if n < MAX_QUOTED_CHARS {
+                    out.push(c);
+                } else if n == MAX_QUOTED_CHARS {
+                    out.push('…');
+                }
+                quote = Some((q, n + 1));
+            }
+            None => {
+                if matches!(c, '\'' | '`' | '"') && !word(before) {
+                    quote = Some((c, 0));
+                }
+                out.push(c);
+            }
+        }
+        if out.chars().count() >= 1000 {
+            out.push('…');
+            break;
+        }
+    }
+    out
+}
+
 /// A note for the designer: on stdout, so stderr keeps only the one line of an error.
 pub fn note(text: impl std::fmt::Display) {
     println!("note: {text}");
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn long_quoted_values_are_cut_short() {
+        let huge = "x".repeat(10_000);
+        let clipped = clip_quotes(&format!("format is '{huge}', expected 'taut'"));
+        assert_eq!(clipped, format!("format is '{}…', expected 'taut'", "x".repeat(MAX_QUOTED_CHARS)));
+        let apostrophes = format!("the cage's vertex 3 is {}; Taut's rule", "far ".repeat(30));
+        assert_eq!(clip_quotes(&apostrophes), apostrophes);
+        let unquoted = "y ".repeat(5_000);
+        assert!(clip_quotes(&unquoted).chars().count() <= 1001);
+    }
 }

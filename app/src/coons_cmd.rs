@@ -19,7 +19,7 @@ pub struct CoonsArgs {
     /// Where to write: .obj or .glb (the patch as quads), or .taut (the patch as a cage of quads).
     #[arg(short, long)]
     pub output: PathBuf,
-    /// Quads along each side.
+    /// Quads along each side (1 to 1024).
     #[arg(long, default_value_t = 32)]
     pub samples: usize,
     /// Write the output even when it is the input file.

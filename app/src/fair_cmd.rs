@@ -79,6 +79,9 @@ struct FairedFile {
 
 pub fn run(args: &FairArgs) -> Result<(), String> {
     crate::cli::check_output(args.force, &[&args.input], &args.output)?;
+    if args.iterations == Some(0) {
+        return Err("--iterations 0: a fairing needs at least one pass; give 1 or more (default 10000)".into());
+    }
     let input = args.input.display().to_string();
     let file = points::read_points(&args.input).map_err(|e| e.to_string())?;
     let out_kind = crate::surface_cmd::extension(&args.output);
@@ -126,11 +129,11 @@ pub fn run(args: &FairArgs) -> Result<(), String> {
     };
     let mut filter = CurveFilter::new(&curve, settings).map_err(|e| format!("{input}: {e}"))?;
     if filter.off_plane_distance() > 1e-9 * curve.diagonal() {
-        eprintln!(
-            "note: the points were projected onto their best-fit plane (farthest {:.3e} away); use --space to keep \
-             them in 3D",
+        crate::cli::note(format!(
+            "the points were projected onto their best-fit plane (farthest {:.3e} away); use --space to keep them \
+             in 3D",
             filter.off_plane_distance()
-        );
+        ));
     }
     let started = std::time::Instant::now();
     let status = filter.run_to_convergence().map_err(|e| format!("{input}: {e}"))?;

@@ -62,8 +62,8 @@ pub fn run(args: &LcgArgs) -> Result<(), String> {
     let file = points::read_points(&args.input).map_err(|e| e.to_string())?;
     let curve = PointSequence::new(file.points, file.closed || args.closed);
     curve.validate(3).map_err(|e| format!("{input}: {e}"))?;
-    let planar = Plane::fit(&curve.points)
-        .filter(|p| curve.points.iter().all(|q| p.distance(*q).abs() <= 1e-9 * curve.diagonal()));
+    let tolerance = 1e-9 * curve.diagonal();
+    let planar = Plane::fit(&curve.points).filter(|p| curve.points.iter().all(|q| p.distance(*q).abs() <= tolerance));
     let graph = curvature_graph(&curve, planar.map(|p| p.normal));
     let curvature: Vec<(f64, f64)> =
         graph.arc_length.iter().zip(&graph.curvature).filter_map(|(s, k)| k.map(|k| (*s, k))).collect();

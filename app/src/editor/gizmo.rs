@@ -1,14 +1,16 @@
 //! The on-screen transform gizmo, as Blender's and Rhino's: at the pivot of the selection, axis
 //! arrows (move along X, Y or Z), small plane squares (move in the plane, or scale in it when
 //! only the scale handles are shown), rotation rings about X, Y and Z and a ring about the view
-//! axis, and scale cubes beyond the arrow tips with the centre for a uniform scale (the centre
-//! moves freely when only the move handles are shown). X is red, Y green, Z blue; the handle
+//! axis, and scale cubes beyond the arrow tips; the centre moves the selection in the view plane
+//! in every mode. X is red, Y green, Z blue; the handle
 //! under the mouse is drawn yellow; the gizmo keeps its size on screen ([`GIZMO_RADIUS_PX`]).
 //!
 //! A drag on a handle starts the very transform G, R or S start ([`super::transform`]) with the
 //! handle's lock, so typed values, plane locks and snapping work the same, the whole drag is one
 //! undo step, and letting go of the button confirms it. The gizmo is picked before the cage: a
-//! press on a handle never selects or drags a cage point behind it.
+//! press on a handle never selects or drags a cage point behind it, except at the centre, where
+//! a cage vertex (in vertex mode) wins, as in Blender, so a selected point under the pivot can
+//! still be dragged.
 //!
 //! Drawn with egui's painter over the viewport, projected with the view's camera; rings are
 //! polylines whose far half is drawn faint and cannot be picked. Weak where Blender does more:
@@ -17,13 +19,14 @@
 
 use super::interaction::{self, Axis, ViewportRect};
 use super::pivot::Pivot;
+use super::select_modes::SelectMode;
 use super::snapping::SnapSettings;
 use super::state::EditorState;
 use super::transform::TransformKind;
 use super::ui::UiState;
 use egui::{Color32, Pos2, Stroke};
 use glam::Vec2;
-use taut_core::DVec3;
+use taut_core::{DVec3, PolyMesh};
 
 /// The length of an arrow on screen, in points.
 pub const GIZMO_RADIUS_PX: f32 = 80.0;
@@ -92,7 +95,7 @@ pub enum Handle {
     ViewRing,
     /// Scale along the axis.
     Cube(Axis),
-    /// Scale evenly (move freely when only the move handles are shown).
+    /// Move in the view plane.
     Centre,
 }
 
@@ -298,6 +301,7 @@ impl EditorState {
         ui: &egui::Ui,
         response: &egui::Response,
         view: &ViewportRect,
+        cage: &PolyMesh,
         mouse: Option<Vec2>,
         ui_state: &mut UiState,
     ) -> bool {
@@ -310,7 +314,18 @@ impl EditorState {
         }
         let busy = ui_state.drag.is_some() || ui_state.box_select.is_some();
         let layout = self.gizmo_layout(view);
-        let over = |m: Vec2| layout.and_then(|l| pick_handle(&self.camera, view, &l, self.gizmo.mode, m));
+        // A cage vertex under the centre handle wins over it, as in Blender: the press drags the
+        // vertex (the centre handle would move the same selection in the view plane anyway, but
+        // a press there must also be able to pick a vertex that is not selected yet).
+        let vertex_under = |m: Vec2| {
+            self.selection.mode == SelectMode::Vertex
+                && interaction::pick_vertex(&self.camera, view, cage.positions(), m, 8.0).is_some()
+        };
+        let over = |m: Vec2| {
+            layout
+                .and_then(|l| pick_handle(&self.camera, view, &l, self.gizmo.mode, m))
+                .filter(|&h| h != Handle::Centre || !vertex_under(m))
+        };
         if !busy {
             self.gizmo.hovered = response.hovered().then_some(mouse).flatten().and_then(over);
         }
@@ -347,8 +362,9 @@ impl EditorState {
             Handle::Plane(_) => TransformKind::Grab,
             Handle::Ring(_) | Handle::ViewRing => TransformKind::Rotate,
             Handle::Cube(_) => TransformKind::Scale,
-            Handle::Centre if mode == GizmoMode::Move => TransformKind::Grab,
-            Handle::Centre => TransformKind::Scale,
+            // The centre moves in the view plane in every mode; the cubes and (in scale mode) the
+            // plane squares scale.
+            Handle::Centre => TransformKind::Grab,
         };
         let Some(mut t) = self.new_transform(kind, origin) else { return };
         match handle {

@@ -441,26 +441,49 @@ fn w_and_the_toolbar_show_and_hide_the_gizmo_and_choose_its_handles() {
 }
 
 #[test]
-fn the_gizmo_is_picked_before_the_cage_point_under_it() {
-    // Vertex 7 alone: the gizmo's centre sits on it. A drag there is the gizmo's uniform scale
-    // (of one point about itself: nothing moves), not the cage's drag of the point.
+fn a_press_on_a_vertex_under_the_gizmo_centre_drags_the_vertex() {
+    // Vertex 7 alone: the gizmo's centre sits on it. As in Blender the vertex wins: the press
+    // drags the point (it used to land on the centre's uniform scale, which moves one point
+    // nowhere, so dragging a selected point did nothing).
     let v = VertexId(7);
     let mut h = cube_in_view(StandardView::Perspective, vec![v]);
     let p0 = h.state().editor.document.doc().cage.position(v);
     let at = layout(&h).centre;
     h.hover_at(pos2(at.x, at.y));
     frames(&mut h);
-    assert_eq!(h.state().editor.gizmo.hovered, Some(Handle::Centre));
-    assert_eq!(h.state().editor.selection.hovered_vertex, None, "the cage point under the gizmo is not hovered");
+    assert_eq!(h.state().editor.selection.hovered_vertex, Some(v), "the point under the centre is hovered");
+    assert_ne!(h.state().editor.gizmo.hovered, Some(Handle::Centre));
     let path: Vec<glam::Vec2> = (0..=4).map(|k| at + glam::Vec2::new(10.0 * k as f32, 5.0 * k as f32)).collect();
-    drag_along(&mut h, &path);
-    assert_eq!(bits(h.state().editor.document.doc().cage.position(v)), bits(p0));
-    assert!(!h.state().editor.document.can_undo(), "a scale that moved nothing records nothing");
-    // With the gizmo hidden (W) the same drag is the cage's: the point follows the mouse.
-    h.key_press(Key::W);
-    frames(&mut h);
     drag_along(&mut h, &path);
     let p1 = h.state().editor.document.doc().cage.position(v);
     assert!((p1 - p0).length() > 1e-3, "dragged: {p0} -> {p1}");
     assert_eq!(pixel_of(&h, p1).distance(*path.last().unwrap()).round(), 0.0, "under the cursor");
+    assert!(h.state().editor.document.can_undo(), "the drag is one undo step");
+}
+
+#[test]
+fn the_gizmo_centre_moves_the_selection_in_the_view_plane() {
+    // Two points: the pivot is the middle of their edge, where no cage point is. A drag on the
+    // centre moves both by the same amount, parallel to the screen, the pivot under the cursor.
+    let (a, b) = (VertexId(6), VertexId(7));
+    let mut h = cube_in_view(StandardView::Perspective, vec![a, b]);
+    let cage = &h.state().editor.document.doc().cage;
+    let (a0, b0) = (cage.position(a), cage.position(b));
+    let at = layout(&h).centre;
+    h.hover_at(pos2(at.x, at.y));
+    frames(&mut h);
+    assert_eq!(h.state().editor.gizmo.hovered, Some(Handle::Centre));
+    assert_eq!(h.state().editor.selection.hovered_vertex, None, "no cage point under the pivot");
+    let path: Vec<glam::Vec2> = (0..=4).map(|k| at + glam::Vec2::new(12.0 * k as f32, -6.0 * k as f32)).collect();
+    drag_along(&mut h, &path);
+    let cage = &h.state().editor.document.doc().cage;
+    let (da, db) = (cage.position(a) - a0, cage.position(b) - b0);
+    assert!(da.length() > 1e-3, "moved: {da}");
+    assert!((da - db).length() < 1e-9 * da.length().max(1.0), "one translation: {da} against {db}");
+    let mid = 0.5 * (cage.position(a) + cage.position(b));
+    assert!(pixel_of(&h, mid).distance(*path.last().unwrap()) < 1.0, "the pivot follows the cursor");
+    let editor = &h.state().editor;
+    let view_dir = editor.camera.backward().as_dvec3();
+    let along = editor.display_frame.to_display_f64(mid) - editor.display_frame.to_display_f64(0.5 * (a0 + b0));
+    assert!(along.dot(view_dir).abs() < 1e-4 * along.length(), "in the view plane: {along}");
 }

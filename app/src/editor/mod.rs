@@ -19,6 +19,8 @@ mod defect_tests;
 #[cfg(test)]
 mod defects_files_tests;
 #[cfg(test)]
+mod defects_mode_tests;
+#[cfg(test)]
 mod defects_solver_tests;
 pub mod document;
 mod extrude_move;

@@ -4,6 +4,7 @@
 
 use super::document::Edit;
 use super::live::CompareMode;
+use super::select_modes::SelectMode;
 use super::state::{DisplayMode, EditorState};
 use super::ui::UiState;
 use taut_core::curvature::CurvatureQuantity;
@@ -80,6 +81,9 @@ impl EditorState {
             let ms = self.frame_time.as_secs_f64() * 1e3;
             ui.label(format!("frame {ms:.1} ms ({:.0} fps)", if ms > 0.0 { 1e3 / ms } else { 0.0 }));
             ui.separator();
+            ui.label(format!("{} mode", self.selection.mode.name()))
+                .on_hover_text("What a click in the viewport selects: vertices, edges or faces (Tab changes it)");
+            ui.separator();
             ui.label(format!("{} selected", self.selection_summary()));
             ui.separator();
             if ui
@@ -145,10 +149,15 @@ impl EditorState {
         self.mirror_panel(ui);
         let vertices = self.selected_vertices_with_edge_ends();
         if self.selection.is_empty() {
+            let what = match self.selection.mode {
+                SelectMode::Vertex => "Vertex mode: click a cage vertex (or an edge) to select it",
+                SelectMode::Edge => "Edge mode: click a cage edge to select it",
+                SelectMode::Face => "Face mode: click a cage face to select it",
+            };
             ui.add(
-                egui::Label::new(
-                    "Click a cage vertex or edge to select it; Shift adds, a drag on empty space box-selects.",
-                )
+                egui::Label::new(format!(
+                    "{what}; Shift adds, a drag on empty space box-selects. Tab changes the mode."
+                ))
                 .wrap(),
             );
             return;

@@ -351,6 +351,31 @@ impl EditorState {
         };
     }
 
+    /// A click or a press at `at` picked nothing in the current mode: where a vertex, an edge or a
+    /// face of another mode lies there, says so (a click on empty space stays silent).
+    pub(super) fn say_missed_pick(&mut self, view: &ViewportRect, cage: &PolyMesh, at: Vec2) {
+        let camera = &self.camera;
+        let mode = self.selection.mode;
+        let other = if mode != SelectMode::Vertex
+            && interaction::pick_vertex(camera, view, cage.positions(), at, 8.0).is_some()
+        {
+            Some("a vertex")
+        } else if mode == SelectMode::Face && interaction::pick_edge(camera, view, cage, at, 8.0).is_some() {
+            Some("an edge")
+        } else if mode != SelectMode::Face && pick_face(camera, view, cage, at).is_some() {
+            Some("a face")
+        } else {
+            None
+        };
+        if let Some(other) = other {
+            let name = mode.name();
+            self.notify(
+                format!("{name} mode: no {name} there to select ({other} is; Tab changes the select mode)"),
+                false,
+            );
+        }
+    }
+
     /// A drag begins at `origin`: picks what lies there in the current mode (selecting it unless
     /// it is selected already) and says whether anything did.
     pub(super) fn drag_handle(

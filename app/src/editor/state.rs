@@ -284,7 +284,8 @@ impl EditorState {
         self.surface = None;
         self.comparison = None;
         self.progress = None;
-        self.selection.clear();
+        // A new document starts in vertex mode, whatever the last one was left in.
+        self.selection = Selection::default();
         self.selection_history.clear();
         self.surface_error = None;
         self.load_curves_view();

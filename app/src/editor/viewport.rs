@@ -10,6 +10,7 @@
 
 use super::document::Edit;
 use super::interaction::{self, ViewportRect};
+use super::select_modes::SelectMode;
 use super::state::EditorState;
 use super::ui::{BoxSelect, CreaseDrag, UiState, VertexDrag};
 
@@ -120,7 +121,7 @@ impl EditorState {
             return;
         }
 
-        if self.gizmo_viewport(ui, &response, &view, mouse, ui_state) {
+        if self.gizmo_viewport(ui, &response, &view, &cage, mouse, ui_state) {
             return;
         }
 
@@ -139,7 +140,10 @@ impl EditorState {
                         self.document.begin_gesture();
                         ui_state.drag = Some(VertexDrag { start, mouse_start: origin, axis: None });
                     }
-                    None => ui_state.box_select = Some(BoxSelect { from: origin, to: origin, add: shift }),
+                    None => {
+                        self.say_missed_pick(&view, &cage, origin);
+                        ui_state.box_select = Some(BoxSelect { from: origin, to: origin, add: shift });
+                    }
                 }
             }
         }
@@ -166,6 +170,20 @@ impl EditorState {
                 }
                 let boxed = interaction::box_select(&self.camera, &view, cage.positions(), band.from, band.to);
                 self.box_select_in_mode(boxed);
+            }
+        }
+        if response.clicked_by(PointerButton::Primary)
+            && let Some(m) = mouse
+            && !ui.ctx().input(|i| i.modifiers.alt)
+        {
+            let s = &self.selection;
+            let missed = match s.mode {
+                SelectMode::Vertex => s.hovered_vertex.is_none() && s.hovered_edge.is_none(),
+                SelectMode::Edge => s.hovered_edge.is_none(),
+                SelectMode::Face => s.hovered_face.is_none(),
+            };
+            if missed {
+                self.say_missed_pick(&view, &cage, m);
             }
         }
         if response.clicked_by(PointerButton::Primary)

@@ -71,13 +71,19 @@ impl BoundaryCurve {
     }
 }
 
+/// Most quads a side of a Coons patch: 1024 × 1024 quads (a million faces, about a gigabyte of
+/// mesh while it is built) still run on a laptop; 4096 asked for 16 million faces and 6 GB.
+pub const MAX_COONS_SAMPLES: usize = 1024;
+
 /// The Coons patch of four curves given as a loop (`curves[0]` from corner P00 to P10, then
 /// P10 → P11, P11 → P01, P01 → P00; each may run either way), sampled on a grid of
 /// `(samples + 1)²` points: row i is `u = i / samples`, column j is `v = j / samples`. The curves
 /// must meet within `1e-6` of the patch's size.
 pub fn coons_patch(curves: &[BoundaryCurve; 4], samples: usize) -> Result<Grid> {
-    if !(1..=4096).contains(&samples) {
-        return Err(Error::Input(format!("a Coons patch needs between 1 and 4096 samples a side, not {samples}")));
+    if !(1..=MAX_COONS_SAMPLES).contains(&samples) {
+        return Err(Error::Input(format!(
+            "a Coons patch needs between 1 and {MAX_COONS_SAMPLES} samples a side, not {samples}"
+        )));
     }
     for (k, c) in curves.iter().enumerate() {
         c.validate(k)?;

@@ -157,7 +157,19 @@ impl AestheticSegment {
         let (sin, cos) = turn.sin_cos();
         let axis_x = scale * (cos * e1 + sin * e2);
         let axis_y = scale * (-sin * e1 + cos * e2);
-        Ok(Some(AestheticSegment { form, origin: p0, axis_x, axis_y, scale }))
+        let segment = AestheticSegment { form, origin: p0, axis_x, axis_y, scale };
+        // A turn of a few 1e-12 radians passes the collinearity check but leaves the standard
+        // integral at rounding level: its numbers are not finite (or not meaningful). Refuse it.
+        if !(chord > 0.0 && scale.is_finite() && axis_x.is_finite() && axis_y.is_finite())
+            || !(segment.length().is_finite() && segment.lambda().is_finite())
+        {
+            return Err(Error::Input(format!(
+                "the three control points are almost collinear (the end tangents turn by {:.3e}°): the segment \
+                 cannot be computed in floating point; move the middle point further off the line",
+                form.turning.to_degrees()
+            )));
+        }
+        Ok(Some(segment))
     }
 
     /// The log-aesthetic curve that starts at the origin along +x with radius of curvature

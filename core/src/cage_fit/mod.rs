@@ -94,12 +94,19 @@ impl CageFitParams {
             }
             CageSize::Faces(n) => n,
         };
-        if self.rounds == 0 {
-            return Err(Error::Input("rounds must be at least 1".into()));
+        if !(1..=MAX_ROUNDS).contains(&self.rounds) {
+            return Err(Error::Input(format!(
+                "rounds must be between 1 and {MAX_ROUNDS}, not {} (the least-squares rounds settle within a few)",
+                self.rounds
+            )));
         }
         Ok(faces)
     }
 }
+
+/// Most fitting rounds asked for: each round costs a fit as large as the first, and the fit
+/// settles within a few.
+pub const MAX_ROUNDS: u32 = 10;
 
 /// Receives progress and may cancel: `update` is called with the step's name and the fraction
 /// of it done, on the thread that runs the fit; returning `false` cancels the fit.

@@ -9,7 +9,8 @@
 //! only picks vertices, it does not move them).
 //!
 //! meshoptimizer can leave an edge shared by three triangles; the cage must be a manifold
-//! surface, so then a few nearby targets (±2 %, ±4 %, … of the asked one) are tried in turn.
+//! surface, so then a few nearby targets (±2 %, ±4 %, … of the asked one) are tried in turn, and
+//! then larger ones up to the whole input ([`retry_targets`]).
 //!
 //! Weak where the target is below what the topology allows (each closed piece needs at least a
 //! few triangles, locked borders keep all their vertices): the cage then has more faces than
@@ -48,9 +49,13 @@ pub fn simplify(dense: &DenseMesh, target_faces: usize) -> Result<Simplified> {
     // faces). Such a cage cannot be subdivided; a slightly different target collapses other
     // edges, so nearby targets are tried in turn, nearest first.
     let mut failure = None;
-    for attempt in 0..RETRIES {
-        let step = (attempt as f64 / 2.0).ceil() * RETRY_STEP * if attempt % 2 == 1 { -1.0 } else { 1.0 };
-        let target = ((target_faces as f64) * (1.0 + step)).round().max(1.0) as usize;
+    let all = dense.triangles.len();
+    let mut tried = Vec::new();
+    for target in retry_targets(target_faces, all) {
+        if tried.contains(&target) {
+            continue;
+        }
+        tried.push(target);
         match simplify_to(dense, &indices, &adapter, options, target) {
             Ok(simplified) => return Ok(simplified),
             Err(e @ Error::Topology(_)) => failure = Some(e),
@@ -60,7 +65,28 @@ pub fn simplify(dense: &DenseMesh, target_faces: usize) -> Result<Simplified> {
     Err(failure.unwrap_or_else(|| Error::Solver("the simplifier gave no cage".into())))
 }
 
-/// Targets tried when a simplified cage is not manifold (the asked one first).
+/// The targets tried in turn: the asked one, then nearby ones (±2 %, ±4 %, …, at least a face
+/// or two apart), then twice, four times … the asked one up to the whole input, which is a
+/// manifold surface itself. A small closed piece (a cube asked to become a tetrahedron) often
+/// cannot be collapsed to the asked count without a non-manifold edge, and a few more faces do.
+fn retry_targets(target_faces: usize, all: usize) -> Vec<usize> {
+    let asked = target_faces.clamp(1, all.max(1));
+    let step = ((asked as f64) * RETRY_STEP).round().max(2.0);
+    let mut targets: Vec<usize> = (0..RETRIES)
+        .map(|attempt| {
+            let k = (attempt as f64 / 2.0).ceil() * if attempt % 2 == 1 { -1.0 } else { 1.0 };
+            ((asked as f64) + k * step).round().clamp(1.0, all.max(1) as f64) as usize
+        })
+        .collect();
+    let mut larger = asked;
+    while larger < all {
+        larger = (2 * larger).min(all);
+        targets.push(larger);
+    }
+    targets
+}
+
+/// Nearby targets tried when a simplified cage is not manifold (the asked one first).
 const RETRIES: usize = 9;
 /// How far apart the targets tried are, as a fraction of the asked one.
 const RETRY_STEP: f64 = 0.02;
@@ -73,8 +99,15 @@ fn simplify_to(
     target_faces: usize,
 ) -> Result<Simplified> {
     let mut error = 0.0f32;
+    // meshoptimizer asserts (aborting the process) on a target above the index count, which a
+    // tiny input or a retry above the asked target would otherwise reach; and on indices past
+    // the vertex data or a count that is not whole triangles.
+    let target_indices = (3 * target_faces.max(1)).min(indices.len());
+    if indices.len() % 3 != 0 || indices.iter().any(|&i| i as usize >= dense.positions.len()) {
+        return Err(Error::Input("the triangles refer to vertices the mesh does not have".into()));
+    }
     // No error bound (1 is the whole extent): the face count decides.
-    let kept = meshopt::simplify(indices, adapter, 3 * target_faces.max(1), 1.0, options, Some(&mut error));
+    let kept = meshopt::simplify(indices, adapter, target_indices, 1.0, options, Some(&mut error));
     if kept.is_empty() {
         return Err(Error::Solver("the simplifier removed every triangle; ask for more faces".into()));
     }
@@ -96,6 +129,20 @@ fn simplify_to(
             })
         })
         .collect();
+    // Two triangles on the same three corners (a piece collapsed flat, both sides) pass as a
+    // manifold but refine into a non-manifold surface: try another target.
+    let mut corners: Vec<[u32; 3]> = faces
+        .iter()
+        .map(|f| {
+            let mut c = *f;
+            c.sort_unstable();
+            c
+        })
+        .collect();
+    corners.sort_unstable();
+    if corners.windows(2).any(|w| w[0] == w[1]) {
+        return Err(Error::Topology("the simplified cage has two triangles on the same corners".into()));
+    }
     let cage = PolyMesh::from_polygons(positions, &faces).map_err(|e| {
         Error::Topology(format!("the simplified cage is not a manifold surface ({e}); ask for a different face count"))
     })?;

@@ -33,6 +33,10 @@ use crate::{DVec3, Error, Result};
 use glam::DQuat;
 use std::sync::{Arc, Mutex};
 
+/// How far from the cage (in cage sizes, the bounding box's diagonal) an edited curve-mesh point
+/// may lie.
+pub const MAX_EDIT_REACH: f64 = 1e6;
+
 /// The last curve mesh built for a document or one of its clones (shared between them).
 #[derive(Clone, Default)]
 pub struct CurveMeshCache(Arc<Mutex<Option<Cached>>>);
@@ -164,6 +168,25 @@ impl Document {
         }
         if let Some(c) = e.curves.iter().find(|c| !c.inner.iter().all(|p| finite(p))) {
             return Err(Error::Input(format!("curve-mesh edits: curve {} has a value that is not a number", c.curve)));
+        }
+        // A finite but absurd value (1e308) overflows the patches' arithmetic into inf and NaN: a
+        // point must lie within a million cage sizes of the cage.
+        if let Some((lo, hi)) = self.cage.bounding_box() {
+            let centre = 0.5 * (lo + hi);
+            let reach = MAX_EDIT_REACH * (hi - lo).length().max(f64::MIN_POSITIVE);
+            let far = |p: &[f64; 3]| (DVec3::from_array(*p) - centre).length() > reach;
+            if let Some(v) = e.vertices.iter().find(|v| far(&v.position)) {
+                return Err(Error::Input(format!(
+                    "curve-mesh edits: vertex {} is placed more than {MAX_EDIT_REACH:e} cage sizes away from the cage",
+                    v.vertex
+                )));
+            }
+            if let Some(c) = e.curves.iter().find(|c| c.inner.iter().any(far)) {
+                return Err(Error::Input(format!(
+                    "curve-mesh edits: curve {} has a control point more than {MAX_EDIT_REACH:e} cage sizes away from the cage",
+                    c.curve
+                )));
+            }
         }
         Ok(())
     }

@@ -71,6 +71,8 @@ pub fn export_tessellation(tessellation: &Tessellation, path: &Path, obj_up: UpA
             path.display()
         )));
     }
+    crate::io::check_finite_output(tessellation.mesh().positions(), Some(tessellation.normals()))
+        .map_err(|e| Error::format(path, e.to_string()))?;
     match crate::io::MeshFormat::from_path(path)? {
         crate::io::MeshFormat::Obj => crate::io::write_atomic(path, obj_text(tessellation, obj_up).as_bytes()),
         crate::io::MeshFormat::Glb => {

@@ -11,35 +11,72 @@ use crate::{Error, Result};
 use std::io::Read;
 use std::path::{Component, Path, PathBuf};
 
+/// What a path that is not a regular file is, in words; `None` for a regular file.
+fn not_regular(metadata: &std::fs::Metadata) -> Option<&'static str> {
+    let kind = metadata.file_type();
+    if kind.is_file() {
+        return None;
+    }
+    if kind.is_dir() {
+        return Some("a folder");
+    }
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        if kind.is_fifo() {
+            return Some("a named pipe (FIFO)");
+        } else if kind.is_char_device() || kind.is_block_device() {
+            return Some("a device");
+        } else if kind.is_socket() {
+            return Some("a socket");
+        }
+    }
+    Some("not a regular file")
+}
+
 /// Refuses anything that is not a regular file (after following links), with a message naming
 /// what it is.
 fn check_regular(path: &Path, metadata: &std::fs::Metadata) -> Result<()> {
-    let kind = metadata.file_type();
-    if kind.is_file() {
-        return Ok(());
+    match not_regular(metadata) {
+        None => Ok(()),
+        Some(what) => Err(Error::format(path, format!("{what}, not a regular file: Taut reads only regular files"))),
     }
-    let what = if kind.is_dir() {
-        "a folder"
-    } else {
-        #[cfg(unix)]
-        {
-            use std::os::unix::fs::FileTypeExt;
-            if kind.is_fifo() {
-                "a named pipe (FIFO)"
-            } else if kind.is_char_device() || kind.is_block_device() {
-                "a device"
-            } else if kind.is_socket() {
-                "a socket"
-            } else {
-                "not a regular file"
-            }
-        }
-        #[cfg(not(unix))]
-        {
-            "not a regular file"
-        }
+}
+
+/// Checks, before anything is computed or written, that `path` can take an output: its folder
+/// exists, and the path is either free or a regular file the user may write. A device, a FIFO or a
+/// folder at the path is refused (an atomic write would replace a device node by a plain file),
+/// and so is a read-only file: one without any write permission bit (which even the superuser's
+/// rename would silently replace) or one this user cannot open for writing.
+pub fn check_writable(path: &Path) -> Result<()> {
+    let folder = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
     };
-    Err(Error::format(path, format!("{what}, not a regular file: Taut reads only regular files")))
+    match std::fs::metadata(folder) {
+        Ok(m) if m.is_dir() => {}
+        Ok(_) => return Err(Error::format(path, format!("{} is not a folder", folder.display()))),
+        Err(_) => return Err(Error::format(path, format!("the folder {} does not exist", folder.display()))),
+    }
+    let metadata = match std::fs::metadata(path) {
+        Ok(m) => m,
+        // Nothing there yet (or a dangling link, which the rename replaces): free to write.
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(()),
+        Err(e) => return Err(Error::format(path, format!("cannot check the output: {e}"))),
+    };
+    if let Some(what) = not_regular(&metadata) {
+        return Err(Error::format(
+            path,
+            format!("{what}, not a regular file: Taut writes its output only to regular files; choose a file name"),
+        ));
+    }
+    let read_only = || Error::format(path, "the file is read-only: Taut does not replace it; choose another name");
+    if metadata.permissions().readonly() {
+        return Err(read_only());
+    }
+    // Opening for writing without truncating changes nothing and asks the system the real question.
+    std::fs::OpenOptions::new().write(true).open(path).map_err(|_| read_only())?;
+    Ok(())
 }
 
 /// The whole contents of a regular file; anything else (a folder, device, FIFO, socket, or a link

@@ -180,12 +180,46 @@ pub fn import_triangles(path: &Path, options: &ImportOptions) -> Result<(Vec<DVe
 
 /// Reads a mesh file by extension into a polygon soup in Taut's axes.
 fn read_soup(path: &Path, options: &ImportOptions) -> Result<Soup> {
-    match MeshFormat::from_path(path)? {
+    let soup = match MeshFormat::from_path(path)? {
         MeshFormat::Obj => obj::read_obj(path, options.obj_up),
         MeshFormat::Gltf | MeshFormat::Glb => self::gltf::read_gltf(path),
         MeshFormat::Stl => stl::read_stl(path),
         MeshFormat::Ply => ply::read_ply(path),
+    }?;
+    check_size(path, &soup.positions)?;
+    Ok(soup)
+}
+
+/// The smallest model size Taut works at: below it the cross products behind normals and
+/// curvature underflow (a cube 1e-320 across has zero normals), so such a file is refused.
+pub const MIN_MODEL_SIZE: f64 = 1e-100;
+
+/// Refuses a mesh whose extent is positive but below [`MIN_MODEL_SIZE`].
+fn check_size(path: &Path, positions: &[DVec3]) -> Result<()> {
+    let Some((lo, hi)) = crate::mesh::bounding_box(positions) else { return Ok(()) };
+    let size = (hi - lo).max_element();
+    if size > 0.0 && size < MIN_MODEL_SIZE {
+        return Err(Error::format(
+            path,
+            format!(
+                "the mesh is {size:e} across: too small for double-precision geometry (normals underflow below \
+                 {MIN_MODEL_SIZE:e}); scale it up"
+            ),
+        ));
     }
+    Ok(())
+}
+
+/// Refuses a surface with a coordinate or normal that is not a finite number before it is written
+/// (an OBJ would otherwise hold `NaN` or `inf`, which no tool reads back).
+pub(crate) fn check_finite_output(positions: &[DVec3], normals: Option<&[DVec3]>) -> Result<()> {
+    if let Some(v) = positions.iter().position(|p| !p.is_finite()) {
+        return Err(Error::Input(format!("the surface's vertex {v} is not a finite point; nothing was written")));
+    }
+    if let Some(v) = normals.and_then(|n| n.iter().position(|n| !n.is_finite())) {
+        return Err(Error::Input(format!("the surface's normal at vertex {v} is not finite; nothing was written")));
+    }
+    Ok(())
 }
 
 /// Exports a mesh by extension (`.obj` or `.glb`), atomically, keeping its vertex order.
@@ -209,7 +243,9 @@ pub fn export_mesh_with(mesh: &PolyMesh, path: &Path, options: &ExportOptions<'_
 
 /// Writes a file atomically: the bytes go to a temporary file in the same folder, which is
 /// flushed to disk and then renamed over the target, so a crash never leaves a half-written file.
+/// A device, FIFO, folder or read-only file at the path is refused first ([`file::check_writable`]).
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
+    file::check_writable(path)?;
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
         _ => std::path::PathBuf::from("."),

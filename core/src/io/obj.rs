@@ -225,6 +225,7 @@ pub fn export_obj_with(mesh: &PolyMesh, path: &Path, normals: Option<&[DVec3]>, 
     if mesh.face_count() == 0 {
         return Err(Error::Input(format!("{}: the mesh has no faces; there is nothing to export", path.display())));
     }
+    super::check_finite_output(mesh.positions(), normals).map_err(|e| Error::format(path, e.to_string()))?;
     super::write_atomic(path, obj_text(mesh, normals, up).as_bytes())
 }
 

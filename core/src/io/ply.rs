@@ -133,6 +133,7 @@ pub(crate) fn parse_ply(bytes: &[u8], origin: &Path) -> Result<Soup> {
                         }
                         .map_err(|m| fail(format!("vertex {v}: {m}")))?;
                     }
+                    reader.end_record().map_err(|m| fail(format!("vertex {v}: {m}")))?;
                     let p = DVec3::new(values[x], values[y], values[z]);
                     if !p.is_finite() {
                         return Err(fail(format!(
@@ -167,6 +168,7 @@ pub(crate) fn parse_ply(bytes: &[u8], origin: &Path) -> Result<Soup> {
                         };
                         read.map_err(|m| fail(format!("face {f}: {m}")))?;
                     }
+                    reader.end_record().map_err(|m| fail(format!("face {f}: {m}")))?;
                 }
                 if short > 0 {
                     soup.warnings.push(format!("skipped {short} faces with fewer than 3 corners"));
@@ -181,6 +183,7 @@ pub(crate) fn parse_ply(bytes: &[u8], origin: &Path) -> Result<Soup> {
                         }
                         .map_err(|m| fail(format!("{} {e}: {m}", element.name)))?;
                     }
+                    reader.end_record().map_err(|m| fail(format!("{} {e}: {m}", element.name)))?;
                 }
             }
         }
@@ -195,9 +198,14 @@ pub(crate) fn parse_ply(bytes: &[u8], origin: &Path) -> Result<Soup> {
 fn parse_header(bytes: &[u8]) -> std::result::Result<(Encoding, Vec<Element>, usize), String> {
     let window = &bytes[..bytes.len().min(MAX_HEADER)];
     let marker = b"end_header";
+    // The line that is `end_header` alone (a comment may mention the word).
     let end = window
         .windows(marker.len())
-        .position(|w| w == marker)
+        .enumerate()
+        .position(|(k, w)| {
+            let after = window.get(k + marker.len());
+            w == marker && k > 0 && window[k - 1] == b'\n' && matches!(after, None | Some(b'\n' | b'\r' | b' ' | b'\t'))
+        })
         .ok_or("the header does not end: no 'end_header' line (or a header over 1 MiB)")?;
     // The body starts after the end of the end_header line.
     let mut body = end + marker.len();
@@ -275,6 +283,21 @@ impl Reader<'_> {
         let out = &self.bytes[self.at..self.at + n];
         self.at += n;
         Ok(out)
+    }
+
+    /// In ASCII, one element is one line: after its values only spaces may follow before the
+    /// line ends (a line with extra numbers would otherwise shift every later value).
+    fn end_record(&mut self) -> std::result::Result<(), String> {
+        if self.encoding != Encoding::Ascii {
+            return Ok(());
+        }
+        while self.at < self.bytes.len() && matches!(self.bytes[self.at], b' ' | b'\t') {
+            self.at += 1;
+        }
+        match self.bytes.get(self.at) {
+            None | Some(b'\n' | b'\r') => Ok(()),
+            Some(_) => Err("the line has more values than the header declares for this element".into()),
+        }
     }
 
     fn word(&mut self) -> std::result::Result<&str, String> {
@@ -389,6 +412,25 @@ mod tests {
         let soup = parse(&bytes).unwrap();
         assert_eq!(soup.positions, vec![DVec3::ZERO, DVec3::new(-2.0, 0.0, 0.0), DVec3::new(0.0, 3.0, 1.0)]);
         assert_eq!(soup.faces.to_vecs(), vec![vec![0, 2, 1]]);
+    }
+
+    #[test]
+    fn end_header_in_a_comment_does_not_end_the_header() {
+        let text = "ply\nformat ascii 1.0\ncomment written by a tool; see end_header below\nelement vertex 3\n\
+                    property float x\nproperty float y\nproperty float z\nelement face 1\n\
+                    property list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+        let soup = parse(text.as_bytes()).unwrap();
+        assert_eq!(soup.positions.len(), 3);
+        assert_eq!(soup.positions[1], DVec3::new(1.0, 0.0, 0.0));
+        assert_eq!(soup.faces.len(), 1);
+    }
+
+    #[test]
+    fn an_ascii_line_with_extra_numbers_is_refused() {
+        let text = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n\
+                    element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0 7\n1 0 0\n0 1 0\n3 0 1 2\n";
+        let err = parse(text.as_bytes()).unwrap_err().to_string();
+        assert!(err.contains("vertex 0") && err.contains("more values than the header declares"), "{err}");
     }
 
     #[test]

@@ -37,17 +37,19 @@ pub(crate) fn parse_stl(bytes: &[u8], origin: &Path) -> Result<Soup> {
     let declared =
         (bytes.len() >= HEADER).then(|| u32::from_le_bytes([bytes[80], bytes[81], bytes[82], bytes[83]]) as usize);
     let binary_size = declared.map(|n| n.checked_mul(RECORD).and_then(|b| b.checked_add(HEADER)));
-    let looks_ascii = bytes
+    // A text editor may have put a UTF-8 byte-order mark, and spaces, before the word `solid`.
+    let text = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
+    let looks_ascii = text
         .iter()
         .take(512)
         .position(|b| !b.is_ascii_whitespace())
-        .is_some_and(|k| bytes[k..].len() >= 5 && bytes[k..k + 5].eq_ignore_ascii_case(b"solid"))
-        && !bytes.contains(&0);
+        .is_some_and(|k| text[k..].len() >= 5 && text[k..k + 5].eq_ignore_ascii_case(b"solid"))
+        && !text.contains(&0);
     match (declared, binary_size) {
         (Some(n), Some(Some(size))) if size == bytes.len() || (!looks_ascii && size < bytes.len()) => {
             parse_binary(bytes, n, size, origin)
         }
-        _ if looks_ascii => parse_ascii(&String::from_utf8_lossy(bytes), origin),
+        _ if looks_ascii => parse_ascii(&String::from_utf8_lossy(text), origin),
         (Some(n), _) => Err(fail(format!(
             "truncated binary STL: the header declares {n} triangles ({} bytes) but the file has {} bytes",
             n.saturating_mul(RECORD).saturating_add(HEADER),
@@ -155,6 +157,16 @@ mod tests {
         let soup = parse(&bytes).unwrap();
         assert_eq!(soup.positions, vec![DVec3::ZERO, DVec3::X, DVec3::new(0.0, 1.0, 0.5)]);
         assert_eq!(soup.faces.to_vecs(), vec![vec![0, 1, 2]]);
+    }
+
+    #[test]
+    fn ascii_after_a_byte_order_mark_and_spaces() {
+        let body = "  solid bom\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid\n";
+        for prefix in ["\u{FEFF}", "\u{FEFF}   ", "\t \n"] {
+            let text = format!("{prefix}{body}");
+            let soup = parse_stl(text.as_bytes(), Path::new("bom.stl")).unwrap();
+            assert_eq!((soup.positions.len(), soup.faces.len()), (3, 1), "{prefix:?}");
+        }
     }
 
     #[test]

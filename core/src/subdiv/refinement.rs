@@ -36,6 +36,41 @@ pub const MAX_LEVELS: u32 = 10;
 /// The most faces the finest level may have.
 pub const MAX_REFINED_FACES: usize = 1 << 21;
 
+/// The most weights the first level's stencils may hold. Around an n-sided face, each of its n
+/// new edge points and n corners reads all n corners of the face (through the face point), so a
+/// face costs about 2n² weights: a single 10,000-sided polygon asked for 2·10⁸ (2.5 GB). The bound
+/// (about 400 MB of stencils) lets faces of a couple of thousand sides through.
+pub const MAX_FIRST_LEVEL_WEIGHTS: usize = 1 << 24;
+
+/// Faces with more sides than this count towards [`MAX_FIRST_LEVEL_WEIGHTS`].
+const LARGE_POLYGON: usize = 16;
+
+/// Refuses, before anything is built, a cage whose large polygons' first-level stencils would exceed
+/// [`MAX_FIRST_LEVEL_WEIGHTS`], naming the largest face.
+fn check_first_level_weights(cage: &PolyMesh) -> Result<()> {
+    let mut weights = 0usize;
+    let mut largest = None::<(usize, crate::mesh::FaceId)>;
+    for f in cage.faces() {
+        let n = cage.face_vertices(f).count();
+        // Ordinary faces cost a few weights per corner, like any mesh; only large polygons grow.
+        if n > LARGE_POLYGON {
+            weights = weights.saturating_add(2 * n * n);
+        }
+        if largest.is_none_or(|(m, _)| n > m) {
+            largest = Some((n, f));
+        }
+    }
+    match largest {
+        Some((n, f)) if weights > MAX_FIRST_LEVEL_WEIGHTS => Err(Error::Input(format!(
+            "face {} has {n} sides: the first subdivision level would need about {weights} stencil weights \
+             (they grow with the square of a face's sides), more than the {MAX_FIRST_LEVEL_WEIGHTS} Taut allows; \
+             split the largest polygons into smaller ones first",
+            f.0
+        ))),
+        _ => Ok(()),
+    }
+}
+
 /// One level below the cage.
 #[derive(Clone, Debug)]
 struct Level {
@@ -117,6 +152,7 @@ impl Refinement {
                 cage.face_count()
             )));
         }
+        check_first_level_weights(cage)?;
         let mut out = Refinement {
             scheme,
             cage: cage.clone(),
