@@ -111,7 +111,7 @@ fn bad_requests_are_one_line_errors() {
     assert_clean_failure(&taut(&["cage", inp, "-o", out_path, "--ratio", "1.5"]), "outside (0, 1]");
     assert_clean_failure(&taut(&["cage", inp, "-o", out_path, "--ratio", "0"]), "outside (0, 1]");
     assert_clean_failure(&taut(&["cage", inp, "-o", out_path, "--faces", "5000"]), "only 320 triangles");
-    assert_clean_failure(&taut(&["cage", inp, "-o", out_path, "--rounds", "0"]), "rounds must be at least 1");
+    assert_clean_failure(&taut(&["cage", inp, "-o", out_path, "--rounds", "0"]), "rounds must be between 1 and 10");
     assert_clean_failure(&taut(&["cage", inp, "-o", dir.join("c.stl").to_str().unwrap()]), "unsupported cage file");
     let missing = dir.join("missing.ply");
     assert_clean_failure(&taut(&["cage", missing.to_str().unwrap(), "-o", out_path]), "missing.ply");

@@ -280,7 +280,7 @@ fn bad_settings_are_clear_errors() {
         (CageFitParams::new(CageSize::Ratio(f64::NAN), 1), "outside (0, 1]"),
         (CageFitParams::new(CageSize::Faces(0), 1), "at least one face"),
         (CageFitParams::new(CageSize::Faces(100_000), 1), "only 320 triangles"),
-        (CageFitParams::new(CageSize::Ratio(0.5), 0), "rounds must be at least 1"),
+        (CageFitParams::new(CageSize::Ratio(0.5), 0), "rounds must be between 1 and 10"),
     ];
     for (params, expected) in cases {
         let err = fit_cage(&dense, &params, &mut Silent).unwrap_err().to_string();
