@@ -16,7 +16,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 use taut_core::cage_fit::{CageFitParams, CageSize, DenseMesh, Evaluation, fit_cage};
 use taut_core::surface::SchemeKind;
-use taut_core::{Document, io};
+use taut_core::{Document, PolyMesh, io};
 
 #[derive(Debug, Args)]
 pub struct CageArgs {
@@ -147,30 +147,35 @@ pub fn run(args: &CageArgs) -> Result<(), String> {
     times.extend(report.steps.iter().map(|s| format!("{} {:.2} s", s.step, s.seconds)));
     println!("time: {}", times.join(", "));
 
-    match kind.as_str() {
+    let report_json = serde_json::json!({
+        "input": args.input.display().to_string(),
+        "output": args.output.display().to_string(),
+        "import": { "seconds": import_seconds, "summary": import_report.to_string() },
+        "prepare_seconds": prepare_seconds,
+        "fit": report,
+    });
+    let mut outputs = vec![args.output.as_path()];
+    outputs.extend(args.report.as_deref());
+    crate::cli::all_or_none(&outputs, || write_outputs(args, &kind, &fit.cage, &report_json))
+}
+
+/// The cage and, when asked, the report.
+fn write_outputs(args: &CageArgs, kind: &str, cage: &PolyMesh, report_json: &serde_json::Value) -> Result<(), String> {
+    match kind {
         // The cage is made for Loop subdivision: its document opens in that scheme.
-        "taut" => Document::new(fit.cage.clone())
-            .with_scheme(SchemeKind::Loop)
-            .save(&args.output)
-            .map_err(|e| e.to_string())?,
-        _ => io::export_mesh_with(&fit.cage, &args.output, &args.files.export_options(None))
-            .map_err(|e| e.to_string())?,
+        "taut" => {
+            Document::new(cage.clone()).with_scheme(SchemeKind::Loop).save(&args.output).map_err(|e| e.to_string())?
+        }
+        _ => io::export_mesh_with(cage, &args.output, &args.files.export_options(None)).map_err(|e| e.to_string())?,
     }
     println!(
         "wrote the cage {} ({} vertices, {} faces)",
         args.output.display(),
-        fit.cage.vertex_count(),
-        fit.cage.face_count()
+        cage.vertex_count(),
+        cage.face_count()
     );
     if let Some(path) = &args.report {
-        let json = serde_json::json!({
-            "input": args.input.display().to_string(),
-            "output": args.output.display().to_string(),
-            "import": { "seconds": import_seconds, "summary": import_report.to_string() },
-            "prepare_seconds": prepare_seconds,
-            "fit": report,
-        });
-        let text = serde_json::to_string_pretty(&json).map_err(|e| e.to_string())?;
+        let text = serde_json::to_string_pretty(report_json).map_err(|e| e.to_string())?;
         io::write_atomic(path, text.as_bytes()).map_err(|e| e.to_string())?;
         println!("wrote the report {}", path.display());
     }

@@ -56,6 +56,55 @@ pub fn check_output(force: bool, inputs: &[&Path], output: &Path) -> Result<(), 
     }
 }
 
+/// Writes several outputs together: `write` writes `outputs` in turn; when it fails part way,
+/// each output is put back as it was (the earlier file, or none), so a command writes all its
+/// outputs or none of them. Earlier files are kept aside by a hard link beside them (a copy
+/// where the folder cannot link), which the atomic writes leave untouched as they rename new
+/// files over the paths; the links go once every output is written.
+pub fn all_or_none(outputs: &[&Path], write: impl FnOnce() -> Result<(), String>) -> Result<(), String> {
+    let mut kept: Vec<(&Path, Option<std::path::PathBuf>)> = Vec::new();
+    let forget = |kept: &[(&Path, Option<std::path::PathBuf>)]| {
+        for (_, aside) in kept {
+            if let Some(aside) = aside {
+                let _ = std::fs::remove_file(aside);
+            }
+        }
+    };
+    for (k, &path) in outputs.iter().enumerate() {
+        let aside = match std::fs::symlink_metadata(path) {
+            Ok(meta) if meta.is_file() || meta.is_symlink() => {
+                let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+                let aside = path.with_file_name(format!(".{name}.kept-{}-{k}", std::process::id()));
+                let _ = std::fs::remove_file(&aside);
+                if std::fs::hard_link(path, &aside).is_err()
+                    && let Err(e) = std::fs::copy(path, &aside)
+                {
+                    forget(&kept);
+                    return Err(format!("{}: cannot keep the earlier file aside while writing ({e})", path.display()));
+                }
+                Some(aside)
+            }
+            _ => None,
+        };
+        kept.push((path, aside));
+    }
+    let result = write();
+    if result.is_err() {
+        for (path, aside) in &kept {
+            match aside {
+                Some(aside) => {
+                    let _ = std::fs::rename(aside, path);
+                }
+                None => {
+                    let _ = std::fs::remove_file(path);
+                }
+            }
+        }
+    }
+    forget(&kept);
+    result
+}
+
 /// A clap error as one line: its message with the items it lists, its tip, and where to read
 /// more; the usage block is left out.
 pub fn one_line(error: &clap::Error) -> String {
@@ -133,6 +182,37 @@ pub fn note(text: impl std::fmt::Display) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_failing_second_output_puts_the_first_back() {
+        let dir = std::env::temp_dir().join(format!("taut-all-or-none-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        let (old, new, second) = (dir.join("old.obj"), dir.join("new.obj"), dir.join("report.json"));
+        std::fs::write(&old, "earlier").unwrap();
+        for first in [&old, &new] {
+            let result = all_or_none(&[first, &second], || {
+                taut_core::io::write_atomic(first, b"replaced").map_err(|e| e.to_string())?;
+                Err("the report could not be written".to_string())
+            });
+            assert_eq!(result.unwrap_err(), "the report could not be written");
+        }
+        assert_eq!(std::fs::read_to_string(&old).unwrap(), "earlier", "the earlier file is back");
+        assert!(!new.exists() && !second.exists(), "nothing new is left");
+        // Nothing kept aside is left over, and a write that succeeds keeps both outputs.
+        all_or_none(&[&old, &second], || {
+            taut_core::io::write_atomic(&old, b"one").map_err(|e| e.to_string())?;
+            taut_core::io::write_atomic(&second, b"two").map_err(|e| e.to_string())
+        })
+        .unwrap();
+        assert_eq!(std::fs::read_to_string(&old).unwrap(), "one");
+        assert_eq!(std::fs::read_to_string(&second).unwrap(), "two");
+        let mut names: Vec<String> =
+            std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+        names.sort();
+        assert_eq!(names, ["old.obj", "report.json"]);
+        let _ = std::fs::remove_dir_all(&dir);
+    }
 
     #[test]
     fn long_quoted_values_are_cut_short() {

@@ -12,6 +12,7 @@ use crate::cli::FileFlags;
 use crate::surface_cmd::{extension, load_document};
 use clap::Args;
 use std::path::PathBuf;
+use taut_core::Document;
 use taut_core::gregory::build::FitReport;
 use taut_core::gregory::tessellate::{DEFAULT_SAMPLES, MAX_SAMPLES};
 use taut_core::gregory::{CurveMesh, Tessellation, export, fit_edge_curves};
@@ -67,31 +68,9 @@ pub fn run(args: &CurveMeshArgs) -> Result<(), String> {
         if report.subdivided_first { " (the cage has faces other than quads: subdivided once first)" } else { "" },
         built.as_secs_f64() * 1e3
     );
-    if kind == "taut" {
-        let out = doc.clone().with_scheme(SchemeKind::CurveMesh);
-        out.save(&args.output).map_err(|e| e.to_string())?;
-        println!(
-            "wrote {} (the document in the curve-mesh scheme, {} edited vertices and {} edited curves)",
-            args.output.display(),
-            out.curve_mesh.vertices.len(),
-            out.curve_mesh.curves.len()
-        );
-    } else {
-        let tessellation = Tessellation::new(&curves, args.samples).map_err(|e| e.to_string())?;
-        export::export_tessellation(&tessellation, &args.output, args.files.up).map_err(|e| e.to_string())?;
-        println!(
-            "wrote {} ({} vertices, {} faces, {} × {} per patch)",
-            args.output.display(),
-            tessellation.mesh().vertex_count(),
-            tessellation.mesh().face_count(),
-            args.samples,
-            args.samples
-        );
-    }
-    if let Some(path) = &args.curves {
-        export::export_curves_json(&curves, path).map_err(|e| e.to_string())?;
-        println!("wrote the curves and control points to {}", path.display());
-    }
+    let mut outputs = vec![args.output.as_path()];
+    outputs.extend(args.curves.as_deref());
+    crate::cli::all_or_none(&outputs, || write_outputs(args, &kind, &doc, &curves))?;
     if args.report {
         print_report(&curves, &report.fit, &report.closeness, cage.bounding_diagonal());
         if report.subdivided_first {
@@ -105,6 +84,36 @@ pub fn run(args: &CurveMeshArgs) -> Result<(), String> {
                 own.report.alpha_guards.len()
             );
         }
+    }
+    Ok(())
+}
+
+/// The main output and, when asked, the curves file.
+fn write_outputs(args: &CurveMeshArgs, kind: &str, doc: &Document, curves: &CurveMesh) -> Result<(), String> {
+    if kind == "taut" {
+        let out = doc.clone().with_scheme(SchemeKind::CurveMesh);
+        out.save(&args.output).map_err(|e| e.to_string())?;
+        println!(
+            "wrote {} (the document in the curve-mesh scheme, {} edited vertices and {} edited curves)",
+            args.output.display(),
+            out.curve_mesh.vertices.len(),
+            out.curve_mesh.curves.len()
+        );
+    } else {
+        let tessellation = Tessellation::new(curves, args.samples).map_err(|e| e.to_string())?;
+        export::export_tessellation(&tessellation, &args.output, args.files.up).map_err(|e| e.to_string())?;
+        println!(
+            "wrote {} ({} vertices, {} faces, {} × {} per patch)",
+            args.output.display(),
+            tessellation.mesh().vertex_count(),
+            tessellation.mesh().face_count(),
+            args.samples,
+            args.samples
+        );
+    }
+    if let Some(path) = &args.curves {
+        export::export_curves_json(curves, path).map_err(|e| e.to_string())?;
+        println!("wrote the curves and control points to {}", path.display());
     }
     Ok(())
 }

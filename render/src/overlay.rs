@@ -86,7 +86,22 @@ pub struct CageSelection {
     pub hovered_face: Option<FaceId>,
     /// Face select mode: a small dot at the centre of every face, the handle a click picks.
     pub face_dots: bool,
+    /// The parts of the cage that the cage itself hides from the eye, drawn at
+    /// [`HIDDEN_ALPHA`] under the rest (`None`: X-ray, all drawn alike).
+    pub hidden: Option<Hidden>,
 }
+
+/// Flags of the cage's hidden vertices, edges and faces (true: hidden); missing entries are seen.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Hidden {
+    pub vertices: Vec<bool>,
+    pub edges: Vec<bool>,
+    pub faces: Vec<bool>,
+}
+
+/// Opacity factor of the cage's hidden parts: faint enough to read as behind, present enough to
+/// show the cage's shape.
+pub const HIDDEN_ALPHA: f32 = 0.25;
 
 /// Radius of a face's centre dot, in pixels.
 pub const FACE_DOT: f32 = 3.0;
@@ -152,9 +167,11 @@ fn hover(c: [f32; 4]) -> [f32; 4] {
     [light[0], light[1], light[2], c[3]]
 }
 
-/// Drawing priority: plain, then selected, then hovered last (on top).
+/// Drawing priority: hidden first (under everything), plain, then selected, then hovered last
+/// (on top).
 #[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
 enum Emphasis {
+    Hidden,
     Plain,
     Selected,
     Hovered,
@@ -190,6 +207,7 @@ pub fn cage_overlay(
         }
     }
 
+    let hidden = selection.hidden.as_ref();
     let mut hovered_face_edge = vec![false; cage.edge_count()];
     for (faces, flags) in [
         (selection.selected_faces.as_slice(), &mut selected_edge),
@@ -229,6 +247,10 @@ pub fn cage_overlay(
                 line.color = hover(line.color);
                 line.width_px = line.width_px * 1.5 + 1.0;
             }
+            if is_hidden(hidden.map(|h| h.edges.as_slice()), e.index()) {
+                emphasis = Emphasis::Hidden;
+                line.color[3] *= HIDDEN_ALPHA;
+            }
             (emphasis, line)
         })
         .collect();
@@ -251,13 +273,21 @@ pub fn cage_overlay(
             color = hover(color);
             radius_px += 2.0;
         }
-        let mark = |color, radius_px, style| (emphasis, PointMark { position, color, radius_px, style });
+        let dim = is_hidden(hidden.map(|h| h.vertices.as_slice()), v.index());
+        let emphasised = emphasis != Emphasis::Plain;
+        if dim {
+            emphasis = Emphasis::Hidden;
+        }
+        let mark = |color: [f32; 4], radius_px, style| {
+            let alpha = if dim { color[3] * HIDDEN_ALPHA } else { color[3] };
+            (emphasis, PointMark { position, color: [color[0], color[1], color[2], alpha], radius_px, style })
+        };
         if s > 0.0 {
             let warm = [TENSION_WARM[0], TENSION_WARM[1], TENSION_WARM[2], 0.35 + 0.65 * s];
             points.push(mark(warm, radius_px + 3.0 + 2.0 * s, PointStyle::Ring));
         }
         // A halo of the opposite lightness keeps the mark readable on any background.
-        let halo = if is_fixed || emphasis != Emphasis::Plain { HALO_LIGHT } else { HALO_DARK };
+        let halo = if is_fixed || emphasised { HALO_LIGHT } else { HALO_DARK };
         points.push(mark(halo, radius_px + 1.5, style));
         points.push(mark(color, radius_px, style));
     }
@@ -274,17 +304,25 @@ pub fn cage_overlay(
             }
             let ring: Vec<_> = cage.face_vertices(f).map(|v| cage.position(v)).collect();
             let centre = ring.iter().copied().sum::<DVec3>() / ring.len().max(1) as f64;
-            let (emphasis, color) = match (selected, hovered) {
+            let (mut emphasis, color) = match (selected, hovered) {
                 (_, true) => (Emphasis::Hovered, hover(if selected { SELECTED } else { EDGE_NEUTRAL })),
                 (true, false) => (Emphasis::Selected, SELECTED),
                 (false, false) => (Emphasis::Plain, EDGE_NEUTRAL),
             };
+            let dim = is_hidden(hidden.map(|h| h.faces.as_slice()), f.index());
+            if dim {
+                emphasis = Emphasis::Hidden;
+            }
+            let alpha = |c: [f32; 4]| [c[0], c[1], c[2], if dim { c[3] * HIDDEN_ALPHA } else { c[3] }];
             let position = frame.point(centre);
             points.push((
                 emphasis,
-                PointMark { position, color: HALO_DARK, radius_px: FACE_DOT + 1.5, style: PointStyle::Filled },
+                PointMark { position, color: alpha(HALO_DARK), radius_px: FACE_DOT + 1.5, style: PointStyle::Filled },
             ));
-            points.push((emphasis, PointMark { position, color, radius_px: FACE_DOT, style: PointStyle::Filled }));
+            points.push((
+                emphasis,
+                PointMark { position, color: alpha(color), radius_px: FACE_DOT, style: PointStyle::Filled },
+            ));
         }
     }
 
@@ -292,6 +330,10 @@ pub fn cage_overlay(
     lines.sort_by_key(|(e, _)| *e);
     points.sort_by_key(|(e, _)| *e);
     (lines.into_iter().map(|(_, l)| l).collect(), points.into_iter().map(|(_, p)| p).collect())
+}
+
+fn is_hidden(flags: Option<&[bool]>, index: usize) -> bool {
+    flags.and_then(|f| f.get(index)).copied().unwrap_or(false)
 }
 
 /// Every edge of `mesh` once, as depth-tested lines (the refined wireframe).
@@ -458,6 +500,52 @@ mod tests {
         let p = (0..8).map(|i| DVec3::new((i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64)).collect();
         let faces = [[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]];
         PolyMesh::from_polygons(p, &faces).unwrap()
+    }
+
+    #[test]
+    fn hidden_parts_are_dimmed_and_drawn_first() {
+        let cage = cube();
+        let controls = nusd(&[], &[], &[]);
+        let frame = &DisplayFrame::IDENTITY;
+        let seen = CageSelection { face_dots: true, ..Default::default() };
+        let (all_lines, all_points) = cage_overlay(&cage, controls, &seen, frame);
+        // Vertex 7, its three edges and the three faces round it hidden; one hidden vertex is selected.
+        let far = VertexId(7);
+        let far_edges: Vec<usize> = cage
+            .edges()
+            .filter(|&e| {
+                let (a, b) = cage.edge_vertices(e);
+                a == far || b == far
+            })
+            .map(|e| e.index())
+            .collect();
+        let mut hidden =
+            Hidden { vertices: vec![false; 8], edges: vec![false; cage.edge_count()], faces: vec![false; 6] };
+        hidden.vertices[7] = true;
+        far_edges.iter().for_each(|&e| hidden.edges[e] = true);
+        for f in cage.faces().filter(|&f| cage.face_vertices(f).any(|v| v == far)) {
+            hidden.faces[f.index()] = true;
+        }
+        let dimmed =
+            CageSelection { face_dots: true, selected_vertices: vec![far], hidden: Some(hidden), ..Default::default() };
+        let (lines, points) = cage_overlay(&cage, controls, &dimmed, frame);
+        assert_eq!(lines.len(), all_lines.len());
+        assert_eq!(points.len(), all_points.len());
+        // The three hidden edges come first, at a quarter of the opacity; the rest as before.
+        for (k, line) in lines.iter().enumerate() {
+            let (a, b) = (line.a, line.b);
+            let touches_far = [a, b].iter().any(|p| (p - frame.point(cage.position(far))).length() < 1e-6);
+            assert_eq!(k < 3, touches_far, "line {k}");
+            let alpha = if touches_far { EDGE_NEUTRAL[3] * HIDDEN_ALPHA } else { EDGE_NEUTRAL[3] };
+            assert!((line.color[3] - alpha).abs() < 1e-6, "line {k}: {:?}", line.color);
+        }
+        // The hidden vertex keeps its selected colour, dimmed, under every plain mark.
+        let far_marks: Vec<&PointMark> =
+            points.iter().filter(|p| (p.position - frame.point(cage.position(far))).length() < 1e-6).collect();
+        assert_eq!(far_marks.len(), 2);
+        assert!(far_marks.iter().any(|p| p.color[..3] == SELECTED[..3] && (p.color[3] - HIDDEN_ALPHA).abs() < 1e-6));
+        let first_plain = points.iter().position(|p| p.color[3] >= 0.5).unwrap();
+        assert!(points[..first_plain].len() >= 2 + 2 * 3, "hidden vertex and face dots drawn first");
     }
 
     /// The mark drawn last for a vertex of a single-vertex-styled cage (its own colour, not halo).

@@ -10,7 +10,7 @@ use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use taut_render::StandardView;
 
-fn click(h: &mut Harness<'_, App>, at: glam::Vec2) {
+pub(super) fn click(h: &mut Harness<'_, App>, at: glam::Vec2) {
     h.hover_at(pos2(at.x, at.y));
     frames(h);
     for pressed in [true, false] {

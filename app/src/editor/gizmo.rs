@@ -317,13 +317,16 @@ impl EditorState {
         // A cage vertex under the centre handle wins over it, as in Blender: the press drags the
         // vertex (the centre handle would move the same selection in the view plane anyway, but
         // a press there must also be able to pick a vertex that is not selected yet).
+        // Only a vertex in view (or any, with X-ray) counts.
+        let (seen, camera, mode, gizmo_mode) = (self.cage_seen(), self.camera, self.selection.mode, self.gizmo.mode);
         let vertex_under = |m: Vec2| {
-            self.selection.mode == SelectMode::Vertex
-                && interaction::pick_vertex(&self.camera, view, cage.positions(), m, 8.0).is_some()
+            let pickable = |v| seen.as_ref().is_none_or(|s| s.vertex(v));
+            mode == SelectMode::Vertex
+                && interaction::pick_vertex_where(&camera, view, cage.positions(), m, 8.0, pickable).is_some()
         };
         let over = |m: Vec2| {
             layout
-                .and_then(|l| pick_handle(&self.camera, view, &l, self.gizmo.mode, m))
+                .and_then(|l| pick_handle(&camera, view, &l, gizmo_mode, m))
                 .filter(|&h| h != Handle::Centre || !vertex_under(m))
         };
         if !busy {

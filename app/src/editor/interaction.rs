@@ -101,9 +101,24 @@ pub fn pick_vertex(
     mouse: Vec2,
     radius_px: f32,
 ) -> Option<VertexId> {
+    pick_vertex_where(camera, rect, positions, mouse, radius_px, |_| true)
+}
+
+/// [`pick_vertex`] among the vertices `pickable` accepts (those seen, when X-ray is off).
+pub fn pick_vertex_where(
+    camera: &Camera,
+    rect: &ViewportRect,
+    positions: &[DVec3],
+    mouse: Vec2,
+    radius_px: f32,
+    pickable: impl Fn(VertexId) -> bool,
+) -> Option<VertexId> {
     let view = View::new(camera, rect);
     let mouse = mouse.as_dvec2();
     let candidates = positions.iter().enumerate().filter_map(|(i, &p)| {
+        if !pickable(VertexId(i as u32)) {
+            return None;
+        }
         let (pixel, depth) = view.project(p)?;
         Some(Candidate { index: i, distance: pixel.distance(mouse), depth })
     });
@@ -114,10 +129,24 @@ pub fn pick_vertex(
 /// within [`PICK_TIE_PX`] go to the one in front at the closest point). Edges are clipped to the
 /// camera's depth range first, so an edge reaching behind the camera is picked by its visible
 /// part only.
+// The reference the picking tests check against; the editor picks through `pick_edge_where`.
+#[cfg_attr(not(test), allow(dead_code))]
 pub fn pick_edge(camera: &Camera, rect: &ViewportRect, mesh: &PolyMesh, mouse: Vec2, radius_px: f32) -> Option<EdgeId> {
+    pick_edge_where(camera, rect, mesh, mouse, radius_px, |_| true)
+}
+
+/// [`pick_edge`] among the edges `pickable` accepts (those seen, when X-ray is off).
+pub fn pick_edge_where(
+    camera: &Camera,
+    rect: &ViewportRect,
+    mesh: &PolyMesh,
+    mouse: Vec2,
+    radius_px: f32,
+    pickable: impl Fn(EdgeId) -> bool,
+) -> Option<EdgeId> {
     let view = View::new(camera, rect);
     let mouse = mouse.as_dvec2();
-    let candidates = mesh.edges().filter_map(|e| {
+    let candidates = mesh.edges().filter(|&e| pickable(e)).filter_map(|e| {
         let (a, b) = mesh.edge_vertices(e);
         let (ca, cb) = clip_segment(view.clip(mesh.position(a)), view.clip(mesh.position(b)))?;
         let (pa, da) = view.clip_to_pixel(ca);
@@ -134,6 +163,8 @@ pub fn pick_edge(camera: &Camera, rect: &ViewportRect, mesh: &PolyMesh, mouse: V
 
 /// The vertices in front of the camera whose projections lie inside the rectangle spanned by
 /// two corners (in any order, edges included), in vertex order.
+// The reference the box tests check against; the editor boxes through `box_select_where`.
+#[cfg_attr(not(test), allow(dead_code))]
 pub fn box_select(
     camera: &Camera,
     rect: &ViewportRect,
@@ -141,13 +172,26 @@ pub fn box_select(
     corner_a: Vec2,
     corner_b: Vec2,
 ) -> Vec<VertexId> {
+    box_select_where(camera, rect, positions, corner_a, corner_b, |_| true)
+}
+
+/// [`box_select`] among the vertices `pickable` accepts (those seen, when X-ray is off).
+pub fn box_select_where(
+    camera: &Camera,
+    rect: &ViewportRect,
+    positions: &[DVec3],
+    corner_a: Vec2,
+    corner_b: Vec2,
+    pickable: impl Fn(VertexId) -> bool,
+) -> Vec<VertexId> {
     let view = View::new(camera, rect);
     let (lo, hi) = (corner_a.min(corner_b).as_dvec2(), corner_a.max(corner_b).as_dvec2());
     positions
         .iter()
         .enumerate()
-        .filter(|&(_, &p)| {
-            view.project(p).is_some_and(|(q, _)| lo.x <= q.x && q.x <= hi.x && lo.y <= q.y && q.y <= hi.y)
+        .filter(|&(i, &p)| {
+            pickable(VertexId(i as u32))
+                && view.project(p).is_some_and(|(q, _)| lo.x <= q.x && q.x <= hi.x && lo.y <= q.y && q.y <= hi.y)
         })
         .map(|(i, _)| VertexId(i as u32))
         .collect()

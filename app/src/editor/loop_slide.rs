@@ -211,7 +211,7 @@ impl EditorState {
             Some(LoopCutTool::Preview { edge, refusal, .. }) => {
                 let (edge, refused) = (*edge, refusal.is_some());
                 let display = self.display_cage();
-                let hovered = mouse.and_then(|m| interaction::pick_edge(&self.camera, view, &display, m, 8.0));
+                let hovered = mouse.and_then(|m| self.pick_cage_edge(view, &display, m, 8.0));
                 if let Some(h) = hovered
                     && Some(h) != edge
                 {

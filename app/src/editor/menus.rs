@@ -137,6 +137,15 @@ impl EditorState {
                 self.run_action(Action::FrameSelection, ui_state);
             }
             ui.separator();
+            let xray = format!("X-ray  {}", shortcuts::label(Action::ToggleXray));
+            if ui
+                .checkbox(&mut self.display.xray.clone(), xray)
+                .on_hover_text("Off: the back of the cage is drawn dimmer and cannot be picked. On: all of it is")
+                .clicked()
+            {
+                self.run_action(Action::ToggleXray, ui_state);
+            }
+            ui.separator();
             if ui.button(format!("Messages ({})", self.messages.len())).clicked() {
                 ui_state.show_messages = true;
             }

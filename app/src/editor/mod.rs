@@ -22,6 +22,8 @@ mod defects_files_tests;
 mod defects_mode_tests;
 #[cfg(test)]
 mod defects_solver_tests;
+#[cfg(test)]
+mod defects_xray_tests;
 pub mod document;
 mod extrude_move;
 pub mod files;
@@ -58,3 +60,4 @@ pub mod transform;
 pub mod ui;
 mod viewport;
 pub mod window;
+pub mod xray;

@@ -83,6 +83,9 @@ impl EditorState {
             ui.separator();
             ui.label(format!("{} mode", self.selection.mode.name()))
                 .on_hover_text("What a click in the viewport selects: vertices, edges or faces (Tab changes it)");
+            if self.display.xray {
+                ui.label("X-ray").on_hover_text("The back of the cage is drawn and picked too (Alt+Z turns it off)");
+            }
             ui.separator();
             ui.label(format!("{} selected", self.selection_summary()));
             ui.separator();
@@ -560,6 +563,8 @@ impl EditorState {
         }
         ui.separator();
         ui.checkbox(&mut d.show_cage, "cage").on_hover_text("The cage's edges and vertices, with tension shown");
+        ui.checkbox(&mut d.xray, "X-ray (Alt+Z)")
+            .on_hover_text("Off: the back of the cage is drawn dimmer and cannot be picked. On: all of it is");
         ui.checkbox(&mut d.show_wire, "refined wireframe").on_hover_text("The edges of the smoothed surface");
         ui.checkbox(&mut d.show_curves, "curves with curvature combs")
             .on_hover_text("The surface's curves along the cage edges, with their curvature combs");

@@ -338,31 +338,28 @@ fn ray_triangle(origin: DVec3, direction: DVec3, a: DVec3, b: DVec3, c: DVec3) -
 impl EditorState {
     /// What the mouse points at in the current mode (vertex mode: a vertex, else an edge).
     pub(super) fn hover_in_mode(&mut self, view: &ViewportRect, cage: &PolyMesh, mouse: Option<Vec2>) {
-        let s = &mut self.selection;
-        let camera = &self.camera;
-        (s.hovered_vertex, s.hovered_edge, s.hovered_face) = match (s.mode, mouse) {
+        let hovered = match (self.selection.mode, mouse) {
             (_, None) => (None, None, None),
-            (SelectMode::Vertex, Some(m)) => match interaction::pick_vertex(camera, view, cage.positions(), m, 8.0) {
+            (SelectMode::Vertex, Some(m)) => match self.pick_cage_vertex(view, cage, m, 8.0) {
                 Some(v) => (Some(v), None, None),
-                None => (None, interaction::pick_edge(camera, view, cage, m, 5.0), None),
+                None => (None, self.pick_cage_edge(view, cage, m, 5.0), None),
             },
-            (SelectMode::Edge, Some(m)) => (None, interaction::pick_edge(camera, view, cage, m, 8.0), None),
-            (SelectMode::Face, Some(m)) => (None, None, pick_face(camera, view, cage, m)),
+            (SelectMode::Edge, Some(m)) => (None, self.pick_cage_edge(view, cage, m, 8.0), None),
+            (SelectMode::Face, Some(m)) => (None, None, self.pick_cage_face(view, cage, m)),
         };
+        let s = &mut self.selection;
+        (s.hovered_vertex, s.hovered_edge, s.hovered_face) = hovered;
     }
 
     /// A click or a press at `at` picked nothing in the current mode: where a vertex, an edge or a
     /// face of another mode lies there, says so (a click on empty space stays silent).
     pub(super) fn say_missed_pick(&mut self, view: &ViewportRect, cage: &PolyMesh, at: Vec2) {
-        let camera = &self.camera;
         let mode = self.selection.mode;
-        let other = if mode != SelectMode::Vertex
-            && interaction::pick_vertex(camera, view, cage.positions(), at, 8.0).is_some()
-        {
+        let other = if mode != SelectMode::Vertex && self.pick_cage_vertex(view, cage, at, 8.0).is_some() {
             Some("a vertex")
-        } else if mode == SelectMode::Face && interaction::pick_edge(camera, view, cage, at, 8.0).is_some() {
+        } else if mode == SelectMode::Face && self.pick_cage_edge(view, cage, at, 8.0).is_some() {
             Some("an edge")
-        } else if mode != SelectMode::Face && pick_face(camera, view, cage, at).is_some() {
+        } else if mode != SelectMode::Face && self.pick_cage_face(view, cage, at).is_some() {
             Some("a face")
         } else {
             None
@@ -385,25 +382,23 @@ impl EditorState {
         origin: Vec2,
         shift: bool,
     ) -> Option<()> {
-        let camera = &self.camera;
-        let s = &mut self.selection;
-        match s.mode {
+        match self.selection.mode {
             SelectMode::Vertex => {
-                let v = interaction::pick_vertex(camera, view, cage.positions(), origin, 8.0)?;
-                if !s.vertices.contains(&v) {
-                    s.click_vertex(v, shift);
+                let v = self.pick_cage_vertex(view, cage, origin, 8.0)?;
+                if !self.selection.vertices.contains(&v) {
+                    self.selection.click_vertex(v, shift);
                 }
             }
             SelectMode::Edge => {
-                let e = interaction::pick_edge(camera, view, cage, origin, 8.0)?;
-                if !s.edges.contains(&e) {
-                    s.click_edge(e, shift);
+                let e = self.pick_cage_edge(view, cage, origin, 8.0)?;
+                if !self.selection.edges.contains(&e) {
+                    self.selection.click_edge(e, shift);
                 }
             }
             SelectMode::Face => {
-                let f = pick_face(camera, view, cage, origin)?;
-                if !s.faces.contains(&f) {
-                    s.click_face(f, shift);
+                let f = self.pick_cage_face(view, cage, origin)?;
+                if !self.selection.faces.contains(&f) {
+                    self.selection.click_face(f, shift);
                 }
             }
         }
@@ -447,10 +442,8 @@ impl EditorState {
         let add = modifiers.shift;
         if modifiers.alt {
             let cage = self.display_cage();
-            let edge = self
-                .selection
-                .hovered_edge
-                .or_else(|| mouse.and_then(|m| interaction::pick_edge(&self.camera, view, &cage, m, 8.0)));
+            let edge =
+                self.selection.hovered_edge.or_else(|| mouse.and_then(|m| self.pick_cage_edge(view, &cage, m, 8.0)));
             if let Some(e) = edge {
                 select_loop_or_ring(&self.document.doc().cage, &mut self.selection, e, modifiers.command, add);
             }

@@ -46,6 +46,8 @@ pub enum Action {
     CyclePivot,
     /// Mirror modelling on or off (Mesh ▸ Mirror chooses the plane).
     ToggleMirror,
+    /// X-ray: the back of the cage drawn and picked too, or dimmed and left alone.
+    ToggleXray,
 }
 
 impl Action {
@@ -93,6 +95,10 @@ const fn shift(key: Key, action: Action) -> Shortcut {
     Shortcut { key, command: false, shift: true, alt: false, action }
 }
 
+const fn alt(key: Key, action: Action) -> Shortcut {
+    Shortcut { key, command: false, shift: false, alt: true, action }
+}
+
 const fn ctrl_shift(key: Key, action: Action) -> Shortcut {
     Shortcut { key, command: true, shift: true, alt: false, action }
 }
@@ -136,6 +142,7 @@ pub const SHORTCUTS: &[Shortcut] = &[
     plain(Key::W, Action::ToggleGizmo),
     shift(Key::S, Action::CyclePivot),
     shift(Key::M, Action::ToggleMirror),
+    alt(Key::Z, Action::ToggleXray),
 ];
 
 impl Shortcut {
@@ -223,6 +230,7 @@ pub fn describe(action: Action) -> &'static str {
         Action::ToggleGizmo => "Show or hide the transform gizmo",
         Action::CyclePivot => "Pivot: median, bounding box, 3D cursor, active vertex in turn",
         Action::ToggleMirror => "Mirror modelling on or off (the plane last chosen in the Mesh menu's Mirror entry)",
+        Action::ToggleXray => "X-ray on or off: off, the back of the cage is dimmed and cannot be picked",
     }
 }
 

@@ -45,6 +45,9 @@ pub struct Display {
     /// `None`: automatic (robust percentiles).
     pub fixed_range: Option<(f64, f64)>,
     pub show_cage: bool,
+    /// X-ray (Alt+Z): the back of the cage drawn like the front and picked too
+    /// ([`super::xray`]). Off by default: hidden parts are dimmed and not picked.
+    pub xray: bool,
     pub show_wire: bool,
     pub show_curves: bool,
     /// Curvature combs: the longest tooth as a fraction of the model's size.
@@ -64,6 +67,7 @@ impl Default for Display {
             compare: CompareMode::Off,
             fixed_range: None,
             show_cage: true,
+            xray: false,
             show_wire: false,
             show_curves: false,
             comb_length: 0.12,
@@ -194,6 +198,8 @@ pub struct EditorState {
     pub gizmo: super::gizmo::GizmoSettings,
     /// The mirror option's editing state ([`super::mirror`]).
     pub mirror: super::mirror::MirrorEditing,
+    /// What the eye saw of the cage when last asked ([`super::xray`]).
+    pub(super) visibility: std::cell::RefCell<super::xray::VisibilityCache>,
 }
 
 impl EditorState {
@@ -226,6 +232,7 @@ impl EditorState {
             mirror: Default::default(),
             selection_history: Default::default(),
             refused_edit: None,
+            visibility: Default::default(),
         };
         state.load_curves_view();
         state.frame_all();
@@ -413,6 +420,11 @@ impl EditorState {
                 selected_faces: self.selection.faces.clone(),
                 hovered_face: self.selection.hovered_face,
                 face_dots: self.selection.mode == SelectMode::Face,
+                hidden: self.cage_seen().map(|seen| overlay::Hidden {
+                    vertices: seen.vertices.iter().map(|&s| !s).collect(),
+                    edges: seen.edges.iter().map(|&s| !s).collect(),
+                    faces: seen.faces.iter().map(|&s| !s).collect(),
+                }),
             };
             let controls = if doc.scheme.is_subdivision() {
                 CageControls::Creases { sharpness: &doc.crease }

@@ -319,6 +319,7 @@ impl EditorState {
             Action::ToggleGizmo => self.toggle_gizmo(),
             Action::CyclePivot => self.cycle_pivot(),
             Action::ToggleMirror => self.toggle_mirror(),
+            Action::ToggleXray => self.toggle_xray(),
         }
     }
 

@@ -168,7 +168,7 @@ impl EditorState {
                 if !band.add {
                     self.selection.clear();
                 }
-                let boxed = interaction::box_select(&self.camera, &view, cage.positions(), band.from, band.to);
+                let boxed = self.box_cage(&view, &cage, band.from, band.to);
                 self.box_select_in_mode(boxed);
             }
         }

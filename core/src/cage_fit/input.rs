@@ -234,6 +234,12 @@ fn prepare(mut positions: Vec<DVec3>, input: &[[u32; 3]]) -> Result<DenseMesh> {
             input.len()
         )));
     }
+    if report.zero_area == triangles.len() {
+        return Err(Error::Input(format!(
+            "the surface has no area: its {} triangles all have their corners on a line; a cage needs a surface to fit",
+            triangles.len()
+        )));
+    }
 
     report.flipped = orient(&positions, &mut triangles);
     let uses = EdgeUses::new(&triangles);
@@ -425,6 +431,18 @@ mod tests {
         assert!(m.is_closed());
         assert!((m.signed_volume() - 1.0 / 6.0).abs() < 1e-15);
         assert!(m.report().notes().is_empty(), "{:?}", m.report().notes());
+    }
+
+    #[test]
+    fn a_surface_without_area_is_refused() {
+        let p = vec![DVec3::ZERO, DVec3::X, DVec3::X * 2.0, DVec3::X * 3.0];
+        let err = DenseMesh::from_triangles(p.clone(), &[[0, 1, 2], [1, 2, 3]]).unwrap_err().to_string();
+        assert!(err.contains("no area") && err.contains("2 triangles"), "{err}");
+        // One flat triangle beside a real one is kept (dropping it would open a crack).
+        let mut q = p;
+        q.push(DVec3::Y);
+        let dense = DenseMesh::from_triangles(q, &[[0, 1, 2], [0, 1, 4]]).unwrap();
+        assert_eq!(dense.report.zero_area, 1);
     }
 
     #[test]

@@ -53,6 +53,14 @@ impl SurfaceIndex {
     pub fn cast(&self, origin: DVec3, direction: DVec3, max: f64) -> Option<f64> {
         self.mesh.cast_local_ray(&Ray::new(to_parry(origin), to_parry(direction)), max, false)
     }
+
+    /// Like [`cast`](Self::cast), with the index of the triangle met (in the order given to
+    /// [`new`](Self::new)).
+    pub fn cast_to_triangle(&self, origin: DVec3, direction: DVec3, max: f64) -> Option<(f64, usize)> {
+        let ray = Ray::new(to_parry(origin), to_parry(direction));
+        let hit = self.mesh.cast_local_ray_and_get_normal(&ray, max, false)?;
+        Some((hit.time_of_impact, hit.subshape as usize % self.mesh.num_triangles().max(1)))
+    }
 }
 
 #[cfg(test)]
@@ -69,5 +77,8 @@ mod tests {
         assert!((t - 3.0).abs() < 1e-12);
         assert!(index.cast(DVec3::new(0.5, 0.5, 3.0), DVec3::Z, 10.0).is_none());
         assert!(index.cast(DVec3::new(0.5, 0.5, 3.0), -DVec3::Z, 2.0).is_none());
+        // Below the diagonal x = y lies the first triangle, above it the second.
+        assert_eq!(index.cast_to_triangle(DVec3::new(0.7, 0.2, 1.0), -DVec3::Z, 10.0).map(|h| h.1), Some(0));
+        assert_eq!(index.cast_to_triangle(DVec3::new(0.2, 0.7, -1.0), DVec3::Z, 10.0).map(|h| h.1), Some(1));
     }
 }
