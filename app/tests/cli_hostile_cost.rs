@@ -92,8 +92,9 @@ fn parts_euler(obj: &str) -> Vec<i64> {
             parent[a] = b;
         }
     }
-    let mut by_part: std::collections::BTreeMap<usize, (i64, std::collections::BTreeSet<(usize, usize)>, i64)> =
-        Default::default();
+    // Per part: vertices, edges (as vertex pairs) and faces.
+    type Part = (i64, std::collections::BTreeSet<(usize, usize)>, i64);
+    let mut by_part: std::collections::BTreeMap<usize, Part> = Default::default();
     for v in 0..vertices {
         let r = find(&mut parent, v);
         by_part.entry(r).or_default().0 += 1;

@@ -160,9 +160,12 @@ impl AestheticSegment {
         let segment = AestheticSegment { form, origin: p0, axis_x, axis_y, scale };
         // A turn of a few 1e-12 radians passes the collinearity check but leaves the standard
         // integral at rounding level: its numbers are not finite (or not meaningful). Refuse it.
-        if !(chord > 0.0 && scale.is_finite() && axis_x.is_finite() && axis_y.is_finite())
-            || !(segment.length().is_finite() && segment.lambda().is_finite())
-        {
+        let finite = scale.is_finite()
+            && axis_x.is_finite()
+            && axis_y.is_finite()
+            && segment.length().is_finite()
+            && segment.lambda().is_finite();
+        if !(chord > 0.0 && finite) {
             return Err(Error::Input(format!(
                 "the three control points are almost collinear (the end tangents turn by {:.3e}°): the segment \
                  cannot be computed in floating point; move the middle point further off the line",

@@ -103,7 +103,7 @@ fn simplify_to(
     // tiny input or a retry above the asked target would otherwise reach; and on indices past
     // the vertex data or a count that is not whole triangles.
     let target_indices = (3 * target_faces.max(1)).min(indices.len());
-    if indices.len() % 3 != 0 || indices.iter().any(|&i| i as usize >= dense.positions.len()) {
+    if !indices.len().is_multiple_of(3) || indices.iter().any(|&i| i as usize >= dense.positions.len()) {
         return Err(Error::Input("the triangles refer to vertices the mesh does not have".into()));
     }
     // No error bound (1 is the whole extent): the face count decides.

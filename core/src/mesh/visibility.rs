@@ -80,7 +80,7 @@ pub fn visibility_from(mesh: &PolyMesh, eye: DVec3) -> Visibility {
     let seen = |sample: DVec3, holds: &dyn Fn(FaceId) -> bool| -> bool {
         let to = sample - eye;
         let distance = to.length();
-        if !(distance > 0.0) {
+        if distance.is_nan() || distance <= 0.0 {
             return true;
         }
         let direction = to / distance;
