@@ -288,9 +288,10 @@ fn extrude_the_top_face_of_a_new_cube_move_it_up_and_save() {
     // Face mode (Tab twice: vertex, edge, face), click the top face, E, then G Z 1 Enter moves it
     // up by exactly 1 (also when E itself starts the move: G is then ignored, Z 1 Enter set it).
     // (A whole number: a typed '.' is lost in a real window today, so "0.5" would move by 5.)
-    // The new cube is framed the same way every time; its top face's middle is at (659, 129).
+    // The new cube is framed whole, the same way every time; its top face's middle is at
+    // (645, 187).
     xdotool(&display, &["windowfocus", "--sync", &window]);
-    xdotool(&display, &["mousemove", "659", "129"]);
+    xdotool(&display, &["mousemove", "645", "187"]);
     keys(&display, &["Tab", "Tab"]);
     xdotool(&display, &["click", "1"]);
     std::thread::sleep(Duration::from_millis(600));
@@ -298,7 +299,9 @@ fn extrude_the_top_face_of_a_new_cube_move_it_up_and_save() {
     let after = settled(&display, &dir.join("after.png"));
     let (w, h) = after.dimensions();
     let moved = changed(&before, &after, 0, 0, w, h * 85 / 100);
-    assert!(moved > 0.03, "the screen did not change after extruding and moving ({moved:.4})");
+    // The face goes up out of the framed view over an evenly shaded surface: a few percent of
+    // the pixels change (selecting alone changes under half a percent).
+    assert!(moved > 0.02, "the screen did not change after extruding and moving ({moved:.4})");
 
     // Save As (Ctrl+Shift+S): the path field, cleared and typed.
     xdotool(&display, &["key", "ctrl+shift+s"]);

@@ -116,6 +116,46 @@ fn the_typed_open_path_survives_discard_changes() {
     assert!(has_label(&harness, "Save the changes to cage.taut first?"));
 }
 
+/// "Save changes?" ▸ Save on an untitled document asks for a path, saves there and then opens
+/// the file that was asked for; cancelling that Save As keeps the work open and unsaved.
+#[test]
+fn save_on_an_untitled_document_then_opens_what_was_asked() {
+    let (other, _) = saved_cube("save-then-open");
+    let target = other.with_file_name("my-work.taut");
+    let mut doc = primitives::cube();
+    doc.cage.positions_mut()[0] = DVec3::new(-0.5, -0.5, -0.5);
+    let mut harness = editor_on(doc);
+    harness.state_mut().editor.edit(Edit::MoveVertices(vec![(VertexId(7), DVec3::splat(1.3))]));
+    harness.run_steps(2);
+    let work = harness.state().editor.document.doc().clone();
+    let ask_to_open = |harness: &mut Harness<'_, App>| {
+        let mut ui_state = std::mem::take(&mut harness.state_mut().ui);
+        harness.state_mut().editor.path_chosen(super::ui::PathPurpose::Open, other.clone(), &mut ui_state);
+        harness.state_mut().ui = ui_state;
+        harness.run_steps(2);
+        harness.get_by_label("Save").click();
+        harness.run_steps(3);
+    };
+
+    // Cancelled Save As: nothing opens, the work stays.
+    ask_to_open(&mut harness);
+    harness.get_by_label("Cancel").click();
+    harness.run_steps(3);
+    let editor = &harness.state().editor;
+    assert_eq!(editor.document.doc(), &work);
+    assert!(editor.document.is_dirty() && editor.document.path().is_none());
+    assert!(harness.state().ui.after_save.is_none(), "the waiting Open went with the cancelled Save As");
+
+    // Saved: the work is in its file, then the asked-for file opens.
+    ask_to_open(&mut harness);
+    type_path(&mut harness, &target.display().to_string());
+    let saved = taut_core::Document::load(&target).expect("the work was saved");
+    assert_eq!(saved.cage.positions(), work.cage.positions());
+    let editor = &harness.state().editor;
+    assert_eq!(editor.document.path(), Some(other.as_path()), "the asked-for file opened: {:?}", editor.notice);
+    assert_eq!(editor.document.doc(), &primitives::cube());
+}
+
 /// The smoothed surface's box in normalised device coordinates as the viewport shows it.
 fn projected_box(harness: &Harness<'_, App>) -> (glam::Vec2, glam::Vec2) {
     let editor = &harness.state().editor;

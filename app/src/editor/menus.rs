@@ -269,6 +269,8 @@ impl EditorState {
                             self.run_pending(action, ui_state);
                         }
                     } else {
+                        // Untitled: the open, new or quit waits for the Save As.
+                        ui_state.after_save = Some(action);
                         self.ask_path(PathPurpose::SaveAs, ui_state);
                     }
                 }
@@ -295,6 +297,14 @@ impl EditorState {
                 Some(true) => self.save_as(&path),
                 Some(false) => {}
                 None => ui_state.replace = Some(path),
+            }
+        }
+        // The Save As that "save changes?" asked for is over: saved, the waiting action runs;
+        // cancelled (or failed), it goes and the work stays open.
+        if ui_state.after_save.is_some() && ui_state.path_dialog.is_none() && ui_state.replace.is_none() {
+            let action = ui_state.after_save.take();
+            if let Some(action) = action.filter(|_| !self.document.is_dirty()) {
+                self.run_pending(action, ui_state);
             }
         }
         if let Some(recovery) = ui_state.recovery.take() {

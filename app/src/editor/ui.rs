@@ -99,6 +99,9 @@ pub struct UiState {
     pub pending: Option<Pending>,
     /// A Save As onto a file that exists, waiting for "replace it?".
     pub replace: Option<PathBuf>,
+    /// An action waiting for the Save As that "save changes?" asked for on an untitled
+    /// document: it runs once the document is saved, and goes when the Save As is cancelled.
+    pub after_save: Option<Pending>,
     /// A crash recovery offered at start.
     pub recovery: Option<Recovery>,
     /// Set when the editor should close.

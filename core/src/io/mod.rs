@@ -190,9 +190,11 @@ fn read_soup(path: &Path, options: &ImportOptions) -> Result<Soup> {
     Ok(soup)
 }
 
-/// The smallest model size Taut works at: below it the cross products behind normals and
-/// curvature underflow (a cube 1e-320 across has zero normals), so such a file is refused.
-pub const MIN_MODEL_SIZE: f64 = 1e-100;
+/// The smallest model size Taut works at: the smallest normal double (about 2.2e-308). Below it
+/// coordinates are subnormal and keep only a few significant bits (a cube 1e-320 across holds
+/// about ten), so such a file is refused. Everything above works at any scale: normals,
+/// curvature and the display are computed on the model scaled to unit size.
+pub const MIN_MODEL_SIZE: f64 = f64::MIN_POSITIVE;
 
 /// Refuses a mesh whose extent is positive but below [`MIN_MODEL_SIZE`].
 fn check_size(path: &Path, positions: &[DVec3]) -> Result<()> {
@@ -202,8 +204,8 @@ fn check_size(path: &Path, positions: &[DVec3]) -> Result<()> {
         return Err(Error::format(
             path,
             format!(
-                "the mesh is {size:e} across: too small for double-precision geometry (normals underflow below \
-                 {MIN_MODEL_SIZE:e}); scale it up"
+                "the mesh is {size:e} across: too small for double-precision geometry (below {MIN_MODEL_SIZE:.1e} \
+                 numbers lose their precision); scale it up"
             ),
         ));
     }

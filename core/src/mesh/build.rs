@@ -272,6 +272,21 @@ mod tests {
     }
 
     #[test]
+    fn cube_normals_are_the_same_at_any_scale_even_subnormal() {
+        let unit = cube().vertex_normals();
+        for scale in [1e-200, 1e-320, 1e300] {
+            let mut small = cube();
+            for p in small.positions_mut() {
+                *p *= scale;
+            }
+            let normals = small.vertex_normals();
+            for (a, b) in normals.iter().zip(&unit) {
+                assert!((*a - *b).length() < 1e-12, "scale {scale:e}: {a} against {b}");
+            }
+        }
+    }
+
+    #[test]
     fn cube_is_a_closed_genus_zero_surface() {
         let m = cube();
         m.validate().unwrap();

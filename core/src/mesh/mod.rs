@@ -260,8 +260,9 @@ impl PolyMesh {
         let Some((lo, hi)) = self.bounding_box() else { return normals };
         let centre = lo * 0.5 + hi * 0.5;
         let half = (hi * 0.5 - lo * 0.5).max_element();
-        let scale = if half > 0.0 && half.is_finite() { 1.0 / half } else { 1.0 };
-        let unit = |v: VertexId| (self.position(v) - centre) * scale;
+        // Divided rather than multiplied by the reciprocal, which overflows for a subnormal half.
+        let half = if half > 0.0 && half.is_finite() { half } else { 1.0 };
+        let unit = |v: VertexId| (self.position(v) - centre) / half;
         for f in self.faces() {
             let mut n = DVec3::ZERO;
             for h in self.face_halfedges(f) {
