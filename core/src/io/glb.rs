@@ -14,7 +14,6 @@ use ::gltf::json::accessor::{ComponentType, GenericComponentType, Type};
 use ::gltf::json::mesh::{Mode, Semantic};
 use ::gltf::json::validation::{Checked, USize64};
 use ::gltf::json::{self, Index};
-use std::borrow::Cow;
 use std::collections::BTreeMap;
 use std::path::Path;
 
@@ -48,12 +47,9 @@ pub fn glb_bytes(mesh: &PolyMesh, normals: Option<&[DVec3]>) -> Result<Vec<u8>> 
             if n == glam::Vec3::ZERO || !n.is_finite() { [0.0, 1.0, 0.0] } else { n.to_array() }
         })
         .collect();
-    let indices: Vec<u32> = mesh.triangles().into_iter().flatten().collect();
-    let mut bin = Vec::with_capacity(24 * positions.len() + 4 * indices.len());
-    bin.extend(positions.iter().flatten().flat_map(|c| c.to_le_bytes()));
-    bin.extend(normals.iter().flatten().flat_map(|c| c.to_le_bytes()));
-    bin.extend(indices.iter().flat_map(|i| i.to_le_bytes()));
-    if bin.len() > (u32::MAX as usize) - (1 << 20) {
+    let triangles = mesh.triangles();
+    let bin_len = 24 * positions.len() + 12 * triangles.len();
+    if bin_len > (u32::MAX as usize) - (1 << 20) {
         return Err(Error::Input("the mesh is too large for a binary glTF file (4 GiB)".into()));
     }
 
@@ -65,7 +61,7 @@ pub fn glb_bytes(mesh: &PolyMesh, normals: Option<&[DVec3]>) -> Result<Vec<u8>> 
         ..Default::default()
     };
     let buffer = root.push(json::Buffer {
-        byte_length: USize64::from(bin.len()),
+        byte_length: USize64::from(bin_len),
         name: None,
         uri: None,
         extensions: None,
@@ -88,7 +84,7 @@ pub fn glb_bytes(mesh: &PolyMesh, normals: Option<&[DVec3]>) -> Result<Vec<u8>> 
     let views = [
         view(0, 12 * n, ArrayBuffer),
         view(12 * n, 12 * n, ArrayBuffer),
-        view(24 * n, 4 * indices.len(), ElementArrayBuffer),
+        view(24 * n, 12 * triangles.len(), ElementArrayBuffer),
     ];
     let mut accessor =
         |view: Index<json::buffer::View>, count: usize, component, ty, bounds: Option<([f32; 3], [f32; 3])>| {
@@ -109,7 +105,7 @@ pub fn glb_bytes(mesh: &PolyMesh, normals: Option<&[DVec3]>) -> Result<Vec<u8>> 
         };
     let position_accessor = accessor(views[0], n, ComponentType::F32, Type::Vec3, Some((lo, hi)));
     let normal_accessor = accessor(views[1], n, ComponentType::F32, Type::Vec3, None);
-    let index_accessor = accessor(views[2], indices.len(), ComponentType::U32, Type::Scalar, None);
+    let index_accessor = accessor(views[2], 3 * triangles.len(), ComponentType::U32, Type::Scalar, None);
     let primitive = json::mesh::Primitive {
         attributes: BTreeMap::from([
             (Checked::Valid(Semantic::Positions), position_accessor),
@@ -134,12 +130,52 @@ pub fn glb_bytes(mesh: &PolyMesh, normals: Option<&[DVec3]>) -> Result<Vec<u8>> 
     root.scene = Some(scene);
 
     let json = json::serialize::to_vec(&root).map_err(|e| Error::Input(format!("cannot encode the glTF JSON: {e}")))?;
-    let glb = ::gltf::binary::Glb {
-        header: ::gltf::binary::Header { magic: *b"glTF", version: 2, length: 0 }, // the writer fills in the length
-        json: Cow::Owned(json),
-        bin: Some(Cow::Owned(bin)),
-    };
-    glb.to_vec().map_err(|e| Error::Input(format!("cannot encode the binary glTF: {e}")))
+    // The container (spec §4.4): a 12-byte header, then the JSON chunk padded with spaces and the
+    // BIN chunk padded with zeros to 4 bytes, each behind its length and type. Written in one
+    // buffer of its final size, the arrays copied in as they lie in memory (little-endian).
+    let (json_padded, bin_padded) = (json.len().next_multiple_of(4), bin_len.next_multiple_of(4));
+    let total = 12 + 8 + json_padded + 8 + bin_padded;
+    let mut glb = Vec::with_capacity(total);
+    glb.extend_from_slice(b"glTF");
+    glb.extend_from_slice(&2u32.to_le_bytes());
+    glb.extend_from_slice(&(total as u32).to_le_bytes());
+    glb.extend_from_slice(&(json_padded as u32).to_le_bytes());
+    glb.extend_from_slice(b"JSON");
+    glb.extend_from_slice(&json);
+    glb.resize(20 + json_padded, b' ');
+    glb.extend_from_slice(&(bin_padded as u32).to_le_bytes());
+    glb.extend_from_slice(b"BIN\0");
+    extend_le(&mut glb, bytemuck::cast_slice::<[f32; 3], f32>(&positions));
+    extend_le(&mut glb, bytemuck::cast_slice::<[f32; 3], f32>(&normals));
+    extend_le(&mut glb, bytemuck::cast_slice::<[u32; 3], u32>(&triangles));
+    glb.resize(total, 0);
+    Ok(glb)
+}
+
+/// Appends 4-byte numbers in little-endian order: a plain copy on little-endian machines.
+fn extend_le<T: bytemuck::Pod + LittleEndian>(out: &mut Vec<u8>, values: &[T]) {
+    if cfg!(target_endian = "little") {
+        out.extend_from_slice(bytemuck::cast_slice(values));
+    } else {
+        values.iter().for_each(|v| out.extend_from_slice(&v.le_bytes()));
+    }
+}
+
+/// A 4-byte number's little-endian bytes.
+trait LittleEndian {
+    fn le_bytes(&self) -> [u8; 4];
+}
+
+impl LittleEndian for f32 {
+    fn le_bytes(&self) -> [u8; 4] {
+        self.to_le_bytes()
+    }
+}
+
+impl LittleEndian for u32 {
+    fn le_bytes(&self) -> [u8; 4] {
+        self.to_le_bytes()
+    }
 }
 
 /// Writes the mesh as a binary glTF (`.glb`) file, atomically, keeping its vertex order.

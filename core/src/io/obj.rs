@@ -21,7 +21,6 @@ use super::UpAxis;
 use super::soup::Soup;
 use crate::mesh::PolyMesh;
 use crate::{DVec3, Error, Result};
-use std::fmt::Write as _;
 use std::path::Path;
 
 /// Reads an OBJ file into a polygon soup in Taut's axes (not yet welded).
@@ -174,24 +173,25 @@ fn parse_vertex<'a>(mut words: impl Iterator<Item = &'a [u8]>) -> std::result::R
     Ok(p)
 }
 
+/// Vertices or faces encoded per task when the OBJ text is made in parallel.
+const OBJ_CHUNK: usize = 8192;
+
 /// The mesh as OBJ text in the axes `up`: `v` positions, `vn` normals (the given ones, or
 /// area-weighted vertex normals), `s 1` and `f v//vn` polygons, vertex *i* of the mesh being
 /// vertex *i* + 1 of the file.
+///
+/// Numbers are written in the shortest form that reads back to the same f64 (`zmij`, the
+/// formatter serde_json uses; indices by `itoa`), in chunks of [`OBJ_CHUNK`] lines encoded in
+/// parallel and joined in order, so the text is the same on any number of threads.
 pub fn obj_text(mesh: &PolyMesh, normals: Option<&[DVec3]>, up: UpAxis) -> String {
-    let mut out = String::with_capacity(64 * mesh.vertex_count() + 32 * mesh.halfedge_count());
-    let _ = writeln!(
-        out,
-        "# Taut {} surface: {} vertices, {} faces, {} up",
+    use rayon::prelude::*;
+    let header = format!(
+        "# Taut {} surface: {} vertices, {} faces, {} up\n",
         env!("CARGO_PKG_VERSION"),
         mesh.vertex_count(),
         mesh.face_count(),
         up.name()
     );
-    for &p in mesh.positions() {
-        let p = up.from_taut(p);
-        // `{:?}` is Rust's shortest representation that reads back to the same f64.
-        let _ = writeln!(out, "v {:?} {:?} {:?}", p.x, p.y, p.z);
-    }
     let computed;
     let normals = match normals {
         Some(n) if n.len() == mesh.vertex_count() => n,
@@ -200,19 +200,53 @@ pub fn obj_text(mesh: &PolyMesh, normals: Option<&[DVec3]>, up: UpAxis) -> Strin
             &computed
         }
     };
-    for &n in normals {
-        let n = up.from_taut(n);
-        let _ = writeln!(out, "vn {:?} {:?} {:?}", n.x, n.y, n.z);
-    }
-    out.push_str("s 1\n");
-    for f in mesh.faces() {
-        out.push('f');
-        for v in mesh.face_vertices(f) {
-            let _ = write!(out, " {0}//{0}", v.0 + 1);
-        }
-        out.push('\n');
-    }
-    out
+    let points = |tag: &'static [u8], points: &[DVec3]| -> Vec<Vec<u8>> {
+        points
+            .par_chunks(OBJ_CHUNK)
+            .map(|chunk| {
+                let mut text = Vec::with_capacity(chunk.len() * 64);
+                let mut float = zmij::Buffer::new();
+                for &p in chunk {
+                    let p = up.from_taut(p);
+                    text.extend_from_slice(tag);
+                    for c in [p.x, p.y, p.z] {
+                        text.push(b' ');
+                        text.extend_from_slice(float.format(c).as_bytes());
+                    }
+                    text.push(b'\n');
+                }
+                text
+            })
+            .collect()
+    };
+    let faces: Vec<Vec<u8>> = (0..mesh.face_count().div_ceil(OBJ_CHUNK))
+        .into_par_iter()
+        .map(|k| {
+            let range = k * OBJ_CHUNK..((k + 1) * OBJ_CHUNK).min(mesh.face_count());
+            let mut text = Vec::with_capacity(range.len() * 40);
+            let mut int = itoa::Buffer::new();
+            for f in range {
+                text.push(b'f');
+                for v in mesh.face_vertices(crate::FaceId(f as u32)) {
+                    let index = int.format(v.0 + 1).as_bytes();
+                    text.push(b' ');
+                    text.extend_from_slice(index);
+                    text.extend_from_slice(b"//");
+                    text.extend_from_slice(index);
+                }
+                text.push(b'\n');
+            }
+            text
+        })
+        .collect();
+    let (positions, normals) = (points(b"v", mesh.positions()), points(b"vn", normals));
+    let body: usize = [&positions, &normals, &faces].iter().flat_map(|c| c.iter()).map(Vec::len).sum();
+    let mut bytes = Vec::with_capacity(header.len() + body + 4);
+    bytes.extend_from_slice(header.as_bytes());
+    positions.iter().chain(&normals).for_each(|c| bytes.extend_from_slice(c));
+    bytes.extend_from_slice(b"s 1\n");
+    faces.iter().for_each(|c| bytes.extend_from_slice(c));
+    String::from_utf8(bytes).expect("OBJ text is ASCII")
 }
 
 /// Writes the mesh as an OBJ file (atomically), keeping its vertex order.
@@ -311,6 +345,27 @@ mod tests {
             .map(|w| w.parse().unwrap())
             .collect();
         assert!((DVec3::from_slice(&vn) - expected).length() < 1e-12);
+    }
+
+    #[test]
+    fn a_text_of_many_chunks_is_the_same_on_any_thread_count_and_reads_back_exactly() {
+        // 200 × 100 quads: more vertices and faces than two chunks, with awkward coordinates.
+        let mut mesh = crate::mesh::primitives::quad_grid(200, 100, 13.0, 1e-3).unwrap();
+        for (i, p) in mesh.positions_mut().iter_mut().enumerate() {
+            p.z = (i as f64).sqrt() * 1e-7 - 3.0e5 * (i % 7) as f64;
+        }
+        assert!(mesh.vertex_count() > 2 * OBJ_CHUNK && mesh.face_count() > OBJ_CHUNK);
+        let on = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            pool.install(|| obj_text(&mesh, None, UpAxis::Z))
+        };
+        let text = on(1);
+        assert_eq!(on(4), text);
+        let back = parse(&text).unwrap();
+        let bits = |v: &[DVec3]| v.iter().map(|p| p.to_array().map(f64::to_bits)).collect::<Vec<_>>();
+        assert_eq!(bits(&back.positions), bits(mesh.positions()));
+        assert_eq!(back.faces.to_vecs(), mesh.polygons());
+        assert_eq!(text.lines().filter(|l| l.starts_with("vn ")).count(), mesh.vertex_count());
     }
 
     #[test]
