@@ -54,6 +54,8 @@ fn a_click_on_the_hidden_corner_selects_it_only_with_x_ray() {
     let p = at(&h);
     click(&mut h, p);
     assert!(!h.state().editor.selection.vertices.contains(&far), "a hidden corner is not picked");
+    let notice = h.state().editor.notice.clone().expect("the click says why nothing was picked");
+    assert!(notice.text.contains("behind the cage's front") && notice.text.contains("Alt+Z"), "{}", notice.text);
     assert!(!h.state().editor.overlays().points.is_empty());
 
     alt_z(&mut h);

@@ -129,8 +129,6 @@ pub fn pick_vertex_where(
 /// within [`PICK_TIE_PX`] go to the one in front at the closest point). Edges are clipped to the
 /// camera's depth range first, so an edge reaching behind the camera is picked by its visible
 /// part only.
-// The reference the picking tests check against; the editor picks through `pick_edge_where`.
-#[cfg_attr(not(test), allow(dead_code))]
 pub fn pick_edge(camera: &Camera, rect: &ViewportRect, mesh: &PolyMesh, mouse: Vec2, radius_px: f32) -> Option<EdgeId> {
     pick_edge_where(camera, rect, mesh, mouse, radius_px, |_| true)
 }

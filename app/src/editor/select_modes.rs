@@ -355,6 +355,18 @@ impl EditorState {
     /// face of another mode lies there, says so (a click on empty space stays silent).
     pub(super) fn say_missed_pick(&mut self, view: &ViewportRect, cage: &PolyMesh, at: Vec2) {
         let mode = self.selection.mode;
+        // An element of this mode lies there, behind the cage's front: X-ray picks it.
+        let behind = !self.display.xray
+            && match mode {
+                SelectMode::Vertex => interaction::pick_vertex(&self.camera, view, cage.positions(), at, 8.0).is_some(),
+                SelectMode::Edge => interaction::pick_edge(&self.camera, view, cage, at, 8.0).is_some(),
+                SelectMode::Face => false,
+            };
+        if behind {
+            let name = mode.name();
+            self.notify(format!("the {name} there is behind the cage's front: X-ray (Alt+Z) picks it"), false);
+            return;
+        }
         let other = if mode != SelectMode::Vertex && self.pick_cage_vertex(view, cage, at, 8.0).is_some() {
             Some("a vertex")
         } else if mode == SelectMode::Face && self.pick_cage_edge(view, cage, at, 8.0).is_some() {
