@@ -34,6 +34,17 @@ fn triangulate(mesh: &PolyMesh, how: Triangulation) -> taut_core::Result<PolyMes
 
 /// Their refiner for `cage`, refined uniformly to `levels`.
 fn theirs(cage: &PolyMesh, scheme: Scheme, sharpness: &[f64], levels: u32) -> TopologyRefiner {
+    theirs_with_corners(cage, scheme, sharpness, &[], levels)
+}
+
+/// [`theirs`] with vertex sharpness (their corner vertices).
+fn theirs_with_corners(
+    cage: &PolyMesh,
+    scheme: Scheme,
+    sharpness: &[f64],
+    corners: &[f64],
+    levels: u32,
+) -> TopologyRefiner {
     let sizes: Vec<usize> = cage.faces().map(|f| cage.face_valence(f)).collect();
     let indices: Vec<u32> = cage.polygons().concat();
     let mut pairs = Vec::new();
@@ -47,7 +58,14 @@ fn theirs(cage: &PolyMesh, scheme: Scheme, sharpness: &[f64], levels: u32) -> To
             weights.push(if s.is_infinite() { 10.0 } else { s as f32 });
         }
     }
-    let descriptor = TopologyDescriptor::new(cage.vertex_count(), &sizes, &indices).with_creases(&pairs, &weights);
+    let (mut corner_vertices, mut corner_weights) = (Vec::new(), Vec::new());
+    for (v, &s) in corners.iter().enumerate().filter(|(_, s)| **s > 0.0) {
+        corner_vertices.push(v as u32);
+        corner_weights.push(if s.is_infinite() { 10.0 } else { s as f32 });
+    }
+    let descriptor = TopologyDescriptor::new(cage.vertex_count(), &sizes, &indices)
+        .with_creases(&pairs, &weights)
+        .with_corners(&corner_vertices, &corner_weights);
     let scheme = match scheme {
         Scheme::CatmullClark => SchemeType::Catmark,
         Scheme::Loop => SchemeType::Loop,
@@ -110,10 +128,22 @@ fn disagreement_with(
     their_sharpness: &[f64],
     levels: u32,
 ) -> (f64, f64) {
-    let ours = Refinement::new(cage, scheme, sharpness, levels).unwrap();
+    disagreement_of_corners(cage, scheme, sharpness, (&[], &[]), their_sharpness, levels)
+}
+
+/// Like [`disagreement_with`], with vertex sharpness: ours and theirs (given apart).
+fn disagreement_of_corners(
+    cage: &PolyMesh,
+    scheme: Scheme,
+    sharpness: &[f64],
+    (corners, their_corners): (&[f64], &[f64]),
+    their_sharpness: &[f64],
+    levels: u32,
+) -> (f64, f64) {
+    let ours = Refinement::with_corners(cage, scheme, sharpness, corners, levels).unwrap();
     let mut out = RefinedPositions::default();
     ours.evaluate(cage.positions(), &mut out).unwrap();
-    let refiner = theirs(cage, scheme, their_sharpness, levels);
+    let refiner = theirs_with_corners(cage, scheme, their_sharpness, their_corners, levels);
     let maps = correspondence(&ours, &refiner);
     let primvar = PrimvarRefiner::new(&refiner);
     let mut theirs: Vec<[f64; 3]> = cage.positions().iter().map(|p| p.to_array()).collect();
@@ -144,7 +174,7 @@ fn disagreement_with(
         .map(|v| (out.limit[v] - DVec3::from_array(limit[map[v] as usize])).length() / size)
         .fold(0.0, f64::max);
     if !darts.is_empty() {
-        let deeper = Refinement::new(cage, scheme, sharpness, levels + 3).unwrap();
+        let deeper = Refinement::with_corners(cage, scheme, sharpness, corners, levels + 3).unwrap();
         let mut deep = RefinedPositions::default();
         deeper.evaluate_levels(cage.positions(), &mut deep).unwrap();
         for &v in &darts {
@@ -267,4 +297,59 @@ fn loop_agrees_to_f32_precision() {
             assert!(disagreement_with(&cage, Scheme::Loop, &sharpness, &[], levels).0 > 1e-3);
         }
     }
+}
+
+/// Vertex sharpness for `corners` given as `(v, s)`.
+fn corners(cage: &PolyMesh, corners: &[(u32, f64)]) -> Vec<f64> {
+    let pairs: Vec<_> = corners.iter().map(|&(v, s)| (VertexId(v), s)).collect();
+    taut_core::subdiv::corners_from_pairs(cage, &pairs).unwrap()
+}
+
+/// Corners (vertex sharpness: sharp, semi-sharp running out at each level, with and without
+/// creases through them, on the boundary and inside) agree with OpenSubdiv's in both schemes.
+#[test]
+fn corners_agree_with_opensubdiv_in_both_schemes() {
+    let c = cube();
+    let g = grid(4);
+    let p = prism();
+    let t = triangulate(&grid(4), Triangulation::Fan).unwrap();
+    let tp = triangulate(&prism(), Triangulation::ShortestDiagonal).unwrap();
+    let cases = [
+        (Scheme::CatmullClark, c.clone(), vec![], corners(&c, &[(0, f64::INFINITY), (7, 1.5), (5, 0.5)]), 3),
+        (
+            Scheme::CatmullClark,
+            c.clone(),
+            creases(&c, &[(4, 5, f64::INFINITY), (5, 7, 2.0)]),
+            corners(&c, &[(5, 2.5), (2, 1.0), (6, f64::INFINITY)]),
+            4,
+        ),
+        // Interior corners of a flat grid, one semi-sharp still left at the finest level.
+        (Scheme::CatmullClark, g.clone(), vec![], corners(&g, &[(6, f64::INFINITY), (12, 0.7), (18, 3.5)]), 3),
+        (Scheme::CatmullClark, p.clone(), vec![], corners(&p, &[(0, 2.0), (9, f64::INFINITY)]), 3),
+        (Scheme::Loop, t.clone(), vec![], corners(&t, &[(6, f64::INFINITY), (12, 1.5), (0, 0.5)]), 3),
+        (
+            Scheme::Loop,
+            tp.clone(),
+            creases(&tp, &[(0, 1, 1.0), (7, 8, f64::INFINITY)]),
+            corners(&tp, &[(1, f64::INFINITY), (8, 0.4)]),
+            3,
+        ),
+    ];
+    for (scheme, cage, sharpness, vertex, levels) in cases {
+        let (level, limit) = disagreement_of_corners(&cage, scheme, &sharpness, (&vertex, &vertex), &sharpness, levels);
+        assert!(
+            level < 1e-6 && limit < 1e-6,
+            "{scheme:?}, {} faces: level {level:.2e}, limit {limit:.2e}",
+            cage.face_count()
+        );
+        // The corners matter: against their surface without them ours differs.
+        let (without, _) = disagreement_of_corners(&cage, scheme, &sharpness, (&vertex, &[]), &sharpness, levels);
+        assert!(without > 1e-3, "{scheme:?}: {without}");
+    }
+    // A sharp corner stays where it is at every level and in the limit.
+    let ours = Refinement::with_corners(&c, Scheme::CatmullClark, &[], &corners(&c, &[(0, f64::INFINITY)]), 3).unwrap();
+    let mut out = RefinedPositions::default();
+    ours.evaluate(c.positions(), &mut out).unwrap();
+    assert_eq!(out.limit[0], c.position(VertexId(0)));
+    assert!(out.normals[0].length() > 0.99);
 }

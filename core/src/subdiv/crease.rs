@@ -11,8 +11,12 @@
 //! three or more a [`Rule::Corner`]. When the rule of a vertex changes between a level and the
 //! next (sharpness running out), its new position blends the parent rule's mask and the child
 //! rule's by the *fractional weight*: the mean sharpness of the edges that go from sharp to
-//! smooth, clamped to 1 (`Sdc::Crease::ComputeFractionalWeightAtVertex`). Per-vertex (corner)
-//! sharpness is not offered.
+//! smooth, clamped to 1 (`Sdc::Crease::ComputeFractionalWeightAtVertex`).
+//!
+//! A vertex can be sharp too (OpenSubdiv's *corner* vertices, Blender's vertex crease): a
+//! vertex sharpness `s > 0` makes it a [`Rule::Corner`] whatever its edges, decremented level by
+//! level like an edge's, and counted in the fractional weight when it runs out (with the edges
+//! that run out at the same level, as OpenSubdiv does).
 //!
 //! Boundaries are interpolated "edge only" (OpenSubdiv's `VTX_BOUNDARY_EDGE_ONLY`, the spec's
 //! rules): a boundary edge is infinitely sharp, so a boundary vertex is a crease along its two
@@ -37,6 +41,12 @@ pub enum Rule {
 }
 
 impl Rule {
+    /// The rule of a vertex of sharpness `vertex` (0: not a corner) with `sharp_edges` sharp
+    /// edges: a sharp vertex is a corner whatever its edges.
+    pub fn of(vertex: f64, sharp_edges: usize) -> Self {
+        if vertex > 0.0 { Rule::Corner } else { Rule::from_sharp_edges(sharp_edges) }
+    }
+
     /// The rule of a vertex with `sharp_edges` sharp edges.
     pub fn from_sharp_edges(sharp_edges: usize) -> Self {
         match sharp_edges {
@@ -79,6 +89,50 @@ pub fn effective_sharpness(cage: &PolyMesh, sharpness: &[f64]) -> Result<Vec<f64
     Ok(out)
 }
 
+/// Checks designer vertex sharpness values (one per cage vertex, or none) and returns them.
+pub fn effective_corners(cage: &PolyMesh, corners: &[f64]) -> Result<Vec<f64>> {
+    if corners.is_empty() {
+        return Ok(vec![0.0; cage.vertex_count()]);
+    }
+    if corners.len() != cage.vertex_count() {
+        return Err(Error::Input(format!(
+            "{} vertex sharpness values for a cage of {} vertices; give one per cage vertex (or none)",
+            corners.len(),
+            cage.vertex_count()
+        )));
+    }
+    if let Some(v) = corners.iter().position(|s| s.is_nan() || *s < 0.0) {
+        return Err(Error::Input(format!(
+            "vertex {v} has sharpness {}; use a number ≥ 0 (∞ for a sharp corner)",
+            corners[v]
+        )));
+    }
+    Ok(corners.to_vec())
+}
+
+/// Per-vertex sharpness from `(v, s)` corners (the command line's `--corner V=S`): an error names
+/// a vertex the cage does not have or a bad value. Later entries replace earlier ones.
+pub fn corners_from_pairs(cage: &PolyMesh, corners: &[(VertexId, f64)]) -> Result<Vec<f64>> {
+    let mut out = vec![0.0; cage.vertex_count()];
+    for &(v, s) in corners {
+        if v.index() >= cage.vertex_count() {
+            return Err(Error::Input(format!(
+                "a corner names vertex {}, but the cage has {} vertices",
+                v.0,
+                cage.vertex_count()
+            )));
+        }
+        if s.is_nan() || s < 0.0 {
+            return Err(Error::Input(format!(
+                "the corner at vertex {} has sharpness {s}; use a number ≥ 0 (∞ for a sharp corner)",
+                v.0
+            )));
+        }
+        out[v.index()] = s;
+    }
+    Ok(out)
+}
+
 /// Per-edge sharpness from `(a, b, s)` creases given by vertex pairs (the command line's
 /// `--crease A-B=S`): an error names a pair that is not a cage edge or a bad value. Later entries
 /// for the same edge replace earlier ones; unnamed edges are smooth.
@@ -109,11 +163,12 @@ pub fn sharpness_from_pairs(cage: &PolyMesh, creases: &[(VertexId, VertexId, f64
     Ok(out)
 }
 
-/// The fractional weight of a vertex whose incident edges have sharpness `parent`: the mean
-/// sharpness of those that become smooth one level down, clamped to 1 (0 when none does).
-pub(crate) fn fractional_weight(parent: impl Iterator<Item = f64>) -> f64 {
+/// The fractional weight of a vertex of sharpness `vertex` whose incident edges have sharpness
+/// `parent`: the mean sharpness of those (the vertex included) that become smooth one level
+/// down, clamped to 1 (0 when none does).
+pub(crate) fn fractional_weight(vertex: f64, parent: impl Iterator<Item = f64>) -> f64 {
     let (mut sum, mut count) = (0.0, 0usize);
-    for s in parent {
+    for s in std::iter::once(vertex).chain(parent) {
         if s > 0.0 && child_sharpness(s) <= 0.0 {
             sum += s;
             count += 1;
@@ -140,8 +195,12 @@ mod tests {
         assert_eq!(child_sharpness(0.3), 0.0);
         assert_eq!(child_sharpness(f64::INFINITY), f64::INFINITY);
         // Two edges running out (0.5 and 1.0) and one staying sharp: weight (0.5 + 1)/2.
-        assert_eq!(fractional_weight([0.5, 1.0, 3.0, 0.0].into_iter()), 0.75);
-        assert_eq!(fractional_weight([3.0, f64::INFINITY].into_iter()), 0.0);
+        assert_eq!(fractional_weight(0.0, [0.5, 1.0, 3.0, 0.0].into_iter()), 0.75);
+        assert_eq!(fractional_weight(0.0, [3.0, f64::INFINITY].into_iter()), 0.0);
+        // A vertex of sharpness 0.5 running out with an edge of 1.0: (0.5 + 1)/2.
+        assert_eq!(fractional_weight(0.5, [1.0, 2.0].into_iter()), 0.75);
+        assert_eq!(Rule::of(0.3, 0), Rule::Corner);
+        assert_eq!(Rule::of(0.0, 2), Rule::Crease);
         assert_eq!(Rule::from_sharp_edges(1), Rule::Dart);
         assert_eq!(Rule::from_sharp_edges(4), Rule::Corner);
     }

@@ -27,7 +27,8 @@
 //!   OpenSubdiv's closed-form masks are exact only for regular sectors). A boundary vertex has one
 //!   sector; an interior crease two, whose unit normals are averaged (the surface has a tangent
 //!   discontinuity there).
-//! - Corners stay where they are; a corner has no tangent plane, so its normal is the average
+//! - Corners (three or more sharp edges, or a vertex sharpness still left at this level) stay
+//!   where they are; a corner has no tangent plane, so its normal is the average
 //!   unit normal of the fan of triangles `(v, e_j, e_{j+1})` over its faces.
 //! - Degenerate cases: an interior vertex of valence 2 (two faces glued along two edges) uses
 //!   the pair `(e_0 − e_1, f_0 − f_1)` (Catmull–Clark) or the fan (Loop); where the geometry makes
@@ -191,6 +192,12 @@ impl LimitStencils {
     /// effective sharpness of its edges (see [`super::crease::effective_sharpness`]). Catmull–Clark
     /// needs an all-quad mesh (any level ≥ 1), Loop a triangle mesh.
     pub fn new(scheme: Scheme, mesh: &PolyMesh, sharpness: &[f64]) -> Result<Self> {
+        LimitStencils::with_corners(scheme, mesh, sharpness, &[])
+    }
+
+    /// [`LimitStencils::new`] with vertex sharpness `corners` (one per vertex, or none): a vertex
+    /// still sharp at this level is a corner and stays where it is.
+    pub fn with_corners(scheme: Scheme, mesh: &PolyMesh, sharpness: &[f64], corners: &[f64]) -> Result<Self> {
         check_faces(scheme, mesh)?;
         if sharpness.len() != mesh.edge_count() {
             return Err(Error::Input(format!(
@@ -213,11 +220,17 @@ impl LimitStencils {
                 let mut scratch = Scratch::default();
                 for v in c * CHUNK..((c + 1) * CHUNK).min(n) {
                     let before = out.ring_columns.len();
-                    if let Some(slot) = smooth_ring(scheme, mesh, &sharp, VertexId(v as u32), &mut out.ring_columns) {
+                    let corner = corners.get(v).is_some_and(|&s| s > 0.0);
+                    let ring = if corner {
+                        None
+                    } else {
+                        smooth_ring(scheme, mesh, &sharp, VertexId(v as u32), &mut out.ring_columns)
+                    };
+                    if let Some(slot) = ring {
                         out.slot.push(slot);
                     } else {
                         out.slot.push(GENERAL | out.general_pairs.len() as u32);
-                        let pairs = vertex_masks(scheme, mesh, sharp, VertexId(v as u32), &mut scratch);
+                        let pairs = vertex_masks(scheme, mesh, sharp, corner, VertexId(v as u32), &mut scratch);
                         scratch.position.push_into(&mut out.general_positions);
                         for pair in &mut scratch.pairs[..pairs] {
                             pair[0].push_into(&mut out.general_tangents);
@@ -380,7 +393,7 @@ pub fn catmull_clark_limit(mesh: &PolyMesh, v: VertexId) -> Result<(DVec3, DVec3
         return Ok(apply_ring(&RingMask::smooth(Scheme::CatmullClark, n as usize), &ring, p));
     }
     let mut scratch = Scratch::default();
-    let pairs = vertex_masks(Scheme::CatmullClark, mesh, sharpness, v, &mut scratch);
+    let pairs = vertex_masks(Scheme::CatmullClark, mesh, sharpness, false, v, &mut scratch);
     let mut position = SparseRows::with_columns(mesh.vertex_count());
     scratch.position.push_into(&mut position);
     let mut tangents = SparseRows::with_columns(mesh.vertex_count());
@@ -426,6 +439,7 @@ fn vertex_masks(
     scheme: Scheme,
     mesh: &PolyMesh,
     sharpness: impl Fn(EdgeId) -> f64,
+    corner: bool,
     v: VertexId,
     s: &mut Scratch,
 ) -> usize {
@@ -442,7 +456,7 @@ fn vertex_masks(
     let e = |j: usize| mesh.to_vertex(ring[j % n]).0;
     // The vertex across the face after edge j from v (a quad's diagonal, a triangle's e_{j+1}).
     let f = |j: usize| mesh.to_vertex(mesh.next(ring[j % n])).0;
-    match Rule::from_sharp_edges(sharp.iter().filter(|&&x| x).count()) {
+    match Rule::of(if corner { 1.0 } else { 0.0 }, sharp.iter().filter(|&&x| x).count()) {
         Rule::Smooth | Rule::Dart => {
             // Valence ≥ 3 takes the shared ring masks ([`smooth_ring`]); what reaches here is an
             // interior vertex of valence 2 (two faces glued along two edges), whose smooth

@@ -23,7 +23,7 @@ pub mod rules;
 pub mod sparse;
 pub mod topology;
 
-pub use crease::{Rule, sharpness_from_pairs};
+pub use crease::{Rule, corners_from_pairs, sharpness_from_pairs};
 pub use limit::{LimitStencils, catmull_clark_limit};
 pub use loop_limit::loop_limit_matrix;
 pub use refinement::{MAX_LEVELS, MAX_REFINED_FACES, RefinedPositions, Refinement};

@@ -19,11 +19,11 @@
 //! per finest face and its [`RefinedPositions`] about 90 more (measured on a level-3
 //! Catmull–Clark torus, [`Refinement::memory_bytes`]), so the bound keeps one under about 1 GB.
 
-use super::crease::{Rule, child_sharpness, effective_sharpness};
+use super::crease::{Rule, child_sharpness, effective_corners, effective_sharpness};
 use super::limit::LimitStencils;
 use super::rules::{Scheme, level_stencils};
 use super::sparse::{SparseRows, Users};
-use super::topology::{SplitRule, SplitTopology};
+use super::topology::{SplitRule, SplitTopology, VertexOrigin};
 use crate::mesh::{EdgeId, PolyMesh, VertexId};
 use crate::{DVec3, Error, Result};
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -77,6 +77,8 @@ struct Level {
     split: SplitTopology,
     /// Effective sharpness of this level's edges.
     sharpness: Vec<f64>,
+    /// Sharpness of this level's vertices (corners).
+    corners: Vec<f64>,
     /// This level's positions from the previous level's.
     stencils: SparseRows,
     /// For every vertex of the previous level, the rows of `stencils` that read it.
@@ -89,6 +91,7 @@ pub struct Refinement {
     scheme: Scheme,
     cage: PolyMesh,
     cage_sharpness: Vec<f64>,
+    cage_corners: Vec<f64>,
     levels: Vec<Level>,
     limit: LimitStencils,
     /// For every vertex of the finest level, the vertices whose limit reads it.
@@ -134,7 +137,20 @@ impl Refinement {
     /// valence-2 vertices are refined by the same rules (their normals may be zero, see
     /// [`LimitStencils`]).
     pub fn new(cage: &PolyMesh, scheme: Scheme, sharpness: &[f64], levels: u32) -> Result<Self> {
+        Refinement::with_corners(cage, scheme, sharpness, &[], levels)
+    }
+
+    /// [`Refinement::new`] with vertex sharpness too: `corners` holds one sharpness per cage
+    /// vertex (`0` smooth, `f64::INFINITY` a sharp corner that stays where it is), or nothing.
+    pub fn with_corners(
+        cage: &PolyMesh,
+        scheme: Scheme,
+        sharpness: &[f64],
+        corners: &[f64],
+        levels: u32,
+    ) -> Result<Self> {
         let cage_sharpness = effective_sharpness(cage, sharpness)?;
+        let cage_corners = effective_corners(cage, corners)?;
         if levels > MAX_LEVELS {
             return Err(Error::Input(format!(
                 "{levels} subdivision levels asked for; at most {MAX_LEVELS} are possible"
@@ -157,15 +173,24 @@ impl Refinement {
             scheme,
             cage: cage.clone(),
             cage_sharpness,
+            cage_corners,
             levels: Vec::new(),
             limit: Default::default(),
             limit_users: Default::default(),
             id: NEXT_ID.fetch_add(1, Ordering::Relaxed),
         };
         for _ in 0..levels {
-            let (parent, parent_sharpness) = out.finest_topology();
+            let (parent, parent_sharpness, parent_corners) = out.finest_topology();
             let split = SplitTopology::split(parent, rule)?;
-            let stencils = level_stencils(scheme, parent, parent_sharpness, &split);
+            let stencils = level_stencils(scheme, parent, parent_sharpness, parent_corners, &split);
+            let corners = split
+                .mesh
+                .vertices()
+                .map(|c| match split.origin(c) {
+                    VertexOrigin::Vertex(v) => child_sharpness(parent_corners[v.index()]),
+                    _ => 0.0,
+                })
+                .collect();
             let sharpness = split
                 .mesh
                 .edges()
@@ -175,18 +200,26 @@ impl Refinement {
                 })
                 .collect();
             let users = stencils.users();
-            out.levels.push(Level { split, sharpness, stencils, users });
+            out.levels.push(Level { split, sharpness, corners, stencils, users });
         }
-        let (finest, finest_sharpness) = out.finest_topology();
-        out.limit = LimitStencils::new(scheme, finest, finest_sharpness)?;
+        let (finest, finest_sharpness, finest_corners) = out.finest_topology();
+        out.limit = LimitStencils::with_corners(scheme, finest, finest_sharpness, finest_corners)?;
         out.limit_users = out.limit.users();
         Ok(out)
     }
 
-    fn finest_topology(&self) -> (&PolyMesh, &[f64]) {
+    fn finest_topology(&self) -> (&PolyMesh, &[f64], &[f64]) {
         match self.levels.last() {
-            Some(l) => (&l.split.mesh, &l.sharpness),
-            None => (&self.cage, &self.cage_sharpness),
+            Some(l) => (&l.split.mesh, &l.sharpness, &l.corners),
+            None => (&self.cage, &self.cage_sharpness, &self.cage_corners),
+        }
+    }
+
+    /// The sharpness of every vertex of `level` (corners; 0 elsewhere).
+    pub fn corners(&self, level: u32) -> &[f64] {
+        match level {
+            0 => &self.cage_corners,
+            l => &self.levels[l as usize - 1].corners,
         }
     }
 
@@ -222,11 +255,12 @@ impl Refinement {
         }
     }
 
-    /// The rule of vertex `v` of `level` (from the sharp edges at it; boundary edges count as
-    /// sharp).
+    /// The rule of vertex `v` of `level` (from its sharpness and the sharp edges at it; boundary
+    /// edges count as sharp).
     pub fn vertex_rule(&self, level: u32, v: VertexId) -> Rule {
         let (mesh, sharpness) = (self.mesh(level), self.sharpness(level));
-        Rule::from_sharp_edges(mesh.outgoing(v).filter(|h| sharpness[h.edge().index()] > 0.0).count())
+        let corner = self.corners(level)[v.index()];
+        Rule::of(corner, mesh.outgoing(v).filter(|h| sharpness[h.edge().index()] > 0.0).count())
     }
 
     /// The stencils making `level ≥ 1` from the level above.
@@ -268,7 +302,7 @@ impl Refinement {
                 self.level_count()
             )));
         }
-        LimitStencils::new(self.scheme, self.mesh(level), self.sharpness(level))
+        LimitStencils::with_corners(self.scheme, self.mesh(level), self.sharpness(level), self.corners(level))
     }
 
     /// Every level's positions and the finest level's limit positions and normals from new cage

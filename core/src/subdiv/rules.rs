@@ -33,16 +33,21 @@ pub enum Scheme {
 }
 
 /// The stencils making the child level `split` from `parent` with edge sharpness `sharpness`
-/// (effective values of the parent level: boundary edges infinite).
+/// (effective values of the parent level: boundary edges infinite) and vertex sharpness
+/// `corners` (one per parent vertex, or none).
 pub(crate) fn level_stencils(
     scheme: Scheme,
     parent: &PolyMesh,
     sharpness: &[f64],
+    corners: &[f64],
     split: &SplitTopology,
 ) -> SparseRows {
     let rows = split.mesh.vertex_count();
     SparseRows::build_parallel(parent.vertex_count(), rows, |i, b| match split.origin(VertexId(i as u32)) {
-        VertexOrigin::Vertex(v) => vertex_point(scheme, parent, sharpness, v, b),
+        VertexOrigin::Vertex(v) => {
+            let corner = corners.get(v.index()).copied().unwrap_or(0.0);
+            vertex_point(scheme, parent, sharpness, corner, v, b)
+        }
         VertexOrigin::Edge(e) => edge_point(scheme, parent, sharpness, e, b),
         VertexOrigin::Face(f) => centroid(parent, f, 1.0, b),
     })
@@ -83,23 +88,24 @@ fn edge_point(scheme: Scheme, mesh: &PolyMesh, sharpness: &[f64], e: EdgeId, b: 
     }
 }
 
-fn vertex_point(scheme: Scheme, mesh: &PolyMesh, sharpness: &[f64], v: VertexId, b: &mut RowBuilder) {
+fn vertex_point(scheme: Scheme, mesh: &PolyMesh, sharpness: &[f64], corner: f64, v: VertexId, b: &mut RowBuilder) {
     if mesh.is_isolated(v) {
         b.add(v.0, 1.0);
         return;
     }
     let edge_sharpness = || mesh.outgoing(v).map(|h| sharp(sharpness, h.edge()));
-    let parent_rule = Rule::from_sharp_edges(edge_sharpness().filter(|&s| s > 0.0).count());
+    let parent_rule = Rule::of(corner, edge_sharpness().filter(|&s| s > 0.0).count());
     if matches!(parent_rule, Rule::Smooth | Rule::Dart) {
         smooth_vertex(scheme, mesh, v, 1.0, b);
         return;
     }
-    let child_rule = Rule::from_sharp_edges(edge_sharpness().filter(|&s| child_sharpness(s) > 0.0).count());
+    let child_corner = child_sharpness(corner);
+    let child_rule = Rule::of(child_corner, edge_sharpness().filter(|&s| child_sharpness(s) > 0.0).count());
     if child_rule == parent_rule {
         rule_mask(scheme, mesh, v, parent_rule, |s| s > 0.0, sharpness, 1.0, b);
         return;
     }
-    let w = fractional_weight(edge_sharpness());
+    let w = fractional_weight(corner, edge_sharpness());
     rule_mask(scheme, mesh, v, parent_rule, |s| s > 0.0, sharpness, w, b);
     rule_mask(scheme, mesh, v, child_rule, |s| child_sharpness(s) > 0.0, sharpness, 1.0 - w, b);
 }
@@ -180,7 +186,7 @@ mod tests {
             s[5] = f64::INFINITY;
             let eff = effective_sharpness(&cage, &s).unwrap();
             let split = SplitTopology::split(&cage, rule).unwrap();
-            let rows = level_stencils(scheme, &cage, &eff, &split);
+            let rows = level_stencils(scheme, &cage, &eff, &[], &split);
             assert_eq!(rows.row_count(), split.mesh.vertex_count());
             for sum in rows.row_sums() {
                 assert!((sum - 1.0).abs() < 1e-15, "{scheme:?}: {sum}");
