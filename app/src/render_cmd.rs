@@ -238,7 +238,7 @@ fn draw(
                     return Err("--overlay cage needs a cage: give a .taut file or a smoothing flag".into());
                 };
                 let controls = if doc.scheme.is_subdivision() {
-                    CageControls::Creases { sharpness: &doc.crease }
+                    CageControls::Creases { sharpness: &doc.crease, corners: &doc.corner }
                 } else {
                     CageControls::Nusd {
                         fixed: &doc.fixed,

@@ -41,6 +41,10 @@ pub struct SurfaceFlags {
     /// V1-V2=S; repeatable.
     #[arg(long = "crease", value_name = "V1-V2=S")]
     pub crease: Vec<String>,
+    /// Subdivision: corner sharpness S ≥ 0 (or inf) of a cage vertex, as V=S (OpenSubdiv's
+    /// corner vertices, Blender's vertex crease); repeatable.
+    #[arg(long = "corner", value_name = "V=S")]
+    pub corner: Vec<String>,
 }
 
 impl SurfaceFlags {
@@ -55,6 +59,7 @@ impl SurfaceFlags {
             || !self.tension_edge.is_empty()
             || !self.unfix.is_empty()
             || !self.crease.is_empty()
+            || !self.corner.is_empty()
     }
 
     /// Applies the flags to `doc` as edits, each checked by the core's validator; the scheme is
@@ -105,6 +110,12 @@ impl SurfaceFlags {
         for spec in &self.crease {
             let (e, s) = parse_edge(doc, spec, "--crease", "V1-V2=S")?;
             edit(doc, Edit::SetCrease(vec![e], s), &format!("--crease {spec}"))?;
+        }
+        for spec in &self.corner {
+            let (v, s) = parse_assignment(spec, "--corner", "V=S")?;
+            let v = parse_index(v, spec, "--corner")?;
+            check_vertex(doc, v, spec, "--corner")?;
+            edit(doc, Edit::SetCorner(vec![v], s), &format!("--corner {spec}"))?;
         }
         if !self.unfix.is_empty() {
             let vertices: Vec<VertexId> = self.unfix.iter().map(|&v| VertexId(v)).collect();

@@ -139,3 +139,36 @@ fn loop_needs_triangles_and_creases_and_taut_output_are_kept() {
     let smoothed = dir.path("smoothed.obj");
     assert!(ok(&taut(&["smooth", &doc_path, "-o", &smoothed])).contains("Catmull–Clark"));
 }
+
+#[test]
+fn corners_keep_their_vertex_in_the_limit_are_saved_and_bad_ones_refused() {
+    let dir = Scratch::new("corners");
+    let (cube, _) = io::import_mesh(Path::new(&asset("cube.obj"))).unwrap();
+    let out = dir.path("cornered.obj");
+    let args = ["subdivide", &asset("cube.obj"), "-o", &out, "--levels", "3", "--limit", "--corner", "0=inf"];
+    ok(&taut(&args));
+    let (mesh, _) = io::import_mesh(Path::new(&out)).unwrap();
+    let moved = |v: u32| (mesh.position(taut_core::VertexId(v)) - cube.position(taut_core::VertexId(v))).length();
+    assert!(moved(0) < 1e-12, "a sharp corner stays at its cage vertex: {}", moved(0));
+    assert!(moved(1) > 0.1, "a smooth corner moves in: {}", moved(1));
+    // Semi-sharp: between the smooth and the sharp limit.
+    let semi = dir.path("semi.obj");
+    ok(&taut(&["subdivide", &asset("cube.obj"), "-o", &semi, "--levels", "3", "--limit", "--corner", "0=1.5"]));
+    let (semi_mesh, _) = io::import_mesh(Path::new(&semi)).unwrap();
+    let semi_moved = (semi_mesh.position(taut_core::VertexId(0)) - cube.position(taut_core::VertexId(0))).length();
+    assert!(semi_moved > 1e-3 && semi_moved < moved(1), "{semi_moved}");
+    // A .taut output keeps the corners.
+    let doc_path = dir.path("cornered.taut");
+    ok(&taut(&["subdivide", &asset("cube.obj"), "-o", &doc_path, "--corner", "3=2.5", "--corner", "5=inf"]));
+    let doc = Document::load(Path::new(&doc_path)).unwrap();
+    assert_eq!((doc.corner[3], doc.corner[5], doc.corner[0]), (2.5, f64::INFINITY, 0.0));
+    let bad = |spec: &str, expected: &str| {
+        let path = dir.path("bad.obj");
+        one_line_failure(&taut(&["subdivide", &asset("cube.obj"), "-o", &path, "--corner", spec]), expected);
+        assert!(!Path::new(&path).exists());
+    };
+    bad("99=1", "vertex 99 does not exist");
+    bad("0=-1", "≥ 0");
+    bad("0=soft", "not a number");
+    bad("x=1", "not a vertex index");
+}

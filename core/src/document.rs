@@ -3,13 +3,15 @@
 //! A cage (positions and polygons), the surface scheme that makes a surface of it, and each
 //! scheme's controls and settings: for NUSD a fixed flag and a tension τ per vertex and a tension
 //! τ per edge (dimensionless, spec: "Scale-free tension") and the solver settings; for the
-//! subdivision schemes a crease sharpness per edge and the number of levels. The file is JSON
+//! subdivision schemes a crease sharpness per edge, a corner sharpness per vertex and the number
+//! of levels. The file is JSON
 //! with a format name and version; floating-point values are written in their shortest exact
 //! form, so saving and loading reproduces the document bit for bit.
 //!
 //! Format versions: 1 had no scheme (NUSD), creases or subdivision settings; 2 adds them. Every
 //! version-1 file opens as a NUSD document. An infinitely sharp crease is written `"inf"` (JSON
-//! has no infinity). The optional key `curve_mesh` holds the curve mesh's edit state
+//! has no infinity). The optional key `corner` (version 2) lists `[vertex, sharpness]` pairs of
+//! the sharp vertices, absent when there are none. The optional key `curve_mesh` holds the curve mesh's edit state
 //! ([`crate::gregory::document`]); absent, the curve mesh is as the cage builds it.
 //!
 //! The optional key `curves` holds the Curves workspace's curves, segments and Coons patches
@@ -47,6 +49,9 @@ pub struct Document {
     pub edge_tension: Vec<f64>,
     /// Subdivision, per cage edge: crease sharpness s ≥ 0 (0 smooth, `f64::INFINITY` sharp).
     pub crease: Vec<f64>,
+    /// Subdivision, per cage vertex: corner sharpness s ≥ 0 (0 smooth, `f64::INFINITY` a vertex
+    /// the surface keeps: OpenSubdiv's corner, Blender's vertex crease).
+    pub corner: Vec<f64>,
     /// NUSD solver settings.
     pub settings: SolverSettings,
     /// Subdivision settings.
@@ -75,6 +80,7 @@ impl Document {
             vertex_tension: vec![0.0; n],
             edge_tension: vec![0.0; e],
             crease: vec![0.0; e],
+            corner: vec![0.0; n],
             settings: SolverSettings::default(),
             subdiv: SubdivSettings::default(),
             curves: CurveSet::default(),
@@ -96,6 +102,20 @@ impl Document {
         let e = self.edge_between(a, b)?;
         check_sharpness(sharpness, || format!("edge {}-{}", a.0, b.0))?;
         self.crease[e.index()] = sharpness;
+        Ok(())
+    }
+
+    /// Sets the corner sharpness of cage vertex `v`.
+    pub fn set_corner(&mut self, v: VertexId, sharpness: f64) -> Result<()> {
+        if v.index() >= self.cage.vertex_count() {
+            return Err(Error::Input(format!(
+                "a corner names vertex {}, but the cage has {} vertices",
+                v.0,
+                self.cage.vertex_count()
+            )));
+        }
+        check_sharpness(sharpness, || format!("vertex {}", v.0))?;
+        self.corner[v.index()] = sharpness;
         Ok(())
     }
 
@@ -122,6 +142,7 @@ impl Document {
             vertex_tension: carry_vertex_property(&self.vertex_tension, p, &CarryRule::new_elements(0.0))?,
             edge_tension: carry_edge_property(&self.edge_tension, p, &CarryRule::new_elements(0.0))?,
             crease: carry_edge_property(&self.crease, p, &CarryRule::new_elements(0.0))?,
+            corner: carry_vertex_property(&self.corner, p, &CarryRule::new_elements(0.0))?,
             cage: edited.mesh,
             scheme: self.scheme,
             settings: self.settings,
@@ -203,12 +224,16 @@ impl Document {
     /// Checks that every array matches the cage and every value is allowed.
     pub fn validate(&self) -> Result<()> {
         let n = self.cage.vertex_count();
-        if self.fixed.len() != n || self.vertex_tension.len() != n {
+        if self.fixed.len() != n || self.vertex_tension.len() != n || self.corner.len() != n {
             return Err(Error::Input(format!(
-                "the cage has {n} vertices but {} fixed flags and {} vertex tensions",
+                "the cage has {n} vertices but {} fixed flags, {} vertex tensions and {} corner sharpnesses",
                 self.fixed.len(),
-                self.vertex_tension.len()
+                self.vertex_tension.len(),
+                self.corner.len()
             )));
+        }
+        for (v, &s) in self.corner.iter().enumerate() {
+            check_sharpness(s, || format!("vertex {v}"))?;
         }
         if self.edge_tension.len() != self.cage.edge_count() || self.crease.len() != self.cage.edge_count() {
             return Err(Error::Input(format!(
@@ -261,6 +286,10 @@ impl Document {
                     Crease(a.0, b.0, Sharpness::from(self.crease[e.index()]))
                 })
                 .collect(),
+            corner: (0..self.corner.len())
+                .filter(|&v| self.corner[v] != 0.0)
+                .map(|v| Corner(v as u32, Sharpness::from(self.corner[v])))
+                .collect(),
             settings: self.settings,
             subdivision: Some(self.subdiv),
             curves: self.curves.to_file(),
@@ -302,12 +331,13 @@ impl Document {
         if file.version == 1
             && (file.scheme.is_some()
                 || !file.crease.is_empty()
+                || !file.corner.is_empty()
                 || file.subdivision.is_some()
                 || file.curve_mesh.is_some())
         {
             return Err(Error::format(
                 origin,
-                "a version-1 file has no scheme, crease, subdivision or curve_mesh keys (they came with version 2)",
+                "a version-1 file has no scheme, crease, corner, subdivision or curve_mesh keys (they came with version 2)",
             ));
         }
         doc.scheme = file.scheme.unwrap_or(SchemeKind::Nusd);
@@ -331,6 +361,10 @@ impl Document {
         for Crease(a, b, s) in file.crease {
             let s = s.value().map_err(|m| Error::format(origin, format!("crease {a}-{b}: {m}")))?;
             doc.set_crease(VertexId(a), VertexId(b), s).map_err(|e| Error::format(origin, e.to_string()))?;
+        }
+        for Corner(v, s) in file.corner {
+            let s = s.value().map_err(|m| Error::format(origin, format!("corner {v}: {m}")))?;
+            doc.set_corner(VertexId(v), s).map_err(|e| Error::format(origin, e.to_string()))?;
         }
         doc.curve_mesh = file.curve_mesh.unwrap_or_default().normalized();
         doc.mirror = file.mirror.map(Into::into);
@@ -362,6 +396,7 @@ impl PartialEq for Document {
             && self.vertex_tension == other.vertex_tension
             && self.edge_tension == other.edge_tension
             && self.crease == other.crease
+            && self.corner == other.corner
             && self.scheme == other.scheme
             && self.settings == other.settings
             && self.subdiv == other.subdiv
@@ -410,6 +445,8 @@ struct TautFile {
     edge_tension: Vec<EdgeTension>,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     crease: Vec<Crease>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    corner: Vec<Corner>,
     #[serde(default)]
     settings: SolverSettings,
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -427,6 +464,9 @@ struct EdgeTension(u32, u32, f64);
 
 #[derive(Serialize, Deserialize)]
 struct Crease(u32, u32, Sharpness);
+
+#[derive(Serialize, Deserialize)]
+struct Corner(u32, Sharpness);
 
 /// A sharpness in the file: a number, or `"inf"` for an infinitely sharp crease.
 #[derive(Serialize, Deserialize)]
@@ -474,6 +514,33 @@ mod tests {
         let back = Document::from_json(&text, Path::new("mem.taut")).unwrap();
         assert_eq!(back, doc);
         assert_eq!(back.to_json(), text);
+    }
+
+    #[test]
+    fn corners_round_trip_are_carried_by_an_edit_and_bad_ones_are_named() {
+        let mut doc = tetra();
+        doc.set_corner(VertexId(1), 2.5).unwrap();
+        doc.set_corner(VertexId(3), f64::INFINITY).unwrap();
+        let text = doc.to_json();
+        assert!(text.contains("\"corner\""), "{text}");
+        let back = Document::from_json(&text, Path::new("mem.taut")).unwrap();
+        assert_eq!(back.corner, vec![0.0, 2.5, 0.0, f64::INFINITY]);
+        assert_eq!(back.to_json(), text);
+        assert!(!tetra().to_json().contains("corner"), "no key without corners");
+        // An edge split at its middle: the old vertices keep their sharpness, the new one is
+        // smooth.
+        let split = crate::mesh::edit::split_edges(&doc.cage, &[EdgeId(0)], 0.5).unwrap();
+        let edited = doc.with_edited_cage(split).unwrap();
+        assert_eq!(edited.corner, vec![0.0, 2.5, 0.0, f64::INFINITY, 0.0]);
+        let bad = [
+            (text.replace("2.5", "-1.0"), "vertex 1"),
+            (text.replace("\"inf\"", "\"sharp\""), "'sharp' is not a sharpness"),
+        ];
+        for (text, expected) in bad {
+            let err = Document::from_json(&text, Path::new("x.taut")).unwrap_err().to_string();
+            assert!(err.contains(expected), "expected '{expected}' in: {err}");
+        }
+        assert!(doc.set_corner(VertexId(9), 1.0).unwrap_err().to_string().contains("4 vertices"));
     }
 
     /// `text` with the JSON array under `key` replaced by `with`.

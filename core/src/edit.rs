@@ -38,6 +38,9 @@ pub enum Edit {
     },
     /// Sets the crease sharpness of cage edges (subdivision schemes; `f64::INFINITY` is sharp).
     SetCrease(Vec<EdgeId>, f64),
+    /// Sets the sharpness of cage vertices (subdivision schemes' corners; `f64::INFINITY` keeps
+    /// the vertex where it is).
+    SetCorner(Vec<VertexId>, f64),
     /// Replaces the NUSD solver settings.
     SetSettings(SolverSettings),
     /// Replaces the subdivision settings.
@@ -168,6 +171,10 @@ impl Document {
                 check_sharpness(*s, || "the selection".to_string())?;
                 edges.iter().try_for_each(|&e| self.check_edge_for(e, "set the crease of"))
             }
+            Edit::SetCorner(vertices, s) => {
+                check_sharpness(*s, || "the selection".to_string())?;
+                vertices.iter().try_for_each(|&v| self.check_vertex_for(v, "set the corner sharpness of"))
+            }
             Edit::SetSettings(settings) => {
                 settings.validate().map_err(|e| Error::Input(format!("smoothing settings: {e}")))
             }
@@ -224,6 +231,7 @@ impl Document {
                     || edges.iter().any(|e| self.edge_tension[e.index()] != 0.0)
             }
             Edit::SetCrease(edges, s) => edges.iter().any(|e| self.crease[e.index()] != *s),
+            Edit::SetCorner(vertices, s) => vertices.iter().any(|v| self.corner[v.index()] != *s),
             Edit::SetSettings(settings) => self.settings != *settings,
             Edit::SetSubdivSettings(settings) => self.subdiv != *settings,
             Edit::SetScheme(scheme) => self.scheme != *scheme,
@@ -273,6 +281,7 @@ impl Document {
                 edges.iter().for_each(|e| self.edge_tension[e.index()] = 0.0);
             }
             Edit::SetCrease(edges, s) => edges.iter().for_each(|e| self.crease[e.index()] = s),
+            Edit::SetCorner(vertices, s) => vertices.iter().for_each(|v| self.corner[v.index()] = s),
             Edit::SetSettings(settings) => self.settings = settings,
             Edit::SetSubdivSettings(settings) => self.subdiv = settings,
             Edit::SetScheme(scheme) => self.scheme = scheme,

@@ -134,7 +134,7 @@ impl Document {
 
     /// `edit` (already checked) with the partner elements added under the mirror option: moves
     /// by [`mirror_moves`] (plane vertices kept on the plane, a half's vertices kept on its side),
-    /// fixed flags and vertex tension to partner vertices, edge tension and creases to the edge
+    /// fixed flags, vertex tension and corner sharpness to partner vertices, edge tension and creases to the edge
     /// between the partners' ends. Other edits, and every edit with the option off, as they are.
     pub(crate) fn with_mirror_partners(&self, edit: Edit) -> Result<Edit> {
         let Some(plane) = self.mirror else { return Ok(edit) };
@@ -146,6 +146,7 @@ impl Document {
                 | Edit::SetEdgeTension(..)
                 | Edit::ResetTension { .. }
                 | Edit::SetCrease(..)
+                | Edit::SetCorner(..)
         ) {
             return Ok(edit);
         }
@@ -167,6 +168,7 @@ impl Document {
                 Edit::ResetTension { vertices: vertices(vs), edges: edges(es) }
             }
             Edit::SetCrease(es, s) => Edit::SetCrease(edges(es), s),
+            Edit::SetCorner(vs, s) => Edit::SetCorner(vertices(vs), s),
             other => other,
         })
     }
@@ -316,6 +318,7 @@ fn whole_document(
     whole.vertex_tension = carry_vertex_property(&doc.vertex_tension, p, &CarryRule::new_elements(0.0))?;
     whole.edge_tension = carry_edge_property(&doc.edge_tension, p, &CarryRule::new_elements(0.0))?;
     whole.crease = carry_edge_property(&doc.crease, p, &CarryRule::new_elements(0.0))?;
+    whole.corner = carry_vertex_property(&doc.corner, p, &CarryRule::new_elements(0.0))?;
     whole.scheme = doc.scheme;
     whole.settings = doc.settings;
     whole.subdiv = doc.subdiv;

@@ -32,12 +32,8 @@ fn triangulate(mesh: &PolyMesh, how: Triangulation) -> taut_core::Result<PolyMes
     Ok(taut_core::mesh::edit::triangulate(mesh, None, how)?.mesh)
 }
 
-/// Their refiner for `cage`, refined uniformly to `levels`.
-fn theirs(cage: &PolyMesh, scheme: Scheme, sharpness: &[f64], levels: u32) -> TopologyRefiner {
-    theirs_with_corners(cage, scheme, sharpness, &[], levels)
-}
-
-/// [`theirs`] with vertex sharpness (their corner vertices).
+/// Their refiner for `cage` with edge and vertex sharpness (their creases and corner
+/// vertices), refined uniformly to `levels`.
 fn theirs_with_corners(
     cage: &PolyMesh,
     scheme: Scheme,

@@ -129,8 +129,16 @@ const HALO_DARK: [f32; 4] = [0.0, 0.0, 0.0, 0.6];
 /// subdivision schemes' crease sharpness (their cage vertices are all approximated: rings).
 #[derive(Clone, Copy, Debug)]
 pub enum CageControls<'a> {
-    Nusd { fixed: &'a [bool], vertex_tension: &'a [f64], edge_tension: &'a [f64] },
-    Creases { sharpness: &'a [f64] },
+    Nusd {
+        fixed: &'a [bool],
+        vertex_tension: &'a [f64],
+        edge_tension: &'a [f64],
+    },
+    /// `corners`: the vertices' sharpness (OpenSubdiv's corners), one per vertex or none.
+    Creases {
+        sharpness: &'a [f64],
+        corners: &'a [f64],
+    },
 }
 
 /// Crease sharpness at which a crease edge stops growing wider (an infinitely sharp edge is drawn
@@ -192,7 +200,11 @@ pub fn cage_overlay(
     let none: &[f64] = &[];
     let (fixed, vertex_tension, edge_tension, crease): (&[bool], &[f64], &[f64], &[f64]) = match controls {
         CageControls::Nusd { fixed, vertex_tension, edge_tension } => (fixed, vertex_tension, edge_tension, none),
-        CageControls::Creases { sharpness } => (&[], none, none, sharpness),
+        CageControls::Creases { sharpness, .. } => (&[], none, none, sharpness),
+    };
+    let corners = match controls {
+        CageControls::Creases { corners, .. } => corners,
+        CageControls::Nusd { .. } => none,
     };
     let mut selected_edge = vec![false; cage.edge_count()];
     for e in &selection.selected_edges {
@@ -261,9 +273,15 @@ pub fn cage_overlay(
         let is_fixed = fixed.get(v.index()).copied().unwrap_or(false);
         let s = tension_level(vertex_tension.get(v.index()).copied().unwrap_or(0.0));
         let mut emphasis = Emphasis::Plain;
-        let (mut color, style) =
+        let (mut color, mut style) =
             if is_fixed { (FIXED_VERTEX, PointStyle::Filled) } else { (MOVING_VERTEX, PointStyle::Ring) };
         let mut radius_px = VERTEX_RADIUS + VERTEX_RADIUS_PER_TENSION * s;
+        // A sharp vertex (a corner): a filled dot in the crease colour, larger with its sharpness.
+        let corner = crease_level(corners.get(v.index()).copied().unwrap_or(0.0));
+        if corner > 0.0 {
+            (color, style) = (CREASE, PointStyle::Filled);
+            radius_px += 1.0 + 2.0 * corner;
+        }
         if selected_vertex[v.index()] {
             emphasis = Emphasis::Selected;
             color = SELECTED;
@@ -486,14 +504,27 @@ mod tests {
         let sharpness = [0.0, 1.0, 2.5, f64::INFINITY];
         let (lines, points) = cage_overlay(
             &cage,
-            CageControls::Creases { sharpness: &sharpness },
+            CageControls::Creases { sharpness: &sharpness, corners: &[0.0, f64::INFINITY, 0.5, 0.0] },
             &CageSelection::default(),
             &DisplayFrame::IDENTITY,
         );
         assert_eq!(lines[0].color, EDGE_NEUTRAL);
         assert!(lines[1..].iter().all(|l| l.color == CREASE));
         assert!(lines[1].width_px < lines[2].width_px && lines[2].width_px < lines[3].width_px);
-        assert!(points.iter().all(|p| p.style == PointStyle::Ring), "subdivision cage vertices are rings");
+        // Subdivision cage vertices are rings; a corner is a filled dot in the crease colour,
+        // larger when sharper.
+        let marks = |v: u32| -> Vec<&PointMark> {
+            let at = DisplayFrame::IDENTITY.point(cage.position(VertexId(v)));
+            points.iter().filter(|p| (p.position - at).length() < 1e-6 && p.color[..3] != HALO_DARK[..3]).collect()
+        };
+        for v in [0, 3] {
+            assert!(marks(v).iter().all(|p| p.style == PointStyle::Ring), "vertex {v}");
+        }
+        let (sharp, half) = (marks(1), marks(2));
+        assert!(sharp.iter().any(|p| p.style == PointStyle::Filled && p.color == CREASE));
+        assert!(half.iter().any(|p| p.style == PointStyle::Filled && p.color == CREASE));
+        let size = |m: &[&PointMark]| m.iter().map(|p| p.radius_px).fold(0.0, f32::max);
+        assert!(size(&sharp) > size(&half));
     }
 
     fn cube() -> PolyMesh {

@@ -205,6 +205,8 @@ impl EditorState {
         ui.separator();
         if self.document.doc().scheme.is_subdivision() {
             self.crease_controls(ui, ui_state);
+            ui.separator();
+            self.corner_controls(ui, ui_state);
         } else {
             self.nusd_controls(ui, ui_state, &vertices);
         }
@@ -297,6 +299,57 @@ impl EditorState {
         }
         if ui.button("Clear creases").on_hover_text("Make the selected edges smooth again").clicked() {
             self.edit(Edit::SetCrease(edges, 0.0));
+        }
+    }
+
+    /// Corner sharpness of the selected vertices (OpenSubdiv's corners, Blender's vertex crease).
+    fn corner_controls(&mut self, ui: &mut egui::Ui, ui_state: &mut UiState) {
+        let doc = self.document.doc();
+        let vertices = super::select_modes::selected_vertex_set(&doc.cage, &self.selection);
+        if vertices.is_empty() {
+            ui.add(egui::Label::new("Select cage vertices to sharpen them into corners.").wrap());
+            return;
+        }
+        let values = mixed(vertices.iter().map(|v| doc.corner[v.index()]));
+        let (mut s, sharp) = match values {
+            Mixed::None => (0.0, false),
+            Mixed::All(s) => (if s.is_finite() { s } else { CREASE_SLIDER_MAX }, s == f64::INFINITY),
+            Mixed::Range(lo, hi) => (if hi.is_finite() { hi } else { CREASE_SLIDER_MAX }, lo == f64::INFINITY),
+        };
+        let name = ui.label("corner sharpness");
+        let response = ui
+            .push_id("corner", |ui| {
+                ui.add(
+                    egui::Slider::new(&mut s, 0.0..=CREASE_SLIDER_MAX)
+                        .clamping(egui::SliderClamping::Never)
+                        .max_decimals(2),
+                )
+            })
+            .inner
+            .labelled_by(name.id)
+            .on_hover_text(
+                "How sharp the selected vertices are: 0 smooth; s keeps each one a corner for s levels and \
+                 blends the fraction (OpenSubdiv's corners, Blender's vertex crease). Shift+V and a drag sets \
+                 it in the viewport.",
+            );
+        if let Mixed::Range(lo, hi) = values {
+            ui.label(format!("mixed: {} to {}; a change sets them all", sharpness_text(lo), sharpness_text(hi)));
+        }
+        self.gesture_start(&response, ui_state);
+        if response.changed() {
+            self.edit(Edit::SetCorner(vertices.clone(), s.max(0.0)));
+        }
+        self.gesture_end(&response, ui_state);
+        let mut infinite = sharp;
+        if ui
+            .checkbox(&mut infinite, "sharp corner")
+            .on_hover_text("A corner at every level: the surface passes through the vertex with a point there")
+            .changed()
+        {
+            self.edit(Edit::SetCorner(vertices.clone(), if infinite { f64::INFINITY } else { 0.0 }));
+        }
+        if ui.button("Clear corners").on_hover_text("Make the selected vertices smooth again").clicked() {
+            self.edit(Edit::SetCorner(vertices, 0.0));
         }
     }
 

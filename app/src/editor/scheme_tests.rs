@@ -109,6 +109,57 @@ fn creases_are_set_by_slider_and_by_shift_e_with_the_mouse() {
 }
 
 #[test]
+fn corners_are_set_by_shift_v_and_the_panel_and_the_surface_keeps_a_sharp_corner() {
+    let mut harness = cube_editor();
+    harness.state_mut().editor.edit(Edit::SetScheme(SchemeKind::CatmullClark));
+    // Vertex 7 is selected in the cube editor.
+    settle(&mut harness);
+    assert!(has_label(&harness, "corner sharpness"));
+    let corner = |h: &Harness<'_, App>| h.state().editor.document.doc().corner[7];
+    let view = harness.state().ui.viewport_px.unwrap();
+    let start = pos2(view[0] as f32 + 200.0, view[1] as f32 + 200.0);
+    harness.hover_at(start);
+    frames(&mut harness);
+    harness.key_press_modifiers(Modifiers::SHIFT, Key::V);
+    frames(&mut harness);
+    assert!(harness.state().ui.crease_drag.is_some(), "Shift+V starts sharpening");
+    for k in 1..=4 {
+        harness.hover_at(pos2(start.x + 50.0 * k as f32, start.y));
+        frames(&mut harness);
+    }
+    harness.key_press(Key::Enter);
+    frames(&mut harness);
+    assert_eq!(corner(&harness), 2.0, "200 points to the right: sharpness 2");
+    // The panel's checkbox makes it a sharp corner: the limit surface passes through the vertex.
+    harness.get_by_label("sharp corner").click();
+    settle(&mut harness);
+    assert_eq!(corner(&harness), f64::INFINITY);
+    let editor = &harness.state().editor;
+    let cage_vertex = editor.document.doc().cage.position(VertexId(7));
+    let surface = editor.surface_mesh().expect("the limit surface");
+    assert_eq!(surface.position(VertexId(7)), cage_vertex, "a sharp corner stays where it is");
+    // The overlay draws it, once deselected, as a filled dot in the crease colour.
+    harness.state_mut().editor.selection.clear();
+    let editor = &harness.state().editor;
+    let points = editor.overlays().points;
+    let at = editor.display_frame.point(cage_vertex);
+    assert!(points.iter().any(|p| (p.position - at).length() < 1e-5 && p.color == taut_render::overlay::CREASE));
+    // One Ctrl+Z at a time undoes the checkbox, then the whole Shift+V drag.
+    harness.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+    frames(&mut harness);
+    assert_eq!(corner(&harness), 2.0);
+    harness.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+    frames(&mut harness);
+    assert_eq!(corner(&harness), 0.0);
+    // Under NUSD, Shift+V says corners belong to subdivision.
+    harness.state_mut().editor.edit(Edit::SetScheme(SchemeKind::Nusd));
+    harness.key_press_modifiers(Modifiers::SHIFT, Key::V);
+    frames(&mut harness);
+    assert!(harness.state().ui.crease_drag.is_none());
+    assert!(harness.state().editor.notice.as_ref().unwrap().text.contains("subdivision schemes"));
+}
+
+#[test]
 fn the_compare_view_shows_the_other_scheme_as_ghost_or_distance() {
     let mut harness = cube_editor();
     settle(&mut harness);

@@ -31,6 +31,8 @@ pub enum Action {
     ShowShortcuts,
     /// Subdivision schemes: drag the crease sharpness of the selected edges with the mouse.
     Crease,
+    /// Subdivision schemes: drag the corner sharpness of the selected vertices with the mouse.
+    Corner,
     /// Vertex → edge → face select mode.
     CycleSelectMode,
     SelectLinked,
@@ -60,6 +62,7 @@ impl Action {
             Action::SelectAll
                 | Action::SelectNone
                 | Action::Crease
+                | Action::Corner
                 | Action::CycleSelectMode
                 | Action::SelectLinked
                 | Action::SelectMore
@@ -124,6 +127,7 @@ pub const SHORTCUTS: &[Shortcut] = &[
     plain(Key::Num5, Action::ViewPerspective),
     plain(Key::F1, Action::ShowShortcuts),
     shift(Key::E, Action::Crease),
+    shift(Key::V, Action::Corner),
     plain(Key::Tab, Action::CycleSelectMode),
     ctrl(Key::L, Action::SelectLinked),
     ctrl(Key::Plus, Action::SelectMore),
@@ -213,6 +217,9 @@ pub fn describe(action: Action) -> &'static str {
         Action::ViewPerspective => "Perspective view",
         Action::ShowShortcuts => "Keyboard shortcuts",
         Action::Crease => "Crease the selected edges (move the mouse, click or Enter to set, Esc cancels)",
+        Action::Corner => {
+            "Sharpen the selected vertices into corners (move the mouse, click or Enter to set, Esc cancels)"
+        }
         Action::CycleSelectMode => "Select mode: vertex, edge, face in turn",
         Action::SelectLinked => "Select linked (everything connected to the selection)",
         Action::SelectMore => "Select more (one ring of neighbours)",

@@ -427,7 +427,7 @@ impl EditorState {
                 }),
             };
             let controls = if doc.scheme.is_subdivision() {
-                CageControls::Creases { sharpness: &doc.crease }
+                CageControls::Creases { sharpness: &doc.crease, corners: &doc.corner }
             } else {
                 CageControls::Nusd {
                     fixed: &doc.fixed,

@@ -140,10 +140,12 @@ pub struct UiState {
     pub(super) inset_drag: Option<super::inset_drag::InsetDrag>,
 }
 
-/// A crease being set with the mouse (Shift+E, as in Blender).
+/// A crease being set with the mouse (Shift+E, as in Blender), or a corner (Shift+V: the
+/// sharpness of vertices, when `vertices` is not empty).
 #[derive(Clone, Debug)]
 pub(super) struct CreaseDrag {
     pub(super) edges: Vec<taut_core::EdgeId>,
+    pub(super) vertices: Vec<taut_core::VertexId>,
     /// The sharpness of each edge when it began (Esc puts them back).
     pub(super) start: Vec<f64>,
     /// Where the mouse was when it began (x, in points); `None` until the pointer is seen.
@@ -306,6 +308,7 @@ impl EditorState {
             Action::ViewPerspective => self.camera.set_view(StandardView::Perspective),
             Action::ShowShortcuts => ui_state.show_shortcuts = true,
             Action::Crease => self.start_crease_drag(ctx_pointer_x(ui_state), ui_state),
+            Action::Corner => self.start_corner_drag(ctx_pointer_x(ui_state), ui_state),
             Action::CycleSelectMode => {
                 let mode = self.selection.mode.next();
                 select_modes::set_mode(&self.document.doc().cage, &mut self.selection, mode);

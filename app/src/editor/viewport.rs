@@ -76,7 +76,10 @@ impl EditorState {
                 ui.painter_at(rect).text(
                     rect.left_top() + egui::vec2(8.0, 8.0),
                     egui::Align2::LEFT_TOP,
-                    format!("crease s = {value}: move the mouse, click or Enter to set, Esc cancels"),
+                    format!(
+                        "{} s = {value}: move the mouse, click or Enter to set, Esc cancels",
+                        if cd.vertices.is_empty() { "crease" } else { "corner" }
+                    ),
                     egui::FontId::proportional(14.0),
                     egui::Color32::WHITE,
                 );
@@ -242,7 +245,34 @@ impl EditorState {
         let start: Vec<f64> = edges.iter().map(|e| crease[e.index()]).collect();
         let value = start.iter().copied().filter(|s| s.is_finite()).fold(0.0, f64::max);
         self.document.begin_gesture();
-        ui_state.crease_drag = Some(CreaseDrag { edges, start, mouse_start: mouse_x, value });
+        ui_state.crease_drag = Some(CreaseDrag { edges, vertices: Vec::new(), start, mouse_start: mouse_x, value });
+    }
+
+    /// Starts setting the corner sharpness of the selected vertices with the mouse (Shift+V).
+    pub(super) fn start_corner_drag(&mut self, mouse_x: Option<f32>, ui_state: &mut UiState) {
+        if !self.document.doc().scheme.is_subdivision() {
+            self.notify("corners belong to the subdivision schemes: choose Catmull–Clark or Loop first", true);
+            return;
+        }
+        let vertices = super::select_modes::selected_vertex_set(&self.document.doc().cage, &self.selection);
+        if vertices.is_empty() {
+            self.notify("select the cage vertices to sharpen first", true);
+            return;
+        }
+        let corner = &self.document.doc().corner;
+        let start: Vec<f64> = vertices.iter().map(|v| corner[v.index()]).collect();
+        let value = start.iter().copied().filter(|s| s.is_finite()).fold(0.0, f64::max);
+        self.document.begin_gesture();
+        ui_state.crease_drag = Some(CreaseDrag { edges: Vec::new(), vertices, start, mouse_start: mouse_x, value });
+    }
+
+    /// The edit setting the sharpness of what a crease drag holds.
+    fn crease_drag_edit(cd: &CreaseDrag, value: f64) -> Edit {
+        if cd.vertices.is_empty() {
+            Edit::SetCrease(cd.edges.clone(), value)
+        } else {
+            Edit::SetCorner(cd.vertices.clone(), value)
+        }
     }
 
     /// The mouse at `x`: 100 points to the right add one to the sharpness it began with.
@@ -254,8 +284,8 @@ impl EditorState {
         let value = (value * 20.0).round() / 20.0;
         if value != cd.value {
             cd.value = value;
-            let edges = cd.edges.clone();
-            self.edit(Edit::SetCrease(edges, value));
+            let edit = Self::crease_drag_edit(cd, value);
+            self.edit(edit);
         }
     }
 
@@ -265,6 +295,9 @@ impl EditorState {
         if !keep {
             for (e, s) in cd.edges.iter().zip(&cd.start) {
                 self.edit(Edit::SetCrease(vec![*e], *s));
+            }
+            for (v, s) in cd.vertices.iter().zip(&cd.start) {
+                self.edit(Edit::SetCorner(vec![*v], *s));
             }
         }
         self.document.end_gesture();

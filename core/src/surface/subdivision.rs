@@ -21,6 +21,7 @@ struct Built {
     topology: u64,
     polygons: Vec<Vec<u32>>,
     crease: Vec<f64>,
+    corner: Vec<f64>,
     levels: u32,
 }
 
@@ -53,9 +54,11 @@ impl SubdivSurface {
             topology: doc.cage.topology_generation(),
             polygons: doc.cage.polygons(),
             crease: doc.crease.clone(),
+            corner: doc.corner.clone(),
             levels: doc.subdiv.levels,
         };
-        let refinement = Refinement::new(&doc.cage, scheme_of(doc.scheme)?, &doc.crease, doc.subdiv.levels)?;
+        let refinement =
+            Refinement::with_corners(&doc.cage, scheme_of(doc.scheme)?, &doc.crease, &doc.corner, doc.subdiv.levels)?;
         let mut positions = RefinedPositions::default();
         refinement.evaluate(doc.cage.positions(), &mut positions)?;
         let shown = if limit { &positions.limit } else { positions.finest() };
@@ -84,6 +87,7 @@ impl SurfaceScheme for SubdivSurface {
         let same = doc.scheme == self.built.kind
             && doc.subdiv.levels == self.built.levels
             && doc.crease == self.built.crease
+            && doc.corner == self.built.corner
             && (doc.cage.topology_generation() == self.built.topology || doc.cage.polygons() == self.built.polygons);
         if !same {
             *self = SubdivSurface::new(doc, self.limit)?;
