@@ -19,7 +19,7 @@
 //! per finest face and its [`RefinedPositions`] about 90 more (measured on a level-3
 //! Catmull–Clark torus, [`Refinement::memory_bytes`]), so the bound keeps one under about 1 GB.
 
-use super::crease::{Rule, child_sharpness, effective_corners, effective_sharpness};
+use super::crease::{Rule, child_sharpness, effective_sharpness, starting_corners};
 use super::limit::LimitStencils;
 use super::rules::{Scheme, level_stencils};
 use super::sparse::{SparseRows, Users};
@@ -150,7 +150,7 @@ impl Refinement {
         levels: u32,
     ) -> Result<Self> {
         let cage_sharpness = effective_sharpness(cage, sharpness)?;
-        let cage_corners = effective_corners(cage, corners)?;
+        let cage_corners = starting_corners(cage, &cage_sharpness, corners)?;
         if levels > MAX_LEVELS {
             return Err(Error::Input(format!(
                 "{levels} subdivision levels asked for; at most {MAX_LEVELS} are possible"
