@@ -12,13 +12,15 @@ use super::select_modes;
 use super::state::EditorState;
 use glam::Vec2;
 use std::sync::Arc;
-use taut_core::mesh::visibility::{Visibility, visibility_from};
+use taut_core::mesh::visibility::{Occluder, Visibility};
 use taut_core::{DVec3, EdgeId, FaceId, PolyMesh, VertexId};
 
-/// The last visibility worked out, and what it was worked out for.
+/// The last visibility worked out, and what it was worked out for: the cage's faces indexed
+/// for its shape (kept while only the eye moves) and the answer for one eye.
 #[derive(Debug, Default)]
 pub struct VisibilityCache {
-    key: Option<(u64, Vec<DVec3>, DVec3)>,
+    shape: Option<(u64, Vec<DVec3>, Arc<Occluder>)>,
+    eye: Option<DVec3>,
     seen: Option<Arc<Visibility>>,
 }
 
@@ -34,12 +36,18 @@ impl EditorState {
         let cage = &self.document.doc().cage;
         let eye = self.display_frame.to_model(self.camera.eye().as_dvec3());
         let mut cache = self.visibility.borrow_mut();
-        let fresh = cache.key.as_ref().is_some_and(|(topology, positions, at)| {
-            *topology == cage.topology_generation() && *at == eye && positions.as_slice() == cage.positions()
+        let same_shape = cache.shape.as_ref().is_some_and(|(topology, positions, _)| {
+            *topology == cage.topology_generation() && positions.as_slice() == cage.positions()
         });
-        if !fresh {
-            cache.seen = Some(Arc::new(visibility_from(cage, eye)));
-            cache.key = Some((cage.topology_generation(), cage.positions().to_vec(), eye));
+        if !same_shape {
+            let occluder = Arc::new(Occluder::new(cage));
+            cache.shape = Some((cage.topology_generation(), cage.positions().to_vec(), occluder));
+            cache.seen = None;
+        }
+        if cache.eye != Some(eye) || cache.seen.is_none() {
+            let occluder = cache.shape.as_ref().map(|(_, _, o)| o.clone()).expect("indexed above");
+            cache.seen = Some(Arc::new(occluder.visibility(cage, eye)));
+            cache.eye = Some(eye);
         }
         cache.seen.clone()
     }

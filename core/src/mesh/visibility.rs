@@ -63,20 +63,51 @@ impl Visibility {
 /// What `eye` sees of `mesh` (see the module documentation). An eye or a mesh with a non-finite
 /// coordinate, or a mesh without faces, hides nothing.
 pub fn visibility_from(mesh: &PolyMesh, eye: DVec3) -> Visibility {
-    let mut triangles = Vec::new();
-    let mut triangle_face = Vec::new();
-    for f in mesh.faces() {
-        let ring: Vec<u32> = mesh.face_vertices(f).map(|v| v.0).collect();
-        for k in 1..ring.len().saturating_sub(1) {
-            triangles.push([ring[0], ring[k], ring[k + 1]]);
-            triangle_face.push(f);
+    Occluder::new(mesh).visibility(mesh, eye)
+}
+
+/// A mesh's faces indexed for the rays of [`visibility_from`]: built once for a cage's shape and
+/// kept while only the eye moves (an orbit then costs the rays alone, about half the time).
+pub struct Occluder {
+    /// `None` for a mesh that hides nothing (no faces, or a non-finite coordinate).
+    index: Option<SurfaceIndex>,
+    triangle_face: Vec<FaceId>,
+}
+
+impl std::fmt::Debug for Occluder {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "Occluder({} triangles)", self.triangle_face.len())
+    }
+}
+
+impl Occluder {
+    /// Indexes the fans of `mesh`'s faces.
+    pub fn new(mesh: &PolyMesh) -> Self {
+        let mut triangles = Vec::new();
+        let mut triangle_face = Vec::new();
+        for f in mesh.faces() {
+            let ring: Vec<u32> = mesh.face_vertices(f).map(|v| v.0).collect();
+            for k in 1..ring.len().saturating_sub(1) {
+                triangles.push([ring[0], ring[k], ring[k + 1]]);
+                triangle_face.push(f);
+            }
+        }
+        let finite = mesh.positions().iter().all(|p| p.is_finite());
+        let index =
+            (finite && !triangles.is_empty()).then(|| SurfaceIndex::new(mesh.positions(), &triangles).ok()).flatten();
+        Occluder { index, triangle_face }
+    }
+
+    /// What `eye` sees of `mesh`, the mesh this occluder was built for.
+    pub fn visibility(&self, mesh: &PolyMesh, eye: DVec3) -> Visibility {
+        match &self.index {
+            Some(index) if eye.is_finite() => visible(mesh, index, &self.triangle_face, eye),
+            _ => Visibility::all(mesh),
         }
     }
-    let finite = eye.is_finite() && mesh.positions().iter().all(|p| p.is_finite());
-    let index = match (finite && !triangles.is_empty()).then(|| SurfaceIndex::new(mesh.positions(), &triangles)) {
-        Some(Ok(index)) => index,
-        _ => return Visibility::all(mesh),
-    };
+}
+
+fn visible(mesh: &PolyMesh, index: &SurfaceIndex, triangle_face: &[FaceId], eye: DVec3) -> Visibility {
     let seen = |sample: DVec3, holds: &dyn Fn(FaceId) -> bool| -> bool {
         let to = sample - eye;
         let distance = to.length();
