@@ -111,6 +111,13 @@ impl SurfaceFlags {
             let (e, s) = parse_edge(doc, spec, "--crease", "V1-V2=S")?;
             edit(doc, Edit::SetCrease(vec![e], s), &format!("--crease {spec}"))?;
         }
+        if !doc.scheme.is_subdivision() && !(self.crease.is_empty() && self.corner.is_empty()) {
+            note(format!(
+                "--crease and --corner shape the Catmull–Clark and Loop surfaces; {} keeps them in a .taut output but \
+                 does not use them",
+                doc.scheme.display_name()
+            ));
+        }
         for spec in &self.corner {
             let (v, s) = parse_assignment(spec, "--corner", "V=S")?;
             let v = parse_index(v, spec, "--corner")?;

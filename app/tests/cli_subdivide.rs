@@ -167,6 +167,11 @@ fn corners_keep_their_vertex_in_the_limit_are_saved_and_bad_ones_refused() {
         one_line_failure(&taut(&["subdivide", &asset("cube.obj"), "-o", &path, "--corner", spec]), expected);
         assert!(!Path::new(&path).exists());
     };
+    // Under NUSD the flag is kept in a .taut output but says it shapes only the subdivision schemes.
+    let nusd = dir.path("nusd.taut");
+    let stdout = ok(&taut(&["smooth", &asset("cube.obj"), "-o", &nusd, "--corner", "0=2"]));
+    assert!(stdout.contains("note: --crease and --corner shape the Catmull–Clark and Loop surfaces"), "{stdout}");
+    assert_eq!(Document::load(Path::new(&nusd)).unwrap().corner[0], 2.0);
     bad("99=1", "vertex 99 does not exist");
     bad("0=-1", "≥ 0");
     bad("0=soft", "not a number");
