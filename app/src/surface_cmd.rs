@@ -111,7 +111,8 @@ impl SurfaceFlags {
             let (e, s) = parse_edge(doc, spec, "--crease", "V1-V2=S")?;
             edit(doc, Edit::SetCrease(vec![e], s), &format!("--crease {spec}"))?;
         }
-        if !doc.scheme.is_subdivision() && !(self.crease.is_empty() && self.corner.is_empty()) {
+        let sharpness_given = !self.crease.is_empty() || !self.corner.is_empty();
+        if sharpness_given && !doc.scheme.is_subdivision() {
             note(format!(
                 "--crease and --corner shape the Catmull–Clark and Loop surfaces; {} keeps them in a .taut output but \
                  does not use them",

@@ -1,5 +1,5 @@
 //! Curve meshes built from cages (`taut_core::gregory`): the properties of
-//! `shared/spec/curve-mesh-gregory.md` §7 on every bundled cage and on small cages built here,
+//! `docs/curve-mesh-gregory.md` §7 on every bundled cage and on small cages built here,
 //! against references computed independently (the subdivision module's own per-vertex limit
 //! points, the uniform B-spline written out here, a brute-force closest point, the paper's
 //! figures).

@@ -1,5 +1,5 @@
 //! Taut's display: the wgpu passes that draw a surface shaded, as zebra stripes or in curvature
-//! colour, with overlays, into a window or off screen (`shared/spec/rendering.md`).
+//! colour, with overlays, into a window or off screen (`docs/rendering.md`).
 //!
 //! Long-lived objects (pipelines, layouts: the `passes`) are apart from per-frame data (the
 //! [`FrameUniform`](frame::FrameUniform), uploaded buffers). One WGSL file per pass lives in

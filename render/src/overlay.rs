@@ -1,5 +1,5 @@
 //! What is drawn over the surface, on the CPU: cage edges and vertices, the refined wireframe,
-//! curves with curvature combs, and the curvature legend (`shared/spec/rendering.md`,
+//! curves with curvature combs, and the curvature legend (`docs/rendering.md`,
 //! "Overlays"). The passes in [`crate::passes`] draw an [`OverlayData`] as it is; the builders
 //! here decide how a designer's document looks.
 //!

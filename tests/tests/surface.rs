@@ -1,4 +1,4 @@
-//! Properties of the NUSD surface solver (shared/spec/nusd.md, "Properties every implementation
+//! Properties of the NUSD surface solver (docs/nusd.md, "Properties every implementation
 //! must show"), each checked against an independent reference: the input cage, a transformed
 //! copy of the same solve, a second thread count, a fresh solve.
 

@@ -1,6 +1,6 @@
 //! The curve-mesh scheme in the editor (issue 9): the designer finishes the shape by moving
 //! curve-mesh vertices, tilting their tangent planes and pulling the curves' inner control points,
-//! and only the Gregory patches around what moved change (`shared/spec/curve-mesh-gregory.md`).
+//! and only the Gregory patches around what moved change (`docs/curve-mesh-gregory.md`).
 //!
 //! In this scheme the viewport draws the curves over the patches, every curve-mesh vertex as a
 //! dot, and for the one selected vertex its Bézier control legs (vertex to inner control point,

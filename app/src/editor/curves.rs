@@ -1,7 +1,7 @@
 //! The Curves workspace: the document's curves ([`taut_core::curve::CurveSet`]) imported from
 //! point files or drawn on a plane, faired toward log-aesthetic curves live (the discrete
 //! log-aesthetic filter of Miura, Yoshida and Saito, seed `003_0c1161d9995b9b01`, read in
-//! `shared/spec/log-aesthetic.md`), shown with curvature combs and curvature/LCG plots, log-aesthetic
+//! `docs/log-aesthetic.md`), shown with curvature combs and curvature/LCG plots, log-aesthetic
 //! segments placed by their three control points (Yoshida–Saito), and Coons patches built from
 //! four curves and shown with zebra stripes, which follow those curves
 //! ([`super::curves_history`]). Delete deletes the selected curve or patch

@@ -1,5 +1,5 @@
 //! Log-aesthetic curves (Miura, Yoshida and Saito, "Discrete log-aesthetic filter", seed
-//! `003_0c1161d9995b9b01`; our reading is `shared/spec/log-aesthetic.md`).
+//! `003_0c1161d9995b9b01`; our reading is `docs/log-aesthetic.md`).
 //!
 //! A log-aesthetic curve has a radius of curvature with `ρ^α = c s + d` in arc length (clothoid
 //! α = −1, logarithmic spiral α = 1, circle involute α = 2), so its logarithmic curvature graph
@@ -23,6 +23,7 @@ mod filter_planar;
 pub mod law;
 pub mod lcg;
 pub mod segment;
+pub mod segment_fit;
 pub mod surface;
 
 pub use coons::{BoundaryCurve, coons_patch, grid_mesh};

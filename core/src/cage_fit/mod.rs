@@ -1,6 +1,6 @@
 //! A light Loop control cage from a dense mesh (a scan, a heavy export), whose subdivision
 //! surface keeps the original's shape and volume (Kanaya, Nishio and Kobori, "A Method of Model
-//! Simplification for Control Polygon", seed 002; read in `shared/spec/control-cage.md`).
+//! Simplification for Control Polygon", seed 002; read in `docs/control-cage.md`).
 //!
 //! The steps, each in its own file:
 //! 1. [`simplify`]: quadric-error simplification to a ratio of the triangles or a face count

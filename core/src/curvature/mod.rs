@@ -1,5 +1,5 @@
 //! Curvature of meshes and polylines, for the curvature colouring and the curvature combs
-//! (`shared/spec/rendering.md`, "Curvature colouring").
+//! (`docs/rendering.md`, "Curvature colouring").
 //!
 //! [`vertex_curvature`] estimates a curvature tensor per vertex after Rusinkiewicz, "Estimating
 //! curvatures and their derivatives on triangle meshes" (3DPVT 2004): every face gets the shape

@@ -1,6 +1,6 @@
 //! Discrete derivatives of a point sequence on nonuniform parameters, and the curvature and
 //! torsion made from them (Miura, Yoshida and Saito, "Discrete log-aesthetic filter", sec. 3.1
-//! eqs. 1 and 3, sec. 4.2; our reading is `shared/spec/log-aesthetic.md`).
+//! eqs. 1 and 3, sec. 4.2; our reading is `docs/log-aesthetic.md`).
 //!
 //! Point `i` has the parameter gaps `h0 = Δt_{i−1}` before it and `h1 = Δt_i` after it (chord
 //! lengths by default). The first derivative is the paper's central difference

@@ -1,5 +1,5 @@
 //! Cubic Bézier curves: the curves of a curve mesh, and the two least-squares fits that make them
-//! (`shared/spec/curve-mesh-gregory.md` §3–4; the seed paper's §3.2–3.3, eq. (7)–(11)).
+//! (`docs/curve-mesh-gregory.md` §3–4; the seed paper's §3.2–3.3, eq. (7)–(11)).
 //!
 //! - [`fit_with_fixed_ends`]: the cubic through two end points that is closest, in least squares,
 //!   to interior points given at known parameters (the paper's fit of five limit points at

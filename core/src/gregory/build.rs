@@ -1,5 +1,5 @@
 //! From a polygon cage to a curve mesh on its Catmull–Clark limit surface (the seed paper's §3
-//! and §5; `shared/spec/curve-mesh-gregory.md` §3–5).
+//! and §5; `docs/curve-mesh-gregory.md` §3–5).
 //!
 //! 1. A cage with any face that is not a quad is first subdivided once by Catmull–Clark, and the
 //!    curve mesh gets that all-quad mesh's topology (§5, the paper's choice for its dog model);

@@ -1,6 +1,6 @@
 //! Inner control points of a Gregory patch from its four boundary curves and corner normals, by
 //! Chiyokura & Kimura's cross-boundary derivatives (Chiyokura & Kimura 1983, "Design of solids
-//! with free-form surfaces"; `shared/spec/curve-mesh-gregory.md` §6; the seed paper's §4).
+//! with free-form surfaces"; `docs/curve-mesh-gregory.md` §6; the seed paper's §4).
 //!
 //! Along a boundary curve `C` (control points `Q0..Q3`, `C' = Σ B²ᵢ cᵢ`, `cᵢ = 3(Qᵢ₊₁ − Qᵢ)`)
 //! between corners with unit normals `N0`, `N1`, the cross-boundary derivative into the patch is

@@ -1,5 +1,5 @@
 //! How close the patches lie to the Catmull–Clark limit surface they were built from
-//! (`shared/spec/curve-mesh-gregory.md` §7; the seed paper's §5, 0.16 for its dog model).
+//! (`docs/curve-mesh-gregory.md` §7; the seed paper's §5, 0.16 for its dog model).
 //!
 //! Two levels below the curve mesh, each of its quads holds 3 × 3 interior vertices: the face
 //! point (at patch parameters `(½, ½)`), the four edge points between it and the face's edge

@@ -1,6 +1,6 @@
 //! Continuity report of a patch network: along every shared boundary, the largest angle between
 //! the two patches' normals (G1) and the largest jump in normal curvature across it (G2), both
-//! sampled along the boundary (`shared/spec/curve-mesh-gregory.md` §7; what Alias's continuity
+//! sampled along the boundary (`docs/curve-mesh-gregory.md` §7; what Alias's continuity
 //! check shows). Gregory patches promise G1 only, so the G2 jump is information, not a bound.
 //!
 //! A boundary is side `a` of one patch against side `b` of another; side `k` of a patch over

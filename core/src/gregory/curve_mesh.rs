@@ -1,6 +1,6 @@
 //! The curve mesh as an editable object: a network of cubic Bézier curves with the topology of an
 //! all-quad mesh, a tangent plane at every vertex, and one Gregory patch per face (the seed
-//! paper's §4–5; `shared/spec/curve-mesh-gregory.md` §6).
+//! paper's §4–5; `docs/curve-mesh-gregory.md` §6).
 //!
 //! What is stored is only what a designer can change: per vertex a position and a unit normal
 //! (its tangent plane), per curve its two inner control points. Curve end points are the vertex

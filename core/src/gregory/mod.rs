@@ -1,6 +1,6 @@
 //! Curve meshes filled with G1 Gregory patches (seed 004: Yoshii, Tokuyama, Konno & Sone, "Curve
 //! mesh generation of subdivision surfaces and Gregory patch interpolation"; read in
-//! `shared/spec/curve-mesh-gregory.md`).
+//! `docs/curve-mesh-gregory.md`).
 //!
 //! A polygon cage becomes a network of cubic Bézier curves with the cage's topology that lies on
 //! its Catmull–Clark limit surface; every face is filled with a bicubic Gregory patch, and

@@ -1,6 +1,6 @@
 //! The bicubic Gregory patch (Gregory 1974; Chiyokura & Kimura 1983): a bicubic Bézier patch
 //! whose four inner control points are doubled, so that the cross-boundary derivative along each
-//! side depends on that side's own pair only (`shared/spec/curve-mesh-gregory.md` §6, the seed
+//! side depends on that side's own pair only (`docs/curve-mesh-gregory.md` §6, the seed
 //! paper's eq. (12)).
 //!
 //! `S(u,v) = Σᵢ Σⱼ B³ᵢ(u) B³ⱼ(v) Qᵢⱼ(u,v)` with `Qᵢⱼ = Pᵢⱼ` on the rim and, inside,

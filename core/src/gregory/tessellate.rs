@@ -1,5 +1,5 @@
 //! Fixed `K × K` tessellation of a curve mesh's patches into one crack-free polygon mesh with
-//! analytic normals (`shared/spec/curve-mesh-gregory.md` §7: "tessellate each patch K×K, default
+//! analytic normals (`docs/curve-mesh-gregory.md` §7: "tessellate each patch K×K, default
 //! 16, with analytic normals").
 //!
 //! Every sample on a curve is one vertex shared by the patches on both sides, so neighbours can

@@ -1,5 +1,5 @@
 //! NUSD: nonuniform spline diffusion (Kuriyama, seed `000_9238026bd154f5a3`; our reading is
-//! `shared/spec/nusd.md`).
+//! `docs/nusd.md`).
 //!
 //! Every vertex carries a position `P` and a second-derivative vector `R`. Moving vertices
 //! diffuse both (eqs. 2 and 3); fixed vertices keep `P` and recompute `R = ΔP/K` (eq. 4). With

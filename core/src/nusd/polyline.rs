@@ -1,5 +1,5 @@
 //! NUSD for polylines: smooth an open or closed control polyline through its fixed points
-//! (Kuriyama, sec. 2–3, eqs. 1–5; our reading is `shared/spec/nusd.md`).
+//! (Kuriyama, sec. 2–3, eqs. 1–5; our reading is `docs/nusd.md`).
 //!
 //! [`smooth`] inserts evenly spaced moving points on every segment of the control polyline, takes
 //! the spacing of each edge from that initial placement (chord length by default), and iterates

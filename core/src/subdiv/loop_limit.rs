@@ -1,4 +1,4 @@
-//! The limit-position matrix of a Loop cage (`shared/spec/control-cage.md`, step 2).
+//! The limit-position matrix of a Loop cage (`docs/control-cage.md`, step 2).
 //!
 //! Row `i` maps the cage to the Loop limit position of vertex `i`: for an interior vertex of
 //! valence `k`,

@@ -1,0 +1,178 @@
+//! One log-aesthetic segment fitted to a whole planar curve through its end points: α, the
+//! total turning and the log ratio of the end radii chosen so the segment passes as close to the
+//! points as it can (least squares in position), the similarity that puts the segment's chord
+//! on the points' fixed by the two end points.
+//!
+//! This is the robust way to read α from noisy points: it compares positions, where the
+//! paper's logarithmic curvature graph compares curvature and its derivative (second and third
+//! derivatives of the points, which noise of half a percent of the length swamps: a spiral read
+//! that way splits into seven pieces of α between −4 and −1). A position fit averages the noise
+//! over every point. [`super::estimate`] uses it first: when the segment's RMS distance is no
+//! larger than [`NOISE_FACTOR`] times what a least-squares spline with many more degrees of
+//! freedom leaves (the noise level), the curve is one segment and its α is the fit's.
+//!
+//! The minimisation is Nelder–Mead over (α, turning, log ratio) from a start for each α in
+//! {−1, 0, 1, 2}, with turning and ratio read from the spline; it is deterministic (no
+//! randomness, no threads). Weak spots: a curve whose curvature hardly changes (a circular arc)
+//! fits every α nearly equally well; the end points are taken as exact.
+
+use super::segment::{AestheticSegment, MAX_LOG_RADIUS_RATIO};
+use crate::DVec3;
+
+/// A single segment is accepted when its RMS distance to the points is at most this many times
+/// the noise level (the RMS distance of the dense least-squares spline).
+pub const NOISE_FACTOR: f64 = 1.3;
+
+/// Most points a fit measures (longer inputs are thinned evenly).
+const MAX_FITTED: usize = 200;
+
+/// Samples of the model segment the points are measured against.
+const MODEL_SAMPLES: usize = 240;
+
+/// The best single segment: its α, turning, log radius ratio and RMS distance to the points.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SegmentFit {
+    pub alpha: f64,
+    pub turning: f64,
+    pub log_ratio: f64,
+    pub rms: f64,
+}
+
+/// Points in the plane of the curve, the first at the origin and the last on +x, so the
+/// model's chord maps onto them by a scale alone (and a mirror when the curve turns clockwise).
+struct Frame {
+    points: Vec<(f64, f64)>,
+    chord: f64,
+}
+
+impl Frame {
+    fn new(points: &[DVec3], normal: DVec3) -> Option<Self> {
+        let (first, last) = (*points.first()?, *points.last()?);
+        let chord = last - first;
+        let length = chord.length();
+        if length.is_nan() || length <= 0.0 || !normal.is_finite() {
+            return None;
+        }
+        let e1 = chord / length;
+        let e2 = normal.normalize().cross(e1);
+        let points = points.iter().map(|p| ((*p - first).dot(e1), (*p - first).dot(e2))).collect();
+        Some(Frame { points, chord: length })
+    }
+}
+
+/// The RMS distance from the points (in order along the curve) to the model with these
+/// parameters, mirrored when `clockwise`; `None` where no such segment exists.
+fn distance(frame: &Frame, alpha: f64, turning: f64, log_ratio: f64, clockwise: bool) -> Option<f64> {
+    if !(turning > 0.0 && log_ratio.abs() < MAX_LOG_RADIUS_RATIO && (-6.0..=8.0).contains(&alpha)) {
+        return None;
+    }
+    let segment = AestheticSegment::in_standard_position(alpha, turning, log_ratio, 1.0)?;
+    let samples = segment.sample(MODEL_SAMPLES);
+    let end = *samples.last()?;
+    let (ex, ey) = (end.x, end.y);
+    let norm = ex * ex + ey * ey;
+    if norm.is_nan() || norm <= 0.0 || !norm.is_finite() {
+        return None;
+    }
+    // Complex multiplication by chord / end maps the model's end onto (chord, 0).
+    let (a, b) = (frame.chord * ex / norm, -frame.chord * ey / norm);
+    let sign = if clockwise { -1.0 } else { 1.0 };
+    let model: Vec<(f64, f64)> = samples.iter().map(|p| (a * p.x - b * p.y, sign * (a * p.y + b * p.x))).collect();
+    // Points and model both run along the curve: search near the point's share of the way.
+    let n = frame.points.len();
+    let m = model.len();
+    let reach = (m / 4).max(8);
+    let mut sum = 0.0;
+    for (i, &(x, y)) in frame.points.iter().enumerate() {
+        let guess = i * (m - 1) / (n - 1).max(1);
+        let (lo, hi) = (guess.saturating_sub(reach), (guess + reach).min(m - 1));
+        let mut best = f64::INFINITY;
+        for k in lo..hi {
+            let ((ax, ay), (bx, by)) = (model[k], model[k + 1]);
+            let (dx, dy) = (bx - ax, by - ay);
+            let len2 = dx * dx + dy * dy;
+            let t = if len2 > 0.0 { (((x - ax) * dx + (y - ay) * dy) / len2).clamp(0.0, 1.0) } else { 0.0 };
+            let (px, py) = (ax + t * dx - x, ay + t * dy - y);
+            best = best.min(px * px + py * py);
+        }
+        sum += best;
+    }
+    let rms = (sum / n as f64).sqrt();
+    rms.is_finite().then_some(rms)
+}
+
+/// Nelder–Mead on `f` from `start` with initial steps `step`; at most `iterations` steps.
+fn nelder_mead(f: impl Fn([f64; 3]) -> f64, start: [f64; 3], step: [f64; 3], iterations: usize) -> ([f64; 3], f64) {
+    let mut simplex: Vec<([f64; 3], f64)> = (0..4)
+        .map(|k| {
+            let mut p = start;
+            if k > 0 {
+                p[k - 1] += step[k - 1];
+            }
+            (p, f(p))
+        })
+        .collect();
+    let combine = |a: [f64; 3], b: [f64; 3], t: f64| std::array::from_fn(|i| a[i] + t * (b[i] - a[i]));
+    for _ in 0..iterations {
+        simplex.sort_by(|a, b| a.1.total_cmp(&b.1));
+        let centroid: [f64; 3] = std::array::from_fn(|i| simplex[..3].iter().map(|s| s.0[i]).sum::<f64>() / 3.0);
+        let worst = simplex[3];
+        let reflected = combine(centroid, worst.0, -1.0);
+        let fr = f(reflected);
+        if fr < simplex[0].1 {
+            let expanded = combine(centroid, worst.0, -2.0);
+            let fe = f(expanded);
+            simplex[3] = if fe < fr { (expanded, fe) } else { (reflected, fr) };
+        } else if fr < simplex[2].1 {
+            simplex[3] = (reflected, fr);
+        } else {
+            let contracted = combine(centroid, worst.0, 0.5);
+            let fc = f(contracted);
+            if fc < worst.1 {
+                simplex[3] = (contracted, fc);
+            } else {
+                let best = simplex[0].0;
+                for s in &mut simplex[1..] {
+                    s.0 = combine(best, s.0, 0.5);
+                    s.1 = f(s.0);
+                }
+            }
+        }
+        let spread = simplex.iter().map(|s| s.1).fold(f64::NEG_INFINITY, f64::max) - simplex[0].1;
+        if spread.abs() < 1e-14 * (1.0 + simplex[0].1.abs()) {
+            break;
+        }
+    }
+    simplex.sort_by(|a, b| a.1.total_cmp(&b.1));
+    simplex[0]
+}
+
+/// The single log-aesthetic segment closest to `points` (planar, about `normal`) through their
+/// end points, from a start `turning` (signed: negative turns clockwise) and `log_ratio`
+/// (ln of end radius over start radius) read off a smooth fit. `None` when no segment fits.
+pub fn fit_segment(points: &[DVec3], normal: DVec3, turning: f64, log_ratio: f64) -> Option<SegmentFit> {
+    // At most MAX_FITTED points, evenly picked (ends kept): the RMS distance of a fair share of
+    // the points is the RMS distance of all of them, at a fraction of the cost.
+    let picked: Vec<DVec3> = if points.len() > MAX_FITTED {
+        (0..MAX_FITTED).map(|k| points[k * (points.len() - 1) / (MAX_FITTED - 1)]).collect()
+    } else {
+        points.to_vec()
+    };
+    let frame = Frame::new(&picked, normal)?;
+    let clockwise = turning < 0.0;
+    let cost = |p: [f64; 3]| distance(&frame, p[0], p[1], p[2], clockwise).unwrap_or(f64::INFINITY);
+    let turn = turning.abs().max(1e-3);
+    let mut best: Option<([f64; 3], f64)> = None;
+    for alpha in [-1.0, 0.0, 1.0, 2.0] {
+        let start = [alpha, turn, log_ratio.clamp(-20.0, 20.0)];
+        if !cost(start).is_finite() {
+            continue;
+        }
+        let found = nelder_mead(cost, start, [0.5, 0.1 * turn, 0.2], 300);
+        if best.is_none_or(|b| found.1 < b.1) {
+            best = Some(found);
+        }
+    }
+    let (p, rms) = best.filter(|b| b.1.is_finite())?;
+    Some(SegmentFit { alpha: p[0], turning: if clockwise { -p[1] } else { p[1] }, log_ratio: p[2], rms })
+}
