@@ -1,12 +1,11 @@
 //! The cage document: what a designer saves in a `.taut` file.
 //!
 //! A cage (positions and polygons), the surface scheme that makes a surface of it, and each
-//! scheme's controls and settings: for NUSD a fixed flag and a tension τ per vertex and a tension
-//! τ per edge (dimensionless, spec: "Scale-free tension") and the solver settings; for the
-//! subdivision schemes a crease sharpness per edge, a corner sharpness per vertex and the number
-//! of levels. The file is JSON
-//! with a format name and version; floating-point values are written in their shortest exact
-//! form, so saving and loading reproduces the document bit for bit.
+//! scheme's controls and settings: for NUSD a fixed flag and a tension τ per vertex and a tension τ
+//! per edge (dimensionless, `docs/nusd.md`, "Scale-free tension") and the solver settings; for the
+//! subdivision schemes a crease sharpness per edge, a corner sharpness per vertex and the number of
+//! levels. The file is JSON with a format name and version; floating-point values are written in
+//! their shortest exact form, so saving and loading reproduces the document bit for bit.
 //!
 //! Format versions: 1 had no scheme (NUSD), creases or subdivision settings; 2 adds them. Every
 //! version-1 file opens as a NUSD document. An infinitely sharp crease is written `"inf"` (JSON

@@ -117,7 +117,7 @@ fn brute_distance(p: DVec3, positions: &[DVec3], triangles: &[[u32; 3]]) -> f64 
 }
 
 /// The Loop limit point of every cage vertex of a closed triangle cage, from the mask written
-/// out here (β_k, χ_k of the spec), independent of the core's matrix.
+/// out here (β_k, χ_k of `docs/control-cage.md`, step 2), independent of the core's matrix.
 fn limit_points(cage: &PolyMesh) -> Vec<DVec3> {
     cage.vertices()
         .map(|v| {

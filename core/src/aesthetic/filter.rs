@@ -14,7 +14,7 @@
 //! target, which is quadratic in ψ because the third derivative uses the two points on either
 //! side and not `P_i`; of the two roots we take the one of smaller |ψ| (sec. 4.2).
 //!
-//! Departures from the paper and spec, and why:
+//! Departures from the paper, and why (also in `docs/log-aesthetic.md`, "Where we depart"):
 //! - Points move a fraction ω ([`FilterSettings::relaxation`], default ½) of the way to their
 //!   target in a pass. The full step moves each point onto a target computed from neighbours that
 //!   are themselves noisy and overshoots: on the paper's example (20 points with 0.5 % noise)

@@ -11,8 +11,9 @@
 //! and `S_vv` involve it, each with weight −2, so `K(φ)` is quadratic in φ; φ makes K equal to the
 //! mean C of K over the point's 3 × 3 neighbourhood. Of the two roots the paper takes "the one
 //! of smaller |φ|, so the smaller move"; we take the root nearest the point's own offset
-//! `(P_ij − P_ijc)·N`, which is the smaller move. (Smaller |φ| measured from `P_ijc`, as the spec
-//! reads it, picks the wrong root on a cylinder: the neighbours' mean lies inside it, and the
+//! `(P_ij − P_ijc)·N`, which is the smaller move. (Smaller |φ| measured from `P_ijc`, as the
+//! earlier spec read it, `docs/README.md` correction 5, picks the wrong root on a cylinder: the
+//! neighbours' mean lies inside it, and the
 //! other root turns the bending from around the axis to along it.) As in the curve filter the point moves a fraction ω
 //! ([`SurfaceSettings::relaxation`]) of the way there, and the passes go over the four classes of
 //! (row parity, column parity) in turn, each from the state the previous one left, so no point

@@ -15,16 +15,16 @@
 //!    vanishes) and reported as an [`AlphaGuard`].
 //!
 //! Limit points and normals come from [`crate::subdiv`] (its documentation gives the rules):
-//! interior vertices by Halstead, Kass & DeRose's masks (spec §2); **open boundaries** by the
-//! edge-only boundary rules, so a boundary vertex's limit is `(e_prev + 4v + e_next)/6` on the
-//! cubic B-spline of the boundary polygon and its normal is the boundary tangent `e_next − e_prev`
-//! crossed with Biermann, Levin & Zorin's cross-boundary tangent mask (`k = 1` face:
-//! `(e_a + e_b)/2 − v`). Boundary patches are built like all others: the Chiyokura–Kimura rule
-//! gives every side, the open ones included, the cross derivative `k b + h C'` from its end
-//! normals and the neighbouring legs; an open side has no partner to be G1 with. A single face's
-//! corner (valence 2 on the boundary) is smoothed by the boundary rule, so its two curves leave
-//! it in opposite directions and that patch corner is flat (180°; its normal there comes from the
-//! vertex's tangent plane).
+//! interior vertices by Halstead, Kass & DeRose's masks (`docs/subdivision.md` §2); **open
+//! boundaries** by the edge-only boundary rules, so a boundary vertex's limit is
+//! `(e_prev + 4v + e_next)/6` on the cubic B-spline of the boundary polygon and its normal is the
+//! boundary tangent `e_next − e_prev` crossed with the exact cross-boundary tangent of the sector,
+//! from the eigenvectors of its subdivision matrix (`k = 1` face: `(e_a + e_b)/2 − v`). Boundary
+//! patches are built like all others: the Chiyokura–Kimura rule gives every side, the open ones
+//! included, the cross derivative `k b + h C'` from its end normals and the neighbouring legs; an
+//! open side has no partner to be G1 with. A single face's corner (valence 2 on the boundary) is
+//! smoothed by the boundary rule, so its two curves leave it in opposite directions and that patch
+//! corner is flat (180°; its normal there comes from the vertex's tangent plane).
 //!
 //! Every normal is turned to agree with the faces' winding (the area vector of the faces around
 //! the vertex two levels down). Where the limit normal is undefined (zero-area faces around the
@@ -68,7 +68,7 @@ pub struct EdgeCurves {
     pub report: FitReport,
 }
 
-/// How well the curves fit the limit surface (spec §3–4 and §7).
+/// How well the curves fit the limit surface (`docs/curve-mesh-gregory.md` §3–4 and §7).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct FitReport {
     /// Largest distance from an inner limit point (`v*₁..v*₃`) to its curve (closest point).

@@ -5,12 +5,12 @@
 //! The curve mesh is rebuilt from the new cage, and the edits are carried onto it:
 //! - **Which vertex continues which.** Every curve-mesh vertex stands for one cage element
 //!   ([`Role`]): the cage vertex itself when the cage is all quads (its curve mesh has the cage's
-//!   topology), or, when the cage was subdivided once first (spec §5), a cage vertex, the edge
-//!   point of a cage edge or the face point of a cage face. A curve-mesh vertex continues the old
-//!   one of the same role when that cage element continues unchanged in identity, by the cage
-//!   edit's provenance ([`crate::mesh::edit::provenance`]) — `Same` only: a copy, a mirror image or
-//!   a merged vertex is somewhere else, so an absolute position cannot follow it. A move of cage
-//!   points keeps every role.
+//!   topology), or, when the cage was subdivided once first (`docs/curve-mesh-gregory.md` §5), a
+//!   cage vertex, the edge point of a cage edge or the face point of a cage face. A curve-mesh
+//!   vertex continues the old one of the same role when that cage element continues unchanged in
+//!   identity, by the cage edit's provenance ([`crate::mesh::edit::provenance`]) — `Same` only: a
+//!   copy, a mirror image or a merged vertex is somewhere else, so an absolute position cannot
+//!   follow it. A move of cage points keeps every role.
 //! - **Vertices.** An edited vertex that continues keeps its edited position and tangent plane
 //!   exactly (the designer put it there; it does not follow the cage). Every other vertex takes
 //!   the new build's.

@@ -11,7 +11,7 @@
 //! the two patches meet with G1 continuity whatever their other sides are. `k0, h0` (and `k1,
 //! h1`) come from the patch's own leg along the neighbouring side at each corner, so `D(0)` and
 //! `D(1)` agree with those sides. The Bernstein coefficients of the cubic `D` give the side's two
-//! inner points, `P = Qᵢ + dᵢ/3` (spec §6 for `e`, `f`, `m`).
+//! inner points, `P = Qᵢ + dᵢ/3` (`docs/curve-mesh-gregory.md` §6 for `e`, `f`, `m`).
 //!
 //! Weak spots: the construction needs every corner's legs in its tangent plane (the curve mesh
 //! keeps them there); a leg that is off the plane is split into its in-plane part by least

@@ -1,6 +1,6 @@
 //! Fixed `K × K` tessellation of a curve mesh's patches into one crack-free polygon mesh with
-//! analytic normals (`docs/curve-mesh-gregory.md` §7: "tessellate each patch K×K, default
-//! 16, with analytic normals").
+//! analytic normals (`docs/curve-mesh-gregory.md` §7: each patch `K × K`, default 16, with analytic
+//! normals).
 //!
 //! Every sample on a curve is one vertex shared by the patches on both sides, so neighbours can
 //! never crack apart: a curve-mesh vertex is one vertex (its position, its tangent-plane normal

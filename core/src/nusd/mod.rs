@@ -20,7 +20,7 @@ pub mod surface;
 
 use serde::{Deserialize, Serialize};
 
-/// How the parameter interval `s_ij` of an edge is measured (spec: "Spacing").
+/// How the parameter interval `s_ij` of an edge is measured (`docs/nusd.md`, "Spacing").
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Spacing {
@@ -47,7 +47,7 @@ impl Spacing {
     }
 
     /// The smallest spacing allowed for a model whose bounding box has diagonal `diagonal`
-    /// (spec: clamp to `1e-9 · bbox_diagonal`).
+    /// (`docs/nusd.md`, "Spacing": clamp to `1e-9 · bbox_diagonal`).
     pub fn min_spacing(self, diagonal: f64) -> f64 {
         match self {
             Spacing::Chord => 1e-9 * diagonal.max(f64::MIN_POSITIVE),
@@ -69,9 +69,9 @@ impl std::str::FromStr for Spacing {
     }
 }
 
-/// Default diffusion constant λ for curves (spec).
+/// Default diffusion constant λ for curves (`docs/nusd.md`, "One iteration").
 pub const DEFAULT_LAMBDA_CURVE: f64 = 0.7;
-/// Default diffusion constant λ for surfaces (spec).
+/// Default diffusion constant λ for surfaces (`docs/nusd.md`, "One iteration"; the paper's 0.6).
 pub const DEFAULT_LAMBDA_SURFACE: f64 = 0.6;
 /// Default relative tolerance: the solve stops when the estimated distance to the fixed point is
 /// below `tol · bbox_diagonal`.

@@ -12,9 +12,10 @@
 //!
 //! Tension (eq. 5) is given per point as a dimensionless `τ ≥ 0`; we use `β_i = τ_i / ℓ_i` with
 //! `ℓ_i` the mean *parameter length* of the control segments at point i (their mean length with
-//! chord spacing, the spec's choice). Using the parameter length rather than the geometric length
-//! keeps uniform and centripetal spacing exactly similarity-invariant too: translating, rotating
-//! or scaling the control polyline transforms the result the same way, with any spacing.
+//! chord spacing, the choice in `docs/nusd.md`, "Scale-free tension"). Using the parameter length
+//! rather than the geometric length keeps uniform and centripetal spacing exactly
+//! similarity-invariant too: translating, rotating or scaling the control polyline transforms the
+//! result the same way, with any spacing.
 //!
 //! Weak spots: the iteration is explicit, so the number of iterations grows with the square of
 //! the number of points between fixed points; large tensions can make it diverge, in which case

@@ -20,11 +20,11 @@
 //! edges are sharp starts with the smaller of their sharpness added to its own
 //! ([`starting_corners`]), as OpenSubdiv (through Blender) refines it.
 //!
-//! Boundaries are interpolated "edge only" (OpenSubdiv's `VTX_BOUNDARY_EDGE_ONLY`, the spec's
-//! rules): a boundary edge is infinitely sharp, so a boundary vertex is a crease along its two
-//! boundary edges (also a valence-2 corner of a single face, which is therefore *not* pinned),
-//! and a corner when another sharp edge ends on it. A sharpness given to a boundary edge is
-//! ignored.
+//! Boundaries are interpolated "edge only" (OpenSubdiv's `VTX_BOUNDARY_EDGE_ONLY`;
+//! `docs/subdivision.md` §1): a boundary edge is infinitely sharp, so a boundary vertex is a crease
+//! along its two boundary edges (also a valence-2 corner of a single face, which is therefore *not*
+//! pinned), and a corner when another sharp edge ends on it. A sharpness given to a boundary edge
+//! is ignored.
 
 use crate::mesh::{EdgeId, PolyMesh, VertexId};
 use crate::{Error, Result};

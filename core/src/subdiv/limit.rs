@@ -10,11 +10,11 @@
 //! as in OpenSubdiv's `PrimvarRefiner::Limit`, so the limit of a semi-sharp feature is exact only
 //! once the refinement is deeper than its sharpness (a designer's `s ≤ levels`).
 //!
-//! - Catmull–Clark, smooth vertex of valence `n` on an all-quad level (spec
-//!   `curve-mesh-gregory.md` §2, Halstead, Kass and DeRose 1993): `v* = (n² v + 4 Σ e_j + Σ f_j) /
+//! - Catmull–Clark, smooth vertex of valence `n` on an all-quad level (`docs/subdivision.md`
+//!   §2, Halstead, Kass and DeRose 1993): `v* = (n² v + 4 Σ e_j + Σ f_j) /
 //!   (n (n + 5))`, tangents `c2 = Σ A_n cos(2πj/n) e_j + (cos(2πj/n) + cos(2π(j+1)/n)) f_j`,
 //!   `c3` the same one step round, `A_n = 1 + cos(2π/n) + cos(π/n) √(2 (9 + cos(2π/n)))`.
-//! - Loop, smooth vertex (`control-cage.md`): `p∞ = (1 − kχ) p + χ Σ p_j`, tangents
+//! - Loop, smooth vertex (`docs/subdivision.md` §2): `p∞ = (1 − kχ) p + χ Σ p_j`, tangents
 //!   `Σ cos(2πj/k) p_j` and `Σ sin(2πj/k) p_j` (Loop 1987; Hoppe et al. 1994).
 //! - Dart of an infinitely sharp edge (both schemes): the exact eigenvector masks of
 //!   [`super::eigen_masks`] (OpenSubdiv uses the smooth masks, which are not exact there); a dart

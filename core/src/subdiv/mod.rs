@@ -1,6 +1,6 @@
 //! Subdivision surfaces: Catmull–Clark and Loop refinement with weighted stencils, creases, and
-//! exact limit positions and normals (`docs/curve-mesh-gregory.md` §1–2 for
-//! Catmull–Clark, `docs/control-cage.md` for Loop).
+//! exact limit positions and normals (`docs/subdivision.md`; the Loop limit matrix also in
+//! `docs/control-cage.md`).
 //!
 //! - [`topology`]: one topological split for every scheme (quads, triangles or NUSD's mix), with
 //!   stable numbering and the origin of every child element.

@@ -1,7 +1,7 @@
 //! The refinement rules of Catmull–Clark and Loop with creases, as stencils from one level to the
 //! next (one [`SparseRows`] row per child vertex, in the child numbering of [`SplitTopology`]).
 //!
-//! Catmull–Clark (Catmull and Clark 1978; `docs/curve-mesh-gregory.md` §1, OpenSubdiv's
+//! Catmull–Clark (Catmull and Clark 1978; `docs/subdivision.md` §1, OpenSubdiv's
 //! Catmark rules): face point = centroid; smooth edge point = `(a + b + F0 + F1)/4` with `F` the
 //! new face points; smooth vertex point `((n−2)/n) v + (1/n²) Σ e_j + (1/n²) Σ F_j`.
 //! Loop (Loop 1987): smooth edge point `3/8 (a + b) + 1/8 (c + d)` with `c, d` the opposite

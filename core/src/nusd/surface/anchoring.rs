@@ -11,9 +11,10 @@
 //!   at one point it shrinks to the point, and with none the system has no unique solution (the
 //!   iteration drifts and shrinks);
 //! - on an **open** part every boundary loop is a closed NUSD polyline through its own fixed
-//!   vertices alone (spec: "Open boundaries"), so each loop needs fixed vertices not on one
-//!   line: with two (the least the polyline command accepts) the loop collapses onto the segment
-//!   between them and the patch pinches to it. The interior is then solved against its loops.
+//!   vertices alone (`docs/nusd.md`, "Open boundaries"), so each loop needs fixed vertices not on
+//!   one line: with two (the least the polyline command accepts) the loop collapses onto the
+//!   segment between them and the patch pinches to it. The interior is then solved against its
+//!   loops.
 //!
 //! "In one plane" is relative: within [`FLAT_TOLERANCE`] of the part's bounding-box diagonal, so
 //! the check is invariant under similarity transforms and works at any size. A part whose every

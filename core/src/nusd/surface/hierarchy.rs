@@ -1,4 +1,4 @@
-//! The refinement hierarchy of a surface solve (spec: "Hierarchical refinement").
+//! The refinement hierarchy of a surface solve (`docs/nusd.md`, "Hierarchical refinement").
 //!
 //! Each level splits every edge at its midpoint; a triangle becomes four triangles, a quad or
 //! any n-gon becomes n quads around a new face-centre vertex. Vertex numbering is stable: the

@@ -1,10 +1,11 @@
-//! One NUSD iteration on a level (spec: "One iteration"), in parallel and deterministic.
+//! One NUSD iteration on a level (`docs/nusd.md`, "One iteration"), in parallel and deterministic.
 //!
 //! 1. fixed `i`: `R_i ← ΔP_i / K_i` (eq. 4), written in place: no later read of this pass
 //!    depends on another fixed vertex's R;
 //! 2. moving `i`: `R_i' ← R_i + λ ΔR_i` (eq. 2), with tensioned neighbours' R replaced
-//!    (sec. 5 / eq. 5), then `P_i' ← P_i + λ ΔP_i − λ K_i R_i'` (eq. 3), written to the second
-//!    buffer.
+//!    (sec. 5 / eq. 5), then `P_i' ← P_i + λ ΔP_i − λ K_i R_i'` (eq. 3, but with the `R` just
+//!    updated where the paper's eq. 3 reads the previous `R_i`: the same fixed point; see
+//!    `docs/nusd.md`, "Where we depart"), written to the second buffer.
 //!
 //! Every vertex reads only the previous iterate and writes only its own entries, so the result
 //! is bit-identical for any number of threads; the largest step is a max-reduction, which is

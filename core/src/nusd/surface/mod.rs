@@ -1,4 +1,4 @@
-//! The hierarchical NUSD surface solver the editor drives every frame (spec: "Surfaces").
+//! The hierarchical NUSD surface solver the editor drives every frame (`docs/nusd.md`, "Surfaces").
 //!
 //! Level 0 is the cage. Each level is refined from the previous one ([`hierarchy`]), its
 //! operator is built from the unsmoothed domain ([`operator`]), and it is solved to convergence

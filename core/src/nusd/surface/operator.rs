@@ -3,16 +3,17 @@
 //! Everything that depends on the domain, the flags and the tensions but not on the current
 //! iterate is computed here once per edit, so the iteration itself only gathers and adds.
 //!
-//! Rules (spec: "Surfaces"):
+//! Rules (`docs/nusd.md`, "Surfaces"):
 //! - interior vertex: `w_ij = (1/s_ij) / Σ_k (1/s_ik)` over all neighbours,
 //!   `K_i = Σ_k s_ik / Σ_k (1/s_ik)` (eq. 6);
 //! - open-boundary vertex: only its two boundary neighbours, for `ΔP`, `ΔR` and the polyline
 //!   `K_i = s_i,prev · s_i,next / 2` (eq. 1), so every boundary loop is a closed NUSD polyline;
 //! - patch-boundary diffusion: a vertex on a cage edge diffuses `R` only along cage edges.
-//!   The spec writes this as `C_i ∩ E`; the paper (sec. 4) says R is diffused "only between the
-//!   vertices on that edge". The two differ on triangles, where the midpoints of a triangle's
-//!   three cage edges are joined by edges inside the face; we follow the paper and keep only
-//!   neighbours joined by an edge that lies on a cage edge;
+//!   The paper (sec. 4) writes this as `C_i ∩ E` and says in words that R is diffused "only
+//!   between the vertices on that edge". The two differ inside triangular cage faces, where
+//!   refinement joins vertices of two different cage edges across the face; we follow the words
+//!   and keep only neighbours joined by an edge that lies on a cage edge (`docs/nusd.md`,
+//!   "Patch-boundary diffusion");
 //! - tension (sec. 5, scale-free): `β^v = τ^v / ℓ_v`, `β^e = τ^e / ℓ_e`, assigned to directed
 //!   neighbour pairs. On an open boundary, the override seen by a boundary neighbour follows the
 //!   polyline rule (eq. 5), so a tensioned boundary is still exactly the tensioned polyline.
@@ -69,7 +70,7 @@ pub struct Operator {
     /// than there are vertices, or is empty when there is no tension at all).
     pub override_offsets: Vec<u32>,
     pub overrides: Vec<TensionOverride>,
-    /// The spacing clamp in force (spec: `1e-9 · bbox_diagonal`).
+    /// The spacing clamp in force (`docs/nusd.md`, "Spacing": `1e-9 · bbox_diagonal`).
     min_spacing: f64,
     /// The smallest spacing of any edge before clamping (a lower bound after refreshes): while
     /// it stays above the clamp, a changed clamp changes no row.
