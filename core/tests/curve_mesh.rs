@@ -321,3 +321,51 @@ fn closest_point_agrees_with_a_brute_force_search() {
         .fold(f64::INFINITY, f64::min);
     assert!(d <= brute + 1e-12 && d > brute - 1e-3, "{d} vs {brute}");
 }
+
+/// The cross-boundary field turning through the limit normal at each curve's middle brings the
+/// patches closer to the Catmull–Clark limit surface than the linear field of Chiyokura and
+/// Kimura (measured with the linear field: torus 0.158 %, knob 0.232 %, patch 0.126 %, prism
+/// 0.138 % of the diagonal; with the middle normals 0.113 %, 0.224 %, 0.092 %, 0.129 %), keeps
+/// G1 across every shared curve, and an edited curve falls back to the linear field (its
+/// patches are then those of a mesh built without middle normals).
+#[test]
+fn middle_normals_bring_the_patches_closer_and_keep_g1() {
+    for (name, bound) in [("torus.obj", 0.0012), ("knob.obj", 0.00229), ("patch.obj", 0.0010), ("prism.obj", 0.00133)] {
+        let (cage, _) = io::import_mesh(&assets().join(name)).unwrap();
+        let (mesh, report) = CurveMesh::from_cage(&cage).unwrap();
+        let share = report.closeness.max_distance / cage.bounding_diagonal();
+        assert!(
+            share < bound,
+            "{name}: interior limit points {:.4} % of the diagonal from their patches",
+            100.0 * share
+        );
+        let (_, continuity) = mesh.continuity(16);
+        assert!(continuity.max_normal_angle < 1e-9, "{name}: {}", continuity.max_normal_angle);
+    }
+    // An edited curve falls back to the linear field; the other curves of its patches keep their
+    // middle normals, and G1 holds.
+    let (cage, _) = io::import_mesh(&assets().join("torus.obj")).unwrap();
+    let (mut mesh, _) = CurveMesh::from_cage(&cage).unwrap();
+    let e = taut_core::EdgeId(5);
+    let sides = |mesh: &CurveMesh| -> Vec<(bool, bool)> {
+        (0..2)
+            .map(|side| {
+                let h = e.halfedge(side);
+                let f = mesh.topology().face(h);
+                let k = mesh.topology().face_halfedges(f).position(|x| x == h).unwrap();
+                let boundary = mesh.patch_boundary(f);
+                (boundary.mids[k].is_some(), boundary.mids[(k + 2) % 4].is_some())
+            })
+            .collect()
+    };
+    assert_eq!(sides(&mesh), vec![(true, true), (true, true)]);
+    let before = mesh.patch(mesh.topology().face(e.halfedge(0))).point(0.5, 0.5);
+    let (a, _) = mesh.topology().edge_vertices(e);
+    let p = mesh.inner_point(e, a).unwrap();
+    mesh.move_inner_point(e, a, p).unwrap();
+    assert_eq!(sides(&mesh), vec![(false, true), (false, true)]);
+    let after = mesh.patch(mesh.topology().face(e.halfedge(0))).point(0.5, 0.5);
+    assert!(before != after, "the patch is rebuilt with the linear field on the edited curve");
+    let (_, continuity) = mesh.continuity(16);
+    assert!(continuity.max_normal_angle < 1e-9);
+}

@@ -14,6 +14,11 @@
 //!    replaced by the projected curve's own leg length (or a third of the chord when that
 //!    vanishes) and reported as an [`AlphaGuard`].
 //!
+//! 4. The limit normal at every curve's middle (the middle of its level-2 chain) goes to the curve
+//!    mesh: the patches' cross-boundary field turns through it
+//!    ([`super::chiyokura_kimura::side_inner_points`]; `docs/curve-mesh-gregory.md`, "Where we
+//!    depart").
+//!
 //! Limit points and normals come from [`crate::subdiv`] (its documentation gives the rules):
 //! interior vertices by Halstead, Kass & DeRose's masks (`docs/subdivision.md` §2); **open
 //! boundaries** by the edge-only boundary rules, so a boundary vertex's limit is
@@ -281,7 +286,15 @@ impl CurveMesh {
         let (curves, refinement, refined) = fit_on_refinement(&quads)?;
         let mut topology = quads;
         topology.positions_mut().copy_from_slice(&curves.positions);
-        let mesh = CurveMesh::from_parts(topology, curves.normals, curves.inner)?;
+        // The limit normal at every curve's middle: the middle vertex of its level-2 chain.
+        let mids = topology
+            .edges()
+            .map(|e| {
+                let chain = refinement.cage_edge_chain(e, 2)?;
+                Ok(refined.normals[chain[chain.len() / 2].index()])
+            })
+            .collect::<Result<Vec<DVec3>>>()?;
+        let mesh = CurveMesh::from_parts(topology, curves.normals, curves.inner)?.with_mid_normals(mids)?;
         let closeness = interior_closeness(&mesh, &refinement, &refined.limit)?;
         Ok((mesh, BuildReport { subdivided_first, fit: curves.report, closeness }))
     }

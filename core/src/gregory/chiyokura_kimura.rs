@@ -33,6 +33,10 @@ pub struct PatchBoundary {
     pub sides: [CubicBezier; 4],
     /// Unit tangent-plane normals at the four corners.
     pub normals: [DVec3; 4],
+    /// Per side, the unit normal of the surface the curve mesh stands for at the side's
+    /// middle, when known: the cross-boundary field `b(t)` then turns through it
+    /// (quadratic instead of linear; see [`side_inner_points`]).
+    pub mids: [Option<DVec3>; 4],
 }
 
 /// The Gregory patch spanning a boundary, with Chiyokura–Kimura inner points on every side.
@@ -54,7 +58,8 @@ pub fn gregory_patch(boundary: &PatchBoundary) -> GregoryPatch {
         // The patch's legs into its interior at the two ends: along the neighbouring sides.
         let a0 = 3.0 * (sides[(k + 3) % 4].points[2] - q[0]);
         let a1 = 3.0 * (sides[(k + 1) % 4].points[1] - q[3]);
-        let [p1, p2] = side_inner_points(curve, boundary.normals[k], boundary.normals[(k + 1) % 4], a0, a1);
+        let (n0, n1) = (boundary.normals[k], boundary.normals[(k + 1) % 4]);
+        let [p1, p2] = side_inner_points(curve, n0, n1, boundary.mids[k], a0, a1);
         let inner = &mut patch.inner;
         match k {
             0 => (inner[0][0][0], inner[1][0][0]) = (p1, p2),
@@ -69,7 +74,20 @@ pub fn gregory_patch(boundary: &PatchBoundary) -> GregoryPatch {
 
 /// The two inner points next to `Q1` and `Q2` of one side: `Q1 + d1/3`, `Q2 + d2/3`.
 /// `a0`, `a1` are the cross derivatives into the patch at the two ends (three times the legs).
-pub fn side_inner_points(curve: &CubicBezier, n0: DVec3, n1: DVec3, a0: DVec3, a1: DVec3) -> [DVec3; 2] {
+///
+/// With `mid`, the normal at the curve's middle, `b(t)` is the quadratic with `b(0) = b0`,
+/// `b(1) = b1` and `b(½)` along `mid × C'(½)` (of the linear field's length there), Bernstein
+/// middle coefficient `Bm = 2 b(½) − (b0 + b1)/2`; `k b` is then cubic, with coefficients
+/// `k0 b0`, `(2 k0 Bm + k1 b0)/3`, `(k0 b1 + 2 k1 Bm)/3`, `k1 b1`. `b(t)` still depends on the
+/// curve and its three normals only, so the two patches on a curve stay G1.
+pub fn side_inner_points(
+    curve: &CubicBezier,
+    n0: DVec3,
+    n1: DVec3,
+    mid: Option<DVec3>,
+    a0: DVec3,
+    a1: DVec3,
+) -> [DVec3; 2] {
     let q = curve.points;
     let c = curve.derivative_points();
     let b0 = cross_direction(n0, [c[0], q[2] - q[0], q[3] - q[0]]);
@@ -78,9 +96,18 @@ pub fn side_inner_points(curve: &CubicBezier, n0: DVec3, n1: DVec3, a0: DVec3, a
     let (k1, h1) = split(a1, b1, c[2]);
     let e1 = (2.0 * h0 * c[1] + h1 * c[0]) / 3.0;
     let e2 = (h0 * c[2] + 2.0 * h1 * c[1]) / 3.0;
-    let m = 0.5 * (k0 * b1 + k1 * b0);
-    let f1 = (k0 * b0) / 3.0 + 2.0 * m / 3.0;
-    let f2 = 2.0 * m / 3.0 + (k1 * b1) / 3.0;
+    let linear = 0.5 * (b0 + b1);
+    let bm = match mid {
+        Some(n) if n.is_finite() && n.length() > 0.0 => {
+            let half = cross_direction(n.normalize(), [curve.derivative(0.5), q[3] - q[0], q[2] - q[1]]);
+            // On the side of the linear field (a normal given the other way round flips it).
+            let half = if half.dot(linear) < 0.0 { -half } else { half };
+            2.0 * linear.length() * half - linear
+        }
+        _ => linear,
+    };
+    let f1 = (2.0 * k0 * bm + k1 * b0) / 3.0;
+    let f2 = (k0 * b1 + 2.0 * k1 * bm) / 3.0;
     [q[1] + (e1 + f1) / 3.0, q[2] + (e2 + f2) / 3.0]
 }
 
@@ -118,7 +145,7 @@ mod tests {
         let normals = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)].map(|(u, v)| bez.normal(u, v).unwrap());
         let g = GregoryPatch::from_bezier(*b);
         let [s0, s1, s2, s3] = g.boundary_curves();
-        PatchBoundary { sides: [s0, s1, s2.reversed(), s3.reversed()], normals }
+        PatchBoundary { sides: [s0, s1, s2.reversed(), s3.reversed()], normals, mids: [None; 4] }
     }
 
     /// A cylinder patch: a planar cubic extruded along `w` (perpendicular to its plane). Its
@@ -213,7 +240,7 @@ mod tests {
         let side_a1 = CubicBezier::new(b, b_left, DVec3::new(3.2, 2.0, 0.6), top.points[0]);
         let side_a3 = CubicBezier::new(top.points[3], DVec3::new(-0.1, 2.0, 0.0), a_left, a);
         let na = [n0, n1, DVec3::Z, DVec3::Z];
-        let pa = gregory_patch(&PatchBoundary { sides: [curve, side_a1, top, side_a3], normals: na });
+        let pa = gregory_patch(&PatchBoundary { sides: [curve, side_a1, top, side_a3], normals: na, mids: [None; 4] });
         // Patch B on −y runs the curve backwards.
         let a_right = a + in_plane(n0, DVec3::new(0.1, -1.0, -0.1));
         let b_right = b + in_plane(n1, DVec3::new(-0.2, -0.9, 0.4));
@@ -226,7 +253,11 @@ mod tests {
         let side_b1 = CubicBezier::new(a, a_right, DVec3::new(-0.2, -2.0, 0.1), bottom.points[0]);
         let side_b3 = CubicBezier::new(bottom.points[3], DVec3::new(3.0, -2.0, 0.0), b_right, b);
         let nb = [n1, n0, DVec3::Z, DVec3::Z];
-        let pb = gregory_patch(&PatchBoundary { sides: [curve.reversed(), side_b1, bottom, side_b3], normals: nb });
+        let pb = gregory_patch(&PatchBoundary {
+            sides: [curve.reversed(), side_b1, bottom, side_b3],
+            normals: nb,
+            mids: [None; 4],
+        });
         let mut worst: f64 = 0.0;
         for s in 0..=32 {
             let t = s as f64 / 32.0;

@@ -43,6 +43,9 @@ pub struct CurveMesh {
     normals: Vec<DVec3>,
     /// Per curve (edge), the inner points `[P1, P2]` for the direction of `edge.halfedge(0)`.
     inner: Vec<[DVec3; 2]>,
+    /// Per curve, the normal of the limit surface at its middle, while the curve and its ends
+    /// are as built (an edit drops it: the field falls back to linear there).
+    mids: Vec<Option<DVec3>>,
     patches: Vec<GregoryPatch>,
     /// The values as built, before any edit (for [`CurveMesh::set_edits`]).
     base: Values,
@@ -156,6 +159,7 @@ impl CurveMesh {
             topology,
             normals,
             inner,
+            mids: Vec::new(),
             patches: Vec::new(),
             edited_vertices: BTreeSet::new(),
             edited_curves: BTreeSet::new(),
@@ -177,6 +181,22 @@ impl CurveMesh {
             inner: mesh.inner.clone(),
         };
         Ok(mesh)
+    }
+
+    /// Sets the limit surface's normal at the middle of every curve (one per curve) and rebuilds
+    /// the patches: each curve's cross-boundary field then turns through it
+    /// ([`super::chiyokura_kimura::side_inner_points`]).
+    pub fn with_mid_normals(mut self, mids: Vec<DVec3>) -> Result<Self> {
+        if mids.len() != self.topology.edge_count() {
+            return Err(Error::Input(format!(
+                "{} middle normals for {} curves; give one per curve",
+                mids.len(),
+                self.topology.edge_count()
+            )));
+        }
+        self.mids = mids.into_iter().map(|n| (n.is_finite() && n.length() > 0.0).then(|| n.normalize())).collect();
+        self.patches = self.topology.faces().collect::<Vec<_>>().par_iter().map(|&f| self.build_patch(f)).collect();
+        Ok(self)
     }
 
     /// The connectivity: vertices are curve-mesh vertices, edges are curves, faces are patches.
@@ -253,7 +273,18 @@ impl CurveMesh {
         PatchBoundary {
             sides: hs.map(|h| self.curve_along(h)),
             normals: hs.map(|h| self.normals[self.topology.from_vertex(h).index()]),
+            mids: hs.map(|h| self.mid_normal(h.edge())),
         }
+    }
+
+    /// The limit normal at the middle of curve `e`, while the curve and both its ends are as
+    /// built (an edited curve or end vertex no longer stands for the limit surface there).
+    fn mid_normal(&self, e: EdgeId) -> Option<DVec3> {
+        let (a, b) = self.topology.edge_vertices(e);
+        let edited = self.edited_curves.contains(&e.0)
+            || self.edited_vertices.contains(&a.0)
+            || self.edited_vertices.contains(&b.0);
+        if edited { None } else { self.mids.get(e.index()).copied().flatten() }
     }
 
     fn build_patch(&self, f: FaceId) -> GregoryPatch {
@@ -538,6 +569,15 @@ impl CurveMesh {
         for &v in &vertices {
             curves.extend(self.topology.outgoing(v).map(|h| h.edge()));
         }
+        // A vertex or curve that becomes (or stops being) edited changes whether its curves use
+        // the limit surface's middle normals: their patches are rebuilt too.
+        for &v in self.edited_vertices.symmetric_difference(&new_vertices) {
+            vertices.push(VertexId(v));
+            curves.extend(self.topology.outgoing(VertexId(v)).map(|h| h.edge()));
+        }
+        curves.extend(self.edited_curves.symmetric_difference(&new_curves).map(|&c| EdgeId(c)));
+        vertices.sort();
+        vertices.dedup();
         self.edited_vertices = new_vertices;
         self.edited_curves = new_curves;
         Ok(self.rebuild_around(&vertices, &curves))
