@@ -261,45 +261,14 @@ impl EditorState {
         }
         let doc = self.document.doc();
         let values = mixed(edges.iter().map(|e| doc.crease[e.index()]));
-        let (mut s, sharp) = match values {
-            Mixed::None => (0.0, false),
-            Mixed::All(s) => (if s.is_finite() { s } else { CREASE_SLIDER_MAX }, s == f64::INFINITY),
-            Mixed::Range(lo, hi) => (if hi.is_finite() { hi } else { CREASE_SLIDER_MAX }, lo == f64::INFINITY),
+        let texts = SharpnessTexts {
+            label: "crease sharpness s",
+            hover: "How sharp the selected edges are: 0 smooth; s creases them for s levels and blends the \
+                    fraction (as in Blender and OpenSubdiv). Shift+E and a drag sets it in the viewport.",
+            sharp: ("infinitely sharp", "A crease at every level: the surface keeps a sharp edge there"),
+            clear: ("Clear creases", "Make the selected edges smooth again"),
         };
-        let name = ui.label("crease sharpness s");
-        let response = ui
-            .push_id("crease", |ui| {
-                ui.add(
-                    egui::Slider::new(&mut s, 0.0..=CREASE_SLIDER_MAX)
-                        .clamping(egui::SliderClamping::Never)
-                        .max_decimals(2),
-                )
-            })
-            .inner
-            .labelled_by(name.id)
-            .on_hover_text(
-                "How sharp the selected edges are: 0 smooth; s creases them for s levels and blends the \
-                 fraction (as in Blender and OpenSubdiv). Shift+E and a drag sets it in the viewport.",
-            );
-        if let Mixed::Range(lo, hi) = values {
-            ui.label(format!("mixed: {} to {}; a change sets them all", sharpness_text(lo), sharpness_text(hi)));
-        }
-        self.gesture_start(&response, ui_state);
-        if response.changed() {
-            self.edit(Edit::SetCrease(edges.clone(), s.max(0.0)));
-        }
-        self.gesture_end(&response, ui_state);
-        let mut infinite = sharp;
-        if ui
-            .checkbox(&mut infinite, "infinitely sharp")
-            .on_hover_text("A crease at every level: the surface keeps a sharp edge there")
-            .changed()
-        {
-            self.edit(Edit::SetCrease(edges.clone(), if infinite { f64::INFINITY } else { 0.0 }));
-        }
-        if ui.button("Clear creases").on_hover_text("Make the selected edges smooth again").clicked() {
-            self.edit(Edit::SetCrease(edges, 0.0));
-        }
+        self.sharpness_controls(ui, ui_state, values, &texts, |s| Edit::SetCrease(edges.clone(), s));
     }
 
     /// Corner sharpness of the selected vertices (OpenSubdiv's corners, Blender's vertex crease).
@@ -311,14 +280,38 @@ impl EditorState {
             return;
         }
         let values = mixed(vertices.iter().map(|v| doc.corner[v.index()]));
+        let texts = SharpnessTexts {
+            label: "corner sharpness",
+            hover: "How sharp the selected vertices are: 0 smooth; s keeps each one a corner for s levels and \
+                    blends the fraction (OpenSubdiv's corners, Blender's vertex crease). Shift+V and a drag sets \
+                    it in the viewport.",
+            sharp: (
+                "sharp corner",
+                "A corner at every level: the surface passes through the vertex with a point there",
+            ),
+            clear: ("Clear corners", "Make the selected vertices smooth again"),
+        };
+        self.sharpness_controls(ui, ui_state, values, &texts, |s| Edit::SetCorner(vertices.clone(), s));
+    }
+
+    /// A sharpness slider (a drag is one undo step), an "infinitely sharp" checkbox and a clear
+    /// button for the selection's sharpness `values`; `edit` sets them all to one value.
+    fn sharpness_controls(
+        &mut self,
+        ui: &mut egui::Ui,
+        ui_state: &mut UiState,
+        values: Mixed<f64>,
+        texts: &SharpnessTexts,
+        edit: impl Fn(f64) -> Edit,
+    ) {
         let (mut s, sharp) = match values {
             Mixed::None => (0.0, false),
             Mixed::All(s) => (if s.is_finite() { s } else { CREASE_SLIDER_MAX }, s == f64::INFINITY),
             Mixed::Range(lo, hi) => (if hi.is_finite() { hi } else { CREASE_SLIDER_MAX }, lo == f64::INFINITY),
         };
-        let name = ui.label("corner sharpness");
+        let name = ui.label(texts.label);
         let response = ui
-            .push_id("corner", |ui| {
+            .push_id(texts.label, |ui| {
                 ui.add(
                     egui::Slider::new(&mut s, 0.0..=CREASE_SLIDER_MAX)
                         .clamping(egui::SliderClamping::Never)
@@ -327,29 +320,21 @@ impl EditorState {
             })
             .inner
             .labelled_by(name.id)
-            .on_hover_text(
-                "How sharp the selected vertices are: 0 smooth; s keeps each one a corner for s levels and \
-                 blends the fraction (OpenSubdiv's corners, Blender's vertex crease). Shift+V and a drag sets \
-                 it in the viewport.",
-            );
+            .on_hover_text(texts.hover);
         if let Mixed::Range(lo, hi) = values {
             ui.label(format!("mixed: {} to {}; a change sets them all", sharpness_text(lo), sharpness_text(hi)));
         }
         self.gesture_start(&response, ui_state);
         if response.changed() {
-            self.edit(Edit::SetCorner(vertices.clone(), s.max(0.0)));
+            self.edit(edit(s.max(0.0)));
         }
         self.gesture_end(&response, ui_state);
         let mut infinite = sharp;
-        if ui
-            .checkbox(&mut infinite, "sharp corner")
-            .on_hover_text("A corner at every level: the surface passes through the vertex with a point there")
-            .changed()
-        {
-            self.edit(Edit::SetCorner(vertices.clone(), if infinite { f64::INFINITY } else { 0.0 }));
+        if ui.checkbox(&mut infinite, texts.sharp.0).on_hover_text(texts.sharp.1).changed() {
+            self.edit(edit(if infinite { f64::INFINITY } else { 0.0 }));
         }
-        if ui.button("Clear corners").on_hover_text("Make the selected vertices smooth again").clicked() {
-            self.edit(Edit::SetCorner(vertices, 0.0));
+        if ui.button(texts.clear.0).on_hover_text(texts.clear.1).clicked() {
+            self.edit(edit(0.0));
         }
     }
 
@@ -651,6 +636,16 @@ const TENSION_HELP_VERTEX: &str = "Tension at the selected vertices: more tauten
     Useful values are 0 to 4; larger ones can be typed, but over-flatten.";
 const TENSION_HELP_EDGE: &str = "Tension across the selected edges: more tautens the surface across them \
     without changing the curve along them. Useful values are 0 to 4; larger ones can be typed, but over-flatten.";
+
+/// What the sharpness controls of one kind (edge creases, vertex corners) say.
+struct SharpnessTexts {
+    label: &'static str,
+    hover: &'static str,
+    /// The "infinitely sharp" checkbox: its label and hover text.
+    sharp: (&'static str, &'static str),
+    /// The clear button: its label and hover text.
+    clear: (&'static str, &'static str),
+}
 
 #[cfg(test)]
 mod tests {
