@@ -5,42 +5,13 @@
 //! 30 frames a second a cage orbits smoothly while this stays under about 10 ms. Run with
 //! `cargo bench -p taut-core --bench visibility`; `TAUT_BENCH_QUICK=1` runs fewer repeats.
 
+mod common;
+
+use common::{best, torus};
 use std::hint::black_box;
-use std::time::{Duration, Instant};
+use taut_core::DVec3;
 use taut_core::cage_fit::surface_index::SurfaceIndex;
 use taut_core::mesh::visibility::visibility_from;
-use taut_core::{DVec3, PolyMesh};
-
-fn torus(nu: u32, nv: u32) -> PolyMesh {
-    let mut p = Vec::new();
-    for i in 0..nu {
-        let a = std::f64::consts::TAU * i as f64 / nu as f64;
-        for j in 0..nv {
-            let b = std::f64::consts::TAU * j as f64 / nv as f64;
-            let r = 0.3 * (1.0 + 0.25 * (3.0 * a).sin());
-            p.push(DVec3::new((1.0 + r * b.cos()) * a.cos(), (1.0 + r * b.cos()) * a.sin(), r * b.sin()));
-        }
-    }
-    let mut faces = Vec::new();
-    for i in 0..nu {
-        for j in 0..nv {
-            let (i1, j1) = ((i + 1) % nu, (j + 1) % nv);
-            faces.push([i * nv + j, i1 * nv + j, i1 * nv + j1, i * nv + j1]);
-        }
-    }
-    PolyMesh::from_polygons(p, &faces).unwrap()
-}
-
-fn best(repeats: usize, mut f: impl FnMut()) -> Duration {
-    (0..repeats)
-        .map(|_| {
-            let t = Instant::now();
-            f();
-            t.elapsed()
-        })
-        .min()
-        .expect("at least one run")
-}
 
 fn main() {
     let repeats = if std::env::var_os("TAUT_BENCH_QUICK").is_some() { 3 } else { 10 };
