@@ -16,6 +16,14 @@ installed libvulkan1 || need+=(libvulkan1)
 command -v Xvfb >/dev/null 2>&1 || need+=(xvfb)
 command -v xdotool >/dev/null 2>&1 || need+=(xdotool)
 command -v import >/dev/null 2>&1 || need+=(imagemagick)
+# The STEP export tests read Taut's files back with an independent CAD kernel, OpenCascade, through
+# PyPI's cadquery-ocp-novtk in a virtual environment of their own (.venv-cad). Making that environment
+# needs python3 and its venv module; Debian ships ensurepip, which venv needs, apart in python3-venv.
+cad_ready() { .venv-cad/bin/python -c 'import OCP' >/dev/null 2>&1; }
+if ! cad_ready; then
+    command -v python3 >/dev/null 2>&1 || need+=(python3)
+    python3 -c 'import venv, ensurepip' >/dev/null 2>&1 || need+=(python3-venv)
+fi
 if [ ${#need[@]} -gt 0 ]; then
     echo "installing: ${need[*]}"
     SUDO=""
@@ -23,6 +31,15 @@ if [ ${#need[@]} -gt 0 ]; then
     $SUDO apt-get update -qq
     DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq "${need[@]}"
 fi
+
+# A missing or broken .venv-cad (no OCP, or its python gone) is made anew; the version is pinned so
+# that every machine measures STEP files with the same kernel.
+if ! cad_ready; then
+    echo "installing: cadquery-ocp-novtk into .venv-cad"
+    python3 -m venv --clear .venv-cad
+    .venv-cad/bin/pip install --quiet cadquery-ocp-novtk==8.0.1.1.0
+fi
+export TAUT_CAD_PYTHON="$PWD/.venv-cad/bin/python"
 
 # Software rendering needs a runtime directory; a CI shell may not have one.
 if [ -z "${XDG_RUNTIME_DIR:-}" ]; then

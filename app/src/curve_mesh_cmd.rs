@@ -4,7 +4,8 @@
 //! The output format follows the extension: `.obj` (one `g` group per patch, `s 1`, analytic
 //! normals), `.glb` (one merged mesh whose triangles run patch after patch) or `.taut` (the
 //! document in the curve-mesh scheme, with the input's curve-mesh edits when it is a `.taut`
-//! that has them). A `.taut` input's curve-mesh edits are applied to what is written. `--curves` writes
+//! that has them) or `.step`/`.stp` (each patch a B-spline face whose boundary is its four Bézier
+//! curves, `taut_core::cad`). A `.taut` input's curve-mesh edits are applied to what is written. `--curves` writes
 //! every curve's four Bézier points and every patch's 20 Gregory points as JSON; `--report`
 //! prints the figures of the fit, the continuity and the closeness to the limit surface.
 
@@ -22,8 +23,8 @@ use taut_core::surface::SchemeKind;
 pub struct CurveMeshArgs {
     /// Cage: .obj, .gltf, .glb or .taut.
     pub input: PathBuf,
-    /// Where to write the tessellated patches (.obj or .glb) or the document in the curve-mesh
-    /// scheme (.taut).
+    /// Where to write the tessellated patches (.obj or .glb), the patches as B-spline faces for
+    /// CAD (.step or .stp) or the document in the curve-mesh scheme (.taut).
     #[arg(short, long)]
     pub output: PathBuf,
     /// Samples per patch side (each patch becomes samples × samples quads).
@@ -36,13 +37,15 @@ pub struct CurveMeshArgs {
     #[arg(long)]
     pub report: bool,
     #[command(flatten)]
+    pub step: crate::step_out::StepFlags,
+    #[command(flatten)]
     pub files: FileFlags,
 }
 
 pub fn run(args: &CurveMeshArgs) -> Result<(), String> {
     let kind = extension(&args.output);
-    if kind != "obj" && kind != "glb" && kind != "taut" {
-        return Err(format!("{}: unsupported output; use .obj, .glb or .taut", args.output.display()));
+    if kind != "obj" && kind != "glb" && kind != "taut" && !crate::step_out::is_step(&kind) {
+        return Err(format!("{}: unsupported output; use .obj, .glb, .step or .taut", args.output.display()));
     }
     if !(1..=MAX_SAMPLES).contains(&args.samples) {
         return Err(format!("--samples {}: use 1 to {MAX_SAMPLES}", args.samples));
@@ -90,7 +93,9 @@ pub fn run(args: &CurveMeshArgs) -> Result<(), String> {
 
 /// The main output and, when asked, the curves file.
 fn write_outputs(args: &CurveMeshArgs, kind: &str, doc: &Document, curves: &CurveMesh) -> Result<(), String> {
-    if kind == "taut" {
+    if crate::step_out::is_step(kind) {
+        crate::step_out::write_step(&doc.clone().with_scheme(SchemeKind::CurveMesh), &args.output, &args.step)?;
+    } else if kind == "taut" {
         let out = doc.clone().with_scheme(SchemeKind::CurveMesh);
         out.save(&args.output).map_err(|e| e.to_string())?;
         println!(

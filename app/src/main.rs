@@ -17,6 +17,7 @@ mod lcg_cmd;
 mod render_cmd;
 mod runtime;
 mod smooth_cmd;
+mod step_out;
 mod subdivide_cmd;
 mod surface_cmd;
 

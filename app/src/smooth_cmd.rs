@@ -16,7 +16,8 @@ use taut_core::surface::SchemeKind;
 pub struct SmoothArgs {
     /// Cage to smooth: .obj, .gltf, .glb, .stl, .ply or .taut.
     pub input: PathBuf,
-    /// Where to write: .obj or .glb (the surface), or .taut (the cage document).
+    /// Where to write: .obj or .glb (the surface), .step or .stp (the surface as B-spline faces
+    /// for CAD), or .taut (the cage document).
     #[arg(short, long)]
     pub output: PathBuf,
     /// The surface scheme: nusd, catmull-clark, loop or curve-mesh [default: nusd, or the .taut file's].
@@ -24,6 +25,8 @@ pub struct SmoothArgs {
     pub scheme: Option<SchemeKind>,
     #[command(flatten)]
     pub smoothing: SurfaceFlags,
+    #[command(flatten)]
+    pub step: crate::step_out::StepFlags,
     #[command(flatten)]
     pub files: FileFlags,
 }
@@ -33,5 +36,5 @@ pub fn run(args: &SmoothArgs) -> Result<(), String> {
     let mut doc = load_document(&args.input, &args.files)?;
     args.smoothing.apply(&mut doc, args.scheme)?;
     doc.validate().map_err(|e| e.to_string())?;
-    write_output(&doc, &args.output, &args.files, || solve_reporting(&doc, true))
+    write_output(&doc, &args.output, &args.files, &args.step, || solve_reporting(&doc, true))
 }

@@ -16,7 +16,8 @@ use taut_core::surface::SchemeKind;
 pub struct SubdivideArgs {
     /// Cage to subdivide: .obj, .gltf, .glb, .stl, .ply or .taut.
     pub input: PathBuf,
-    /// Where to write: .obj or .glb (the surface), or .taut (the cage document).
+    /// Where to write: .obj or .glb (the surface), .step or .stp (the surface as B-spline faces
+    /// for CAD), or .taut (the cage document).
     #[arg(short, long)]
     pub output: PathBuf,
     /// catmull-clark or loop [default: the .taut file's, else catmull-clark].
@@ -30,6 +31,8 @@ pub struct SubdivideArgs {
     pub triangulate: bool,
     #[command(flatten)]
     pub surface: SurfaceFlags,
+    #[command(flatten)]
+    pub step: crate::step_out::StepFlags,
     #[command(flatten)]
     pub files: FileFlags,
 }
@@ -62,5 +65,5 @@ pub fn run(args: &SubdivideArgs) -> Result<(), String> {
     }
     args.surface.apply(&mut doc, Some(scheme))?;
     doc.validate().map_err(|e| e.to_string())?;
-    write_output(&doc, &args.output, &args.files, || solve_reporting(&doc, args.limit))
+    write_output(&doc, &args.output, &args.files, &args.step, || solve_reporting(&doc, args.limit))
 }

@@ -215,9 +215,11 @@ pub fn write_output(
     doc: &Document,
     output: &Path,
     files: &FileFlags,
+    step: &crate::step_out::StepFlags,
     surface: impl FnOnce() -> Result<Box<dyn SurfaceScheme>, String>,
 ) -> Result<(), String> {
     match extension(output).as_str() {
+        "step" | "stp" => crate::step_out::write_step(doc, output, step)?,
         "taut" => {
             doc.save(output).map_err(|e| e.to_string())?;
             println!("wrote the cage document {} ({} scheme)", output.display(), doc.scheme.display_name());
@@ -228,7 +230,7 @@ pub fn write_output(
             io::export_mesh_with(mesh, output, &files.export_options(surface.normals())).map_err(|e| e.to_string())?;
             println!("wrote {} ({} vertices, {} faces)", output.display(), mesh.vertex_count(), mesh.face_count());
         }
-        _ => return Err(format!("{}: unsupported output; use .obj, .glb or .taut", output.display())),
+        _ => return Err(format!("{}: unsupported output; use .obj, .glb, .step or .taut", output.display())),
     }
     Ok(())
 }

@@ -9,6 +9,7 @@
 //! log-aesthetic curves and builds segments and Coons patches from them.
 
 pub mod aesthetic;
+pub mod cad;
 pub mod cage_fit;
 pub mod curvature;
 pub mod curve;

@@ -48,7 +48,7 @@ mod split;
 mod triangulate;
 
 #[cfg(test)]
-mod fixtures;
+pub(crate) mod fixtures;
 #[cfg(test)]
 mod tests;
 

@@ -1,0 +1,184 @@
+//! The surface for CAD: a boundary representation of bicubic B-spline faces, written as STEP.
+//!
+//! Every scheme's surface is read as a network of four-sided patches sampled on grids
+//! ([`network`]), the network is fitted with B-spline faces that share their edges and keep the
+//! surface's tangent continuity within a tolerance ([`fit`]), and the faces, edges, vertices and
+//! shells ([`brep`]) are written as an AP214 file ([`step`]). What each scheme gives and where we
+//! chose: `docs/cad-export.md`.
+//! - Catmull–Clark: the exact limit surface (limit points of a fine level); a regular face comes
+//!   out as its exact bicubic patch, the faces at extraordinary vertices as fitted patches with
+//!   interior knots; sharp creases are edges without tangent continuity.
+//! - NUSD: the solved finest level, fitted per cage face (per quad of the first level when the
+//!   cage has other polygons).
+//! - Curve mesh: the Gregory patches, each fitted by a B-spline face whose boundary is its four
+//!   Bézier curves (a B-spline of one span each, exactly).
+//!
+//! Loop surfaces are refused (they are made of triangles; convert the cage or use Catmull–Clark).
+
+pub mod brep;
+pub mod bspline;
+pub mod fit;
+pub mod network;
+pub mod step;
+
+use crate::document::Document;
+use crate::subdiv::{RefinedPositions, Refinement, Scheme};
+use crate::surface::SchemeKind;
+use crate::{Error, Result};
+pub use brep::{BrepModel, LengthUnit};
+pub use fit::FitReport;
+use network::PatchNetwork;
+
+/// The default tolerance, a fraction of the surface's bounding-box diagonal.
+pub const DEFAULT_RELATIVE_TOLERANCE: f64 = 1e-4;
+
+/// Samples per patch side are raised up to this (Catmull–Clark levels, curve-mesh samples)
+/// while a face cannot reach the tolerance.
+const MAX_SAMPLES: usize = 128;
+
+/// A document's surface fitted for CAD.
+#[derive(Clone, Debug)]
+pub struct CadSurface {
+    pub model: BrepModel,
+    pub report: FitReport,
+    /// The distance the faces were fitted within.
+    pub tolerance: f64,
+    /// Samples per patch side the fit read.
+    pub samples: usize,
+    /// What was done, a line each (the command line prints them).
+    pub notes: Vec<String>,
+}
+
+/// The document's surface as B-spline faces within `tolerance` (a distance; `None` for
+/// [`DEFAULT_RELATIVE_TOLERANCE`] of the cage's bounding-box diagonal).
+pub fn fit_document(doc: &Document, tolerance: Option<f64>) -> Result<CadSurface> {
+    doc.validate()?;
+    if doc.cage.face_count() == 0 {
+        return Err(Error::Input("the cage has no faces: there is no surface to export".into()));
+    }
+    let tolerance = match tolerance {
+        Some(t) if t.is_finite() && t > 0.0 => t,
+        Some(t) => return Err(Error::Input(format!("--tolerance must be a positive distance, not {t}"))),
+        None => DEFAULT_RELATIVE_TOLERANCE * doc.cage.bounding_diagonal(),
+    };
+    if tolerance.is_nan() || tolerance <= 0.0 {
+        return Err(Error::Input("the cage has no extent: there is no surface to export".into()));
+    }
+    let all_quads = doc.cage.faces().all(|f| doc.cage.face_valence(f) == 4);
+    let base = if all_quads { 0 } else { 1 };
+    match doc.scheme {
+        SchemeKind::Loop => Err(Error::Input(
+            "STEP export of a Loop surface is not offered: its patches are triangles, which B-spline faces do not \
+             take; use Catmull–Clark, NUSD or the curve mesh"
+                .into(),
+        )),
+        SchemeKind::CatmullClark => {
+            let mut samples: usize = 16;
+            loop {
+                let levels = base + samples.trailing_zeros();
+                let net = catmull_clark_network(doc, base, levels)?;
+                let (model, report) = fit::fit(&net, tolerance)?;
+                let finer = samples * 2;
+                // Faces of the refinement that would sample `finer` per side.
+                let corners: usize = doc.cage.faces().map(|f| doc.cage.face_valence(f)).sum();
+                let refined = if all_quads { doc.cage.face_count() * finer * finer } else { corners * finer * finer };
+                if report.within || finer > MAX_SAMPLES || refined > crate::subdiv::MAX_REFINED_FACES {
+                    let notes = vec![format!("Catmull–Clark limit surface sampled at level {levels}")];
+                    return finish(model, report, tolerance, samples, notes);
+                }
+                samples = finer;
+            }
+        }
+        SchemeKind::Nusd => {
+            let levels = doc.settings.levels.max(base + 4).min(crate::nusd::MAX_LEVELS);
+            let mut solved = doc.clone();
+            solved.settings.levels = levels;
+            let mut solver = crate::nusd::surface::SurfaceSolver::new(&solved)?;
+            solver.solve()?;
+            let surface =
+                |l: u32| solver.level_surface(l).ok_or_else(|| Error::Solver(format!("NUSD level {l} was not solved")));
+            let (layout, fine) = (surface(base)?, surface(levels)?);
+            let samples = 1usize << (levels - base);
+            let (e, v) = (layout.edge_count(), layout.vertex_count());
+            let mut net = PatchNetwork::from_refined(layout, &fine, None, samples, vec![false; e], vec![false; v])?;
+            net.grade = extraordinary_grading(&net.layout, levels - base);
+            let (model, report) = fit::fit(&net, tolerance)?;
+            let notes = vec![format!("NUSD solved to level {levels}, fitted per cage face")];
+            finish(model, report, tolerance, samples, notes)
+        }
+        SchemeKind::CurveMesh => {
+            let (curves, _) = doc.curve_mesh()?;
+            let mut samples: usize = 16;
+            loop {
+                let net = PatchNetwork::from_curve_mesh(&curves, samples)?;
+                let (model, report) = fit::fit(&net, tolerance)?;
+                if report.within || samples * 2 > MAX_SAMPLES {
+                    let notes = vec![format!("curve mesh sampled {samples} times per patch side")];
+                    return finish(model, report, tolerance, samples, notes);
+                }
+                samples *= 2;
+            }
+        }
+    }
+}
+
+/// The Catmull–Clark limit surface sampled at `levels`, patches on level `base` (0 or 1).
+fn catmull_clark_network(doc: &Document, base: u32, levels: u32) -> Result<PatchNetwork> {
+    let refinement = Refinement::with_corners(&doc.cage, Scheme::CatmullClark, &doc.crease, &doc.corner, levels)?;
+    let mut positions = RefinedPositions::default();
+    refinement.evaluate(doc.cage.positions(), &mut positions)?;
+    let fine = refinement.surface(&positions.limit);
+    let layout_mesh = refinement.mesh(base);
+    let mut layout = layout_mesh.clone();
+    // The layout's corners on the limit surface.
+    let count = layout.vertex_count();
+    layout.positions_mut().copy_from_slice(&positions.limit[..count]);
+    // An edge still sharp at the sampled level looks sharp to the fit: a crease, not a fillet.
+    let remaining = f64::from(levels - base);
+    let sharp = refinement.sharpness(base).iter().map(|&s| s >= remaining).collect();
+    let corner = refinement.corners(base).iter().map(|&s| s >= remaining).collect();
+    let m = 1usize << (levels - base);
+    let mut net = PatchNetwork::from_refined(layout, &fine, Some(&positions.normals), m, sharp, corner)?;
+    net.grade = extraordinary_grading(&net.layout, levels - base);
+    Ok(net)
+}
+
+/// Rings of knots towards every extraordinary vertex, down to the sample spacing `2^-depth`.
+fn extraordinary_grading(layout: &crate::mesh::PolyMesh, depth: u32) -> Vec<u32> {
+    layout
+        .vertices()
+        .map(|v| {
+            let regular = if layout.is_boundary_vertex(v) { layout.valence(v) <= 3 } else { layout.valence(v) == 4 };
+            if regular { 0 } else { depth }
+        })
+        .collect()
+}
+
+fn finish(
+    model: BrepModel,
+    report: FitReport,
+    tolerance: f64,
+    samples: usize,
+    mut notes: Vec<String>,
+) -> Result<CadSurface> {
+    let most = report.spans.iter().copied().max().unwrap_or(1);
+    let exact = report.spans.iter().filter(|&&s| s == 1).count();
+    notes.push(format!(
+        "{} faces ({} of one span, up to {most}×{most} spans), within {:.3e} of the surface (tolerance {:.3e}), \
+         normals across smooth edges within {:.4}° (the sampled surface's own: up to {:.4}°)",
+        report.spans.len(),
+        exact,
+        report.max_distance,
+        tolerance,
+        report.max_angle_degrees,
+        report.max_surface_gap_degrees,
+    ));
+    if !report.within {
+        return Err(Error::Input(format!(
+            "the surface could not be fitted within the tolerance {tolerance:.3e}: the closest fit is {:.3e} away and \
+             its normals differ by up to {:.3}° more than the surface's own (raise --tolerance)",
+            report.max_distance, report.max_excess_degrees
+        )));
+    }
+    Ok(CadSurface { model, report, tolerance, samples, notes })
+}
