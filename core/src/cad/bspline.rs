@@ -37,6 +37,11 @@ impl Knots {
         Knots { breaks }
     }
 
+    /// The knots `breaks` (increasing, from 0 to 1), as a STEP file lists them.
+    pub fn from_breaks(breaks: Vec<f64>) -> Knots {
+        Knots { breaks }
+    }
+
     /// Number of spans.
     pub fn spans(&self) -> usize {
         self.breaks.len() - 1

@@ -26,6 +26,10 @@ use rayon::prelude::*;
 /// promises 0.1°; the fit aims lower).
 pub const MAX_ANGLE_DEGREES: f64 = 0.05;
 
+/// The share of the tolerance a face may be from its samples (the callers check the faces again
+/// between the samples, with [`distance_to`]).
+pub const SAMPLE_SHARE: f64 = 1.0;
+
 /// What the fit reached.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FitReport {
@@ -40,9 +44,13 @@ pub struct FitReport {
     /// Largest amount (degrees) by which the faces' angle exceeds the surface's own there: the
     /// fit's own break of tangent continuity.
     pub max_excess_degrees: f64,
+    /// Largest angle (degrees) between neighbouring faces' normals within the two innermost
+    /// rings of knots around an extraordinary vertex (`2^-k` of a side), where the surface is
+    /// not a polynomial and the fit only approximates it; not part of `max_angle_degrees`.
+    pub max_star_angle_degrees: f64,
     /// Spans per face (both directions).
     pub spans: Vec<usize>,
-    /// True when every face is within the tolerance and the fit adds at most 0.1° to the
+    /// True when every face is within [`SAMPLE_SHARE`] of the tolerance of its samples and the fit adds at most 0.1° to the
     /// surface's own angle anywhere along a smooth edge.
     pub within: bool,
 }
@@ -152,12 +160,13 @@ pub fn fit(net: &PatchNetwork, tolerance: f64) -> Result<(BrepModel, FitReport)>
         .map(|&f| fit_face_adaptive(&ctx, f, start[f.index()], max_spans))
         .collect();
     // Neighbours' normals along smooth edges: where they differ too much, both refine.
-    let (max_angle, max_excess) = loop {
+    let (max_angle, max_excess, max_star) = loop {
         let angles = edge_angles(&ctx, &patches);
-        let max_angle = angles.iter().fold(0.0, |a: f64, &(_, x, _)| a.max(x));
-        let max_excess = angles.iter().fold(0.0, |a: f64, &(_, _, x)| a.max(x));
+        let max_angle = angles.iter().fold(0.0, |a: f64, &(_, x, _, _)| a.max(x));
+        let max_excess = angles.iter().fold(0.0, |a: f64, &(_, _, x, _)| a.max(x));
+        let max_star = angles.iter().fold(0.0, |a: f64, &(_, _, _, x)| a.max(x));
         let mut refine = vec![false; patches.len()];
-        for &(e, _, excess) in &angles {
+        for &(e, _, excess, _) in &angles {
             if excess > MAX_ANGLE_DEGREES {
                 for side in [0, 1] {
                     let f = layout.face(e.halfedge(side));
@@ -168,7 +177,7 @@ pub fn fit(net: &PatchNetwork, tolerance: f64) -> Result<(BrepModel, FitReport)>
             }
         }
         if !refine.contains(&true) {
-            break (max_angle, max_excess);
+            break (max_angle, max_excess, max_star);
         }
         let refitted: Vec<(usize, FacePatch)> = (0..patches.len())
             .into_par_iter()
@@ -185,8 +194,9 @@ pub fn fit(net: &PatchNetwork, tolerance: f64) -> Result<(BrepModel, FitReport)>
         max_angle_degrees: max_angle,
         max_surface_gap_degrees: ctx.own_gap.iter().flatten().flatten().fold(0.0, |a: f64, &x| a.max(x)),
         max_excess_degrees: max_excess,
+        max_star_angle_degrees: max_star,
         spans: patches.iter().map(|p| p.spans).collect(),
-        within: max_distance <= tolerance && max_excess <= 2.0 * MAX_ANGLE_DEGREES,
+        within: max_distance <= SAMPLE_SHARE * tolerance && max_excess <= 2.0 * MAX_ANGLE_DEGREES,
     };
     Ok((model(net, &ctx.curves, patches), report))
 }
@@ -337,8 +347,11 @@ fn edge_curve(
     let mut spans = 1;
     loop {
         let knots = Knots::graded(spans, net.grade[a.index()], net.grade[b.index()]);
-        let keep = keep_between(m, corner_span(net, a), corner_span(net, b));
-        let points = fit_curve(&samples, &keep, &knots, vertex_normals[a.index()], vertex_normals[b.index()]);
+        let keep = vec![true; m + 1];
+        // At a graded (extraordinary) end the curve is left as the data have it: turning its leg
+        // would bend the exact ring pieces next to the vertex.
+        let plane = |v: VertexId| vertex_normals[v.index()].filter(|_| corner_span(net, v) == 0.0);
+        let points = fit_curve(&samples, &keep, &knots, plane(a), plane(b));
         let error = samples
             .iter()
             .enumerate()
@@ -351,24 +364,14 @@ fn edge_curve(
     }
 }
 
-/// The width of the corner cell at `v` that is not a polynomial piece (0 where all are).
+/// The width of the corner cell at `v` that is not a polynomial piece (0 where all are): the
+/// fit only approximates the surface there (no tangent plane is imposed on the curves' legs,
+/// and the normals there are reported apart).
 fn corner_span(net: &PatchNetwork, v: VertexId) -> f64 {
     match net.grade[v.index()] {
-        0 => 0.0,
-        k => 0.5f64.powi(k as i32),
+        k if k > 0 && net.singular_corners => 0.5f64.powi(k as i32),
+        _ => 0.0,
     }
-}
-
-/// Per sample `k / m`: true unless it lies inside `(0, start)` or `(1 − end, 1)`.
-fn keep_between(m: usize, start: f64, end: f64) -> Vec<bool> {
-    (0..=m)
-        .map(|k| {
-            let t = k as f64 / m as f64;
-            let inside_start = t > 0.0 && t < start;
-            let inside_end = t < 1.0 && t > 1.0 - end;
-            !(inside_start || inside_end)
-        })
-        .collect()
 }
 
 /// The least-squares cubic B-spline on `knots` through the kept `samples` (at `k / m`), its ends on the
@@ -425,7 +428,8 @@ fn fit_face_adaptive(ctx: &Context<'_>, f: FaceId, spans: usize, max_spans: usiz
     let mut spans = spans.clamp(1, max_spans.max(1));
     loop {
         let patch = fit_face(ctx, f, spans);
-        let ok = patch.distance <= ctx.tolerance && side_angle(ctx, f, &patch) <= 0.5 * MAX_ANGLE_DEGREES;
+        let ok =
+            patch.distance <= SAMPLE_SHARE * ctx.tolerance && side_angle(ctx, f, &patch) <= 0.5 * MAX_ANGLE_DEGREES;
         if ok || spans * 2 > max_spans {
             return patch;
         }
@@ -463,12 +467,11 @@ fn fit_face(ctx: &Context<'_>, f: FaceId, n: usize) -> FacePatch {
     // Second rows: the cross-boundary derivative, in the shared tangent plane.
     let mut ring_sum = vec![vec![DVec3::ZERO; count_v]; count_u];
     let mut ring_count = vec![vec![0u32; count_v]; count_u];
-    let spans: Vec<f64> = layout.face_vertices(f).map(|v| corner_span(net, v)).collect();
     for (k, &h) in hs.iter().enumerate() {
         let knots = &along[k];
         let last = knots.count() - 1;
         let full = basis_matrix(knots, m, 0..=last);
-        let keep = keep_between(m, spans[k], spans[(k + 1) % 4]);
+        let keep = vec![true; m + 1];
         let op = least_squares(&basis_matrix(knots, m, 1..=last - 1), &keep);
         let mut target = ctx.inward[h.index()].clone();
         if let Some(normals) = &ctx.shared[h.index()] {
@@ -499,9 +502,7 @@ fn fit_face(ctx: &Context<'_>, f: FaceId, n: usize) -> FacePatch {
             }
         }
     }
-    // Inner points: least squares to the samples, the two outer rows of each side fixed. The
-    // samples in a corner cell that is not a polynomial piece do not count: they are replaced
-    // by the fit's own values, a few times over, so the fit follows the polynomial pieces.
+    // Inner points: least squares to the samples, the two outer rows of each side fixed.
     let g = &net.grids[f.index()];
     let full_u = basis_matrix(&knots_u, m, 0..=last_u);
     let full_v = basis_matrix(&knots_v, m, 0..=last_v);
@@ -517,40 +518,19 @@ fn fit_face(ctx: &Context<'_>, f: FaceId, n: usize) -> FacePatch {
         }
         s
     };
-    let in_corner_cell = |k: usize, l: usize| {
-        let (u, v) = (k as f64 / m as f64, l as f64 / m as f64);
-        (u < spans[0] && v < spans[0])
-            || (u > 1.0 - spans[1] && v < spans[1])
-            || (u > 1.0 - spans[2] && v > 1.0 - spans[2])
-            || (u < spans[3] && v > 1.0 - spans[3])
-    };
-    let excluded: Vec<(usize, usize)> =
-        (0..=m).flat_map(|l| (0..=m).map(move |k| (k, l))).filter(|&(k, l)| in_corner_cell(k, l)).collect();
     if last_u >= 4 && last_v >= 4 {
         let all = vec![true; m + 1];
         let op_u = least_squares(&basis_matrix(&knots_u, m, 2..=last_u - 2), &all);
         let op_v = least_squares(&basis_matrix(&knots_v, m, 2..=last_v - 2), &all);
-        let mut target = g.clone();
-        let rounds = if excluded.is_empty() { 1 } else { 12 };
-        for round in 0..rounds {
-            if round > 0 {
-                for &(k, l) in &excluded {
-                    target[l * (m + 1) + k] = evaluate(&p, k, l, false);
-                }
-            }
-            // Residual of the fixed points at every sample, `residual[l][k]` at (u_k, v_l).
-            let residual: Vec<Vec<DVec3>> = (0..=m)
-                .map(|l| (0..=m).map(|k| target[l * (m + 1) + k] - evaluate(&p, k, l, true)).collect())
-                .collect();
-            // X = op_u · R · op_vᵀ with R indexed [u][v].
-            let half: Vec<Vec<DVec3>> = op_u
-                .iter()
-                .map(|row| (0..=m).map(|l| (0..=m).map(|k| row[k] * residual[l][k]).sum()).collect())
-                .collect();
-            for (r, h) in half.iter().enumerate() {
-                for (c, row) in op_v.iter().enumerate() {
-                    p[r + 2][c + 2] = (0..=m).map(|l| row[l] * h[l]).sum();
-                }
+        // Residual of the fixed points at every sample, `residual[l][k]` at (u_k, v_l).
+        let residual: Vec<Vec<DVec3>> =
+            (0..=m).map(|l| (0..=m).map(|k| g[l * (m + 1) + k] - evaluate(&p, k, l, true)).collect()).collect();
+        // X = op_u · R · op_vᵀ with R indexed [u][v].
+        let half: Vec<Vec<DVec3>> =
+            op_u.iter().map(|row| (0..=m).map(|l| (0..=m).map(|k| row[k] * residual[l][k]).sum()).collect()).collect();
+        for (r, h) in half.iter().enumerate() {
+            for (c, row) in op_v.iter().enumerate() {
+                p[r + 2][c + 2] = (0..=m).map(|l| row[l] * h[l]).sum();
             }
         }
     }
@@ -562,6 +542,31 @@ fn fit_face(ctx: &Context<'_>, f: FaceId, n: usize) -> FacePatch {
         }
     }
     FacePatch { spans: n, knots_u, knots_v, points: p, distance }
+}
+
+/// The largest distance from the faces of `model` (fitted to a network of the same layout) to
+/// the samples of `net`, at the samples' own parameters: how far the faces are from the surface
+/// at points their fit never saw.
+pub fn distance_to(model: &BrepModel, net: &PatchNetwork) -> f64 {
+    let m = net.m;
+    model
+        .faces
+        .par_iter()
+        .zip(&net.grids)
+        .map(|(face, g)| {
+            let s = &face.surface;
+            let (ku, kv) = (Knots::from_breaks(s.knots_u.clone()), Knots::from_breaks(s.knots_v.clone()));
+            let mut worst: f64 = 0.0;
+            for j in 0..=m {
+                for i in 0..=m {
+                    let (p, _, _) =
+                        bspline::surface_point(&ku, &kv, &s.points, i as f64 / m as f64, j as f64 / m as f64);
+                    worst = worst.max((p - g[j * (m + 1) + i]).length());
+                }
+            }
+            worst
+        })
+        .reduce(|| 0.0, f64::max)
 }
 
 /// The (u, v) of position `t ∈ [0, 1]` along side `k` (in its halfedge's direction).
@@ -588,8 +593,14 @@ fn side_angle(ctx: &Context<'_>, f: FaceId, patch: &FacePatch) -> f64 {
     for (k, h) in layout.face_halfedges(f).enumerate() {
         let Some(normals) = &ctx.shared[h.index()] else { continue };
         let gap = ctx.own_gap[h.index()].as_deref().unwrap_or(&[]);
+        let star_start = 2.0 * corner_span(ctx.net, layout.from_vertex(h));
+        let star_end = 2.0 * corner_span(ctx.net, layout.to_vertex(h));
         for (t, n) in normals.iter().enumerate().take(m).skip(1) {
-            let (u, v) = side_uv(k, t as f64 / m as f64);
+            let x = t as f64 / m as f64;
+            if x < star_start || x > 1.0 - star_end {
+                continue;
+            }
+            let (u, v) = side_uv(k, x);
             let own = 0.5 * gap.get(t).copied().unwrap_or(0.0);
             worst = worst.max(angle_degrees(unit_normal(patch, u, v), *n) - own);
         }
@@ -601,9 +612,11 @@ fn angle_degrees(a: DVec3, b: DVec3) -> f64 {
     a.cross(b).length().atan2(a.dot(b)).to_degrees()
 }
 
-/// Per smooth interior edge, the largest angle between its two faces' normals (sampled at
-/// `4m` points along it, corners excluded).
-fn edge_angles(ctx: &Context<'_>, patches: &[FacePatch]) -> Vec<(EdgeId, f64, f64)> {
+/// Per smooth interior edge: the largest angle between its two faces' normals, the largest
+/// amount by which it exceeds the surface's own there, both away from the two innermost rings
+/// around extraordinary ends, and the largest angle within those rings (sampled at `4m` points
+/// along it, corners excluded).
+fn edge_angles(ctx: &Context<'_>, patches: &[FacePatch]) -> Vec<(EdgeId, f64, f64, f64)> {
     let layout = &ctx.net.layout;
     let samples = 4 * ctx.net.m;
     layout
@@ -618,7 +631,10 @@ fn edge_angles(ctx: &Context<'_>, patches: &[FacePatch]) -> Vec<(EdgeId, f64, f6
             let kb = layout.face_halfedges(fb).position(|x| x == twin).unwrap_or(0);
             let gap = ctx.own_gap[h.index()].as_deref().unwrap_or(&[]);
             let m = ctx.net.m;
-            let (mut worst, mut excess): (f64, f64) = (0.0, 0.0);
+            let (mut worst, mut excess, mut star): (f64, f64, f64) = (0.0, 0.0, 0.0);
+            // The two innermost rings of knots around an extraordinary end.
+            let (a, b) = (layout.from_vertex(h), layout.to_vertex(h));
+            let (star_start, star_end) = (2.0 * corner_span(ctx.net, a), 2.0 * corner_span(ctx.net, b));
             for s in 1..samples {
                 let t = s as f64 / samples as f64;
                 let (ua, va) = side_uv(ka, t);
@@ -626,7 +642,6 @@ fn edge_angles(ctx: &Context<'_>, patches: &[FacePatch]) -> Vec<(EdgeId, f64, f6
                 let na = unit_normal(&patches[fa.index()], ua, va);
                 let nb = unit_normal(&patches[fb.index()], ub, vb);
                 let angle = angle_degrees(na, nb);
-                worst = worst.max(angle);
                 // The surface's own gap here, from the nearest samples on either side.
                 let x = t * m as f64;
                 let own = gap
@@ -634,9 +649,14 @@ fn edge_angles(ctx: &Context<'_>, patches: &[FacePatch]) -> Vec<(EdgeId, f64, f6
                     .copied()
                     .unwrap_or(0.0)
                     .max(gap.get(x.ceil() as usize).copied().unwrap_or(0.0));
-                excess = excess.max(angle - own);
+                if t < star_start || t > 1.0 - star_end {
+                    star = star.max(angle);
+                } else {
+                    worst = worst.max(angle);
+                    excess = excess.max(angle - own);
+                }
             }
-            (e, worst, excess)
+            (e, worst, excess, star)
         })
         .collect()
 }
@@ -769,6 +789,7 @@ mod tests {
             sharp: vec![false; 4],
             corner: vec![false; 4],
             grade: vec![grade; 4],
+            singular_corners: false,
         }
     }
 

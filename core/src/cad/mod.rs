@@ -36,6 +36,9 @@ pub const DEFAULT_RELATIVE_TOLERANCE: f64 = 1e-4;
 /// while a face cannot reach the tolerance.
 const MAX_SAMPLES: usize = 128;
 
+/// NUSD is solved for export to the finest level under this many faces (at least four levels).
+const NUSD_EXPORT_FACES: usize = 200_000;
+
 /// A document's surface fitted for CAD.
 #[derive(Clone, Debug)]
 pub struct CadSurface {
@@ -73,37 +76,54 @@ pub fn fit_document(doc: &Document, tolerance: Option<f64>) -> Result<CadSurface
                 .into(),
         )),
         SchemeKind::CatmullClark => {
+            let corners: usize = doc.cage.faces().map(|f| doc.cage.face_valence(f)).sum();
+            // Faces of the refinement that samples `m` per side.
+            let refined = |m: usize| if all_quads { doc.cage.face_count() * m * m } else { corners * m * m };
             let mut samples: usize = 16;
             loop {
                 let levels = base + samples.trailing_zeros();
                 let net = catmull_clark_network(doc, base, levels)?;
-                let (model, report) = fit::fit(&net, tolerance)?;
+                let (model, mut report) = fit::fit(&net, tolerance)?;
+                // Checked again between the samples, on the next level's limit points.
                 let finer = samples * 2;
-                // Faces of the refinement that would sample `finer` per side.
-                let corners: usize = doc.cage.faces().map(|f| doc.cage.face_valence(f)).sum();
-                let refined = if all_quads { doc.cage.face_count() * finer * finer } else { corners * finer * finer };
-                if report.within || finer > MAX_SAMPLES || refined > crate::subdiv::MAX_REFINED_FACES {
-                    let notes = vec![format!("Catmull–Clark limit surface sampled at level {levels}")];
+                let affordable = finer <= MAX_SAMPLES && refined(finer) <= crate::subdiv::MAX_REFINED_FACES;
+                if report.within && affordable {
+                    let between = fit::distance_to(&model, &catmull_clark_network(doc, base, levels + 1)?);
+                    report.max_distance = report.max_distance.max(between);
+                    report.within = between <= tolerance;
+                }
+                if report.within || !affordable || finer * 2 > MAX_SAMPLES {
+                    let notes = vec![format!(
+                        "Catmull–Clark limit surface sampled at level {levels}, checked at level {}",
+                        levels + 1
+                    )];
                     return finish(model, report, tolerance, samples, notes);
                 }
                 samples = finer;
             }
         }
         SchemeKind::Nusd => {
-            let levels = doc.settings.levels.max(base + 4).min(crate::nusd::MAX_LEVELS);
-            let mut solved = doc.clone();
-            solved.settings.levels = levels;
-            let mut solver = crate::nusd::surface::SurfaceSolver::new(&solved)?;
-            solver.solve()?;
-            let surface =
-                |l: u32| solver.level_surface(l).ok_or_else(|| Error::Solver(format!("NUSD level {l} was not solved")));
-            let (layout, fine) = (surface(base)?, surface(levels)?);
-            let samples = 1usize << (levels - base);
-            let (e, v) = (layout.edge_count(), layout.vertex_count());
-            let mut net = PatchNetwork::from_refined(layout, &fine, None, samples, vec![false; e], vec![false; v])?;
-            net.grade = extraordinary_grading(&net.layout, levels - base);
+            if doc.cage.faces().any(|f| doc.cage.face_valence(f) == 3) {
+                return Err(Error::Input(
+                    "STEP export of a NUSD surface needs a cage without triangles (NUSD splits a triangle into \
+                     triangles, which four-sided B-spline faces do not take); use Catmull–Clark or the curve mesh"
+                        .into(),
+                ));
+            }
+            let (mut net, levels) = nusd_network(doc, base, None)?;
+            let samples = net.m;
+            // NUSD is not a polynomial at its boundary corners either: rings there too.
+            let layout = &net.layout;
+            let depth = levels - base;
+            net.grade = extraordinary_grading(layout, depth)
+                .into_iter()
+                .zip(layout.vertices())
+                .map(|(g, v)| if layout.is_boundary_vertex(v) && layout.valence(v) == 2 { depth } else { g })
+                .collect();
             let (model, report) = fit::fit(&net, tolerance)?;
-            let notes = vec![format!("NUSD solved to level {levels}, fitted per cage face")];
+            let notes = vec![format!(
+                "NUSD solved to level {levels}, fitted per cage face (per quad of level 1 on a cage of other polygons)"
+            )];
             finish(model, report, tolerance, samples, notes)
         }
         SchemeKind::CurveMesh => {
@@ -120,6 +140,31 @@ pub fn fit_document(doc: &Document, tolerance: Option<f64>) -> Result<CadSurface
             }
         }
     }
+}
+
+/// NUSD solved to `levels` (by default the document's, at least four below `base`, 0 or 1), its
+/// finest level on the patches of level `base`; and the level it was solved to.
+fn nusd_network(doc: &Document, base: u32, levels: Option<u32>) -> Result<(PatchNetwork, u32)> {
+    // At least four levels below the patches; more while the finest level stays under
+    // NUSD_EXPORT_FACES faces, so the faces follow a fine polyhedron (its volume within about
+    // 0.1 % of the smooth surface's).
+    let patches =
+        if base == 0 { doc.cage.face_count() } else { doc.cage.faces().map(|f| doc.cage.face_valence(f)).sum() };
+    let mut fine = base + 4;
+    while fine < crate::nusd::MAX_LEVELS && patches << (2 * (fine + 1 - base)) <= NUSD_EXPORT_FACES {
+        fine += 1;
+    }
+    let levels = levels.unwrap_or(doc.settings.levels.max(fine)).min(crate::nusd::MAX_LEVELS);
+    let mut solved = doc.clone();
+    solved.settings.levels = levels;
+    let mut solver = crate::nusd::surface::SurfaceSolver::new(&solved)?;
+    solver.solve()?;
+    let surface =
+        |l: u32| solver.level_surface(l).ok_or_else(|| Error::Solver(format!("NUSD level {l} was not solved")));
+    let (layout, fine) = (surface(base)?, surface(levels)?);
+    let (e, v) = (layout.edge_count(), layout.vertex_count());
+    let net = PatchNetwork::from_refined(layout, &fine, None, 1 << (levels - base), vec![false; e], vec![false; v])?;
+    Ok((net, levels))
 }
 
 /// The Catmull–Clark limit surface sampled at `levels`, patches on level `base` (0 or 1).
@@ -173,6 +218,12 @@ fn finish(
         report.max_angle_degrees,
         report.max_surface_gap_degrees,
     ));
+    if report.max_star_angle_degrees > 0.0 {
+        notes.push(format!(
+            "within the last two rings of knots around extraordinary vertices the normals differ by up to {:.3}°",
+            report.max_star_angle_degrees
+        ));
+    }
     if !report.within {
         return Err(Error::Input(format!(
             "the surface could not be fitted within the tolerance {tolerance:.3e}: the closest fit is {:.3e} away and \
@@ -181,4 +232,23 @@ fn finish(
         )));
     }
     Ok(CadSurface { model, report, tolerance, samples, notes })
+}
+
+/// The document's surface sampled exactly on every patch of the layout the export fits,
+/// `per_side` samples per side (a power of two for Catmull–Clark and NUSD, whose finest level
+/// is then the one that has them): what a test compares an exported file with, patch `f` being STEP face
+/// `f` with the same `(u, v)`.
+pub fn surface_samples(doc: &Document, per_side: usize) -> Result<PatchNetwork> {
+    let all_quads = doc.cage.faces().all(|f| doc.cage.face_valence(f) == 4);
+    let base = if all_quads { 0 } else { 1 };
+    match doc.scheme {
+        SchemeKind::CatmullClark if per_side.is_power_of_two() => {
+            catmull_clark_network(doc, base, base + per_side.trailing_zeros())
+        }
+        SchemeKind::CurveMesh => PatchNetwork::from_curve_mesh(&doc.curve_mesh()?.0, per_side),
+        SchemeKind::Nusd if per_side.is_power_of_two() => {
+            Ok(nusd_network(doc, base, Some(base + per_side.trailing_zeros()))?.0)
+        }
+        _ => Err(Error::Input(format!("no STEP samples for {} with {per_side} per side", doc.scheme.display_name()))),
+    }
 }

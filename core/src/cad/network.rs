@@ -38,6 +38,12 @@ pub struct PatchNetwork {
     /// towards it (0 for none): a Catmull–Clark patch is a polynomial on each ring around an
     /// extraordinary vertex.
     pub grade: Vec<u32>,
+    /// True when the innermost cell of those rings is where the surface stops being a
+    /// polynomial (an extraordinary vertex of a subdivision surface): the fit then imposes no
+    /// tangent plane there and reports the normals of the two innermost rings apart. False when the rings only make
+    /// the corner spans short (the curve mesh: a B-spline keeps one twist at a corner where a
+    /// Gregory patch has two, and the shorter the first span the less that costs).
+    pub singular_corners: bool,
 }
 
 impl PatchNetwork {
@@ -74,7 +80,7 @@ impl PatchNetwork {
         let grids = ids.iter().map(|g| g.iter().map(|&v| fine.position(v)).collect()).collect();
         let normals = fine_normals.map(|n| ids.iter().map(|g| g.iter().map(|&v| n[v.index()]).collect()).collect());
         let grade = vec![0; layout.vertex_count()];
-        Ok(PatchNetwork { layout, m, grids, normals, sharp, corner, grade })
+        Ok(PatchNetwork { layout, m, grids, normals, sharp, corner, grade, singular_corners: true })
     }
 
     /// A curve mesh's Gregory patches, sampled `m` times per side (smooth everywhere).
@@ -98,8 +104,10 @@ impl PatchNetwork {
         }
         let sharp = vec![false; layout.edge_count()];
         let corner = vec![false; layout.vertex_count()];
-        let grade = vec![0; layout.vertex_count()];
-        Ok(PatchNetwork { layout, m, grids, normals: Some(normals), sharp, corner, grade })
+        // Rings at every corner down to two samples: a Gregory patch's twist is singular at its
+        // corners (its inner points blend as u/(u+v)), so its spans there must be short.
+        let grade = vec![m.trailing_zeros().saturating_sub(1); layout.vertex_count()];
+        Ok(PatchNetwork { layout, m, grids, normals: Some(normals), sharp, corner, grade, singular_corners: false })
     }
 }
 
