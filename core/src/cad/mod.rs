@@ -36,9 +36,6 @@ pub const DEFAULT_RELATIVE_TOLERANCE: f64 = 1e-4;
 /// while a face cannot reach the tolerance.
 const MAX_SAMPLES: usize = 128;
 
-/// NUSD is solved for export to the finest level under this many faces (at least four levels).
-const NUSD_EXPORT_FACES: usize = 200_000;
-
 /// A document's surface fitted for CAD.
 #[derive(Clone, Debug)]
 pub struct CadSurface {
@@ -145,16 +142,7 @@ pub fn fit_document(doc: &Document, tolerance: Option<f64>) -> Result<CadSurface
 /// NUSD solved to `levels` (by default the document's, at least four below `base`, 0 or 1), its
 /// finest level on the patches of level `base`; and the level it was solved to.
 fn nusd_network(doc: &Document, base: u32, levels: Option<u32>) -> Result<(PatchNetwork, u32)> {
-    // At least four levels below the patches; more while the finest level stays under
-    // NUSD_EXPORT_FACES faces, so the faces follow a fine polyhedron (its volume within about
-    // 0.1 % of the smooth surface's).
-    let patches =
-        if base == 0 { doc.cage.face_count() } else { doc.cage.faces().map(|f| doc.cage.face_valence(f)).sum() };
-    let mut fine = base + 4;
-    while fine < crate::nusd::MAX_LEVELS && patches << (2 * (fine + 1 - base)) <= NUSD_EXPORT_FACES {
-        fine += 1;
-    }
-    let levels = levels.unwrap_or(doc.settings.levels.max(fine)).min(crate::nusd::MAX_LEVELS);
+    let levels = levels.unwrap_or(doc.settings.levels.max(base + 4)).min(crate::nusd::MAX_LEVELS);
     let mut solved = doc.clone();
     solved.settings.levels = levels;
     let mut solver = crate::nusd::surface::SurfaceSolver::new(&solved)?;
