@@ -170,9 +170,9 @@ fn export_and_measure(dir: &Scratch, command: &str, input: &str, extra: &[&str])
         };
         assert!(step_volume > 0.0, "{name}: outward normals give a positive volume, not {step_volume}");
         let error = (step_volume - taut_volume).abs() / taut_volume;
-        // NUSD: smooth faces through the finest level's points enclose up to 0.6 % more than
-        // that level's polyhedron (the cube at level 4: 0.4 %); the 0.1 % holds for the
-        // exact schemes only.
+        // NUSD: smooth faces through the finest level's points enclose more than that level's
+        // polyhedron (the cube at level 4: 0.4 %); the 0.1 % holds for the exact schemes
+        // only.
         let bound = if doc.scheme == taut_core::surface::SchemeKind::Nusd { 1e-2 } else { 1e-3 };
         assert!(error < bound, "{command} {name}: volume {step_volume} against Taut's {taut_volume} ({error:.2e})");
     } else {
