@@ -10,12 +10,16 @@
 //! the floor of an edit through the editor). The cage is a closed torus of 200 × 100 quads (20 000
 //! faces, 20 000 vertices) as in `core/benches/mesh_edit.rs`, which times the core edits alone.
 //!
-//! The editor is a binary crate, so the bench compiles its `editor` module from the source.
+//! The editor is a binary crate, so the bench compiles its `editor` module from the source (and
+//! `step_out`, the STEP export it shares with the command line).
 //! Run with `cargo bench -p taut-app --bench editor_ops`. `TAUT_BENCH_QUICK=1` runs fewer repeats.
 
 #[allow(dead_code, unused_imports)]
 #[path = "../src/editor/mod.rs"]
 mod editor;
+#[allow(dead_code)]
+#[path = "../src/step_out.rs"]
+mod step_out;
 
 use editor::document::EditorDocument;
 use editor::files::RecentFiles;

@@ -86,6 +86,7 @@ impl EditorState {
             if ui.button("Export surface as GLB…").clicked() {
                 self.ask_path(PathPurpose::ExportGlb, ui_state);
             }
+            self.step_export_item(ui, ui_state);
             if ui.button("Save screenshot…").clicked() {
                 self.ask_path(PathPurpose::Screenshot, ui_state);
             }
@@ -218,6 +219,7 @@ impl EditorState {
         self.shortcuts_window(ctx, ui_state);
         self.messages_window(ctx, ui_state);
         self.new_primitive_dialog(ctx, ui_state);
+        self.step_export_dialogs(ctx, ui_state);
         if let Some((purpose, mut text)) = ui_state.path_dialog.take() {
             let mut keep = true;
             let mut chosen = None;

@@ -55,6 +55,9 @@ mod selection_history;
 pub mod shortcuts;
 pub mod snapping;
 pub mod state;
+pub mod step_export;
+#[cfg(test)]
+mod step_export_tests;
 mod toolbar;
 pub mod transform;
 pub mod ui;

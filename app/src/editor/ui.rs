@@ -23,6 +23,8 @@ pub enum PathPurpose {
     SaveAs,
     ExportObj,
     ExportGlb,
+    /// File ▸ Export surface as STEP…, after its options.
+    ExportStep,
     Screenshot,
     /// A point sequence for the Curves workspace.
     ImportCurve,
@@ -37,6 +39,7 @@ impl PathPurpose {
             PathPurpose::SaveAs => "Save the cage as (.taut)",
             PathPurpose::ExportObj => "Export the surface as OBJ",
             PathPurpose::ExportGlb => "Export the surface as GLB",
+            PathPurpose::ExportStep => "Export the surface as STEP (.step, .stp)",
             PathPurpose::Screenshot => "Save a screenshot of the viewport (.png)",
             PathPurpose::ImportCurve => {
                 "Import a curve: points as .json ({\"points\": [[x, y], ...]}) or .csv (x,y(,z) rows)"
@@ -51,6 +54,7 @@ impl PathPurpose {
             PathPurpose::SaveAs => "taut",
             PathPurpose::ExportObj => "obj",
             PathPurpose::ExportGlb => "glb",
+            PathPurpose::ExportStep => "step",
             PathPurpose::Screenshot => "png",
             PathPurpose::ImportCurve => "json",
             PathPurpose::MakeCage => "obj",
@@ -138,6 +142,8 @@ pub struct UiState {
     pub(super) loop_cut: Option<super::loop_slide::LoopCutTool>,
     /// I: the inset's thickness following the mouse.
     pub(super) inset_drag: Option<super::inset_drag::InsetDrag>,
+    /// File ▸ Export surface as STEP…: its options and "Replace it?".
+    pub step_export: super::step_export::StepExportUi,
 }
 
 /// A crease being set with the mouse (Shift+E, as in Blender), or a corner (Shift+V: the
@@ -207,6 +213,7 @@ impl EditorState {
             || ui_state.replace.is_some()
             || ui_state.recovery.is_some()
             || ui_state.new_primitive.is_some()
+            || ui_state.step_export.is_open()
         {
             return;
         }
@@ -385,6 +392,11 @@ impl EditorState {
                 PathPurpose::Open => dialog.add_filter("Cages and meshes", &["taut", "obj", "gltf", "glb"]),
                 PathPurpose::ImportCurve => dialog.add_filter("Point files", &["json", "csv"]),
                 PathPurpose::MakeCage => dialog.add_filter("Meshes", &["obj", "stl", "ply", "gltf", "glb"]),
+                PathPurpose::ExportStep => {
+                    let suggested = PathBuf::from(self.suggested_path(purpose));
+                    let name = suggested.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+                    dialog.add_filter("STEP", &["step", "stp"]).set_file_name(name)
+                }
                 other => dialog.add_filter(other.extension(), &[other.extension()]),
             };
             let picking = matches!(purpose, PathPurpose::Open | PathPurpose::MakeCage | PathPurpose::ImportCurve);
@@ -427,6 +439,7 @@ impl EditorState {
             PathPurpose::SaveAs => self.save_as_asking(&path, ui_state),
             PathPurpose::ExportObj => self.export(&super::state::with_extension_if_missing(&path, "obj")),
             PathPurpose::ExportGlb => self.export(&super::state::with_extension_if_missing(&path, "glb")),
+            PathPurpose::ExportStep => self.step_path_chosen(&path, ui_state),
             PathPurpose::Screenshot => {
                 ui_state.screenshot = Some(super::state::with_extension_if_missing(&path, "png"))
             }
