@@ -14,9 +14,10 @@
 //!    replaced by the projected curve's own leg length (or a third of the chord when that
 //!    vanishes) and reported as an [`AlphaGuard`].
 //!
-//! 4. The limit normal at every curve's middle (the middle of its level-2 chain) goes to the curve
-//!    mesh: the patches' cross-boundary field turns through it
-//!    ([`super::chiyokura_kimura::side_inner_points`]; `docs/curve-mesh-gregory.md`, "Where we
+//! 4. The limit surface at every curve's middle (the middle of its level-2 chain) goes to the
+//!    curve mesh: the patches' cross-boundary field turns through its normal, with the length
+//!    fitted to its cross derivatives there ([`super::middle`],
+//!    [`super::chiyokura_kimura::side_inner_points`]; `docs/curve-mesh-gregory.md`, "Where we
 //!    depart").
 //!
 //! Limit points and normals come from [`crate::subdiv`] (its documentation gives the rules):
@@ -286,15 +287,11 @@ impl CurveMesh {
         let (curves, refinement, refined) = fit_on_refinement(&quads)?;
         let mut topology = quads;
         topology.positions_mut().copy_from_slice(&curves.positions);
-        // The limit normal at every curve's middle: the middle vertex of its level-2 chain.
-        let mids = topology
-            .edges()
-            .map(|e| {
-                let chain = refinement.cage_edge_chain(e, 2)?;
-                Ok(refined.normals[chain[chain.len() / 2].index()])
-            })
-            .collect::<Result<Vec<DVec3>>>()?;
-        let mesh = CurveMesh::from_parts(topology, curves.normals, curves.inner)?.with_mid_normals(mids)?;
+        // The limit surface at every curve's middle (its normal and cross derivatives), read
+        // with the curves in place.
+        let mesh = CurveMesh::from_parts(topology, curves.normals, curves.inner)?;
+        let middles = super::middle::limit_middles(&mesh, &refinement, &refined)?;
+        let mesh = mesh.with_middles(middles)?;
         let closeness = interior_closeness(&mesh, &refinement, &refined.limit)?;
         Ok((mesh, BuildReport { subdivided_first, fit: curves.report, closeness }))
     }

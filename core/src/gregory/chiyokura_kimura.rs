@@ -33,10 +33,21 @@ pub struct PatchBoundary {
     pub sides: [CubicBezier; 4],
     /// Unit tangent-plane normals at the four corners.
     pub normals: [DVec3; 4],
-    /// Per side, the unit normal of the surface the curve mesh stands for at the side's
-    /// middle, when known: the cross-boundary field `b(t)` then turns through it
-    /// (quadratic instead of linear; see [`side_inner_points`]).
-    pub mids: [Option<DVec3>; 4],
+    /// Per side, what the surface the curve mesh stands for says at the side's middle, when
+    /// known: the cross-boundary field `b(t)` then turns through its normal (quadratic instead
+    /// of linear; see [`side_inner_points`]).
+    pub mids: [Option<CurveMiddle>; 4],
+}
+
+/// The surface a curve stands for at the curve's middle, shared by both patches on the curve.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CurveMiddle {
+    /// Its unit normal there.
+    pub normal: DVec3,
+    /// The length of the cross-boundary field `b(½)` (the end values `b0`, `b1` are unit),
+    /// when fitted to the surface's cross derivatives there; without it `b(½)` is as long as
+    /// the linear field's `(b0 + b1)/2`.
+    pub length: Option<f64>,
 }
 
 /// The Gregory patch spanning a boundary, with Chiyokura–Kimura inner points on every side.
@@ -75,40 +86,76 @@ pub fn gregory_patch(boundary: &PatchBoundary) -> GregoryPatch {
 /// The two inner points next to `Q1` and `Q2` of one side: `Q1 + d1/3`, `Q2 + d2/3`.
 /// `a0`, `a1` are the cross derivatives into the patch at the two ends (three times the legs).
 ///
-/// With `mid`, the normal at the curve's middle, `b(t)` is the quadratic with `b(0) = b0`,
-/// `b(1) = b1` and `b(½)` along `mid × C'(½)` (of the linear field's length there), Bernstein
-/// middle coefficient `Bm = 2 b(½) − (b0 + b1)/2`; `k b` is then cubic, with coefficients
-/// `k0 b0`, `(2 k0 Bm + k1 b0)/3`, `(k0 b1 + 2 k1 Bm)/3`, `k1 b1`. `b(t)` still depends on the
-/// curve and its three normals only, so the two patches on a curve stay G1.
+/// With `mid`, `b(t)` is the quadratic with `b(0) = b0`, `b(1) = b1` and `b(½)` along
+/// `N × C'(½)` for the middle's normal `N`, of the middle's length (else of the linear field's
+/// length there), Bernstein middle coefficient `Bm = 2 b(½) − (b0 + b1)/2`; `k b` is then cubic,
+/// with coefficients `k0 b0`, `(2 k0 Bm + k1 b0)/3`, `(k0 b1 + 2 k1 Bm)/3`, `k1 b1`. `b(t)`
+/// still depends on the curve and what is shared about it only, so the two patches on a curve
+/// stay G1.
 pub fn side_inner_points(
     curve: &CubicBezier,
     n0: DVec3,
     n1: DVec3,
-    mid: Option<DVec3>,
+    mid: Option<CurveMiddle>,
     a0: DVec3,
     a1: DVec3,
 ) -> [DVec3; 2] {
     let q = curve.points;
     let c = curve.derivative_points();
-    let b0 = cross_direction(n0, [c[0], q[2] - q[0], q[3] - q[0]]);
-    let b1 = cross_direction(n1, [c[2], q[3] - q[1], q[3] - q[0]]);
+    let (b0, b1) = end_directions(curve, n0, n1);
     let (k0, h0) = split(a0, b0, c[0]);
     let (k1, h1) = split(a1, b1, c[2]);
     let e1 = (2.0 * h0 * c[1] + h1 * c[0]) / 3.0;
     let e2 = (h0 * c[2] + 2.0 * h1 * c[1]) / 3.0;
     let linear = 0.5 * (b0 + b1);
-    let bm = match mid {
-        Some(n) if n.is_finite() && n.length() > 0.0 => {
-            let half = cross_direction(n.normalize(), [curve.derivative(0.5), q[3] - q[0], q[2] - q[1]]);
-            // On the side of the linear field (a normal given the other way round flips it).
-            let half = if half.dot(linear) < 0.0 { -half } else { half };
-            2.0 * linear.length() * half - linear
+    let bm = match mid.and_then(|m| middle_direction(curve, b0, b1, m.normal).map(|half| (half, m.length))) {
+        Some((half, length)) => {
+            let length = length.filter(|l| l.is_finite() && *l > 0.0).unwrap_or(linear.length());
+            2.0 * length * half - linear
         }
-        _ => linear,
+        None => linear,
     };
     let f1 = (2.0 * k0 * bm + k1 * b0) / 3.0;
     let f2 = (k0 * b1 + 2.0 * k1 * bm) / 3.0;
     [q[1] + (e1 + f1) / 3.0, q[2] + (e2 + f2) / 3.0]
+}
+
+/// The unit end values `b0`, `b1` of the cross-boundary field along `curve` between corners
+/// with unit normals `n0`, `n1`.
+fn end_directions(curve: &CubicBezier, n0: DVec3, n1: DVec3) -> (DVec3, DVec3) {
+    let q = curve.points;
+    let c = curve.derivative_points();
+    (cross_direction(n0, [c[0], q[2] - q[0], q[3] - q[0]]), cross_direction(n1, [c[2], q[3] - q[1], q[3] - q[0]]))
+}
+
+/// The unit direction of `b(½)`: `normal × C'(½)`, on the side of the linear field (a normal
+/// given the other way round flips it). `None` for an unusable normal.
+fn middle_direction(curve: &CubicBezier, b0: DVec3, b1: DVec3, normal: DVec3) -> Option<DVec3> {
+    if !normal.is_finite() || normal.length() == 0.0 {
+        return None;
+    }
+    let q = curve.points;
+    let half = cross_direction(normal.normalize(), [curve.derivative(0.5), q[3] - q[0], q[2] - q[1]]);
+    Some(if half.dot(b0 + b1) < 0.0 { -half } else { half })
+}
+
+/// For one patch on `curve`, the unit direction of `b(½)` through the middle's `normal` and the
+/// patch's `k(½)`: its cross derivative at the middle is `k(½) |b(½)| b̂ + h(½) C'(½)`. `a0`,
+/// `a1` as in [`side_inner_points`].
+pub fn middle_factor(
+    curve: &CubicBezier,
+    n0: DVec3,
+    n1: DVec3,
+    normal: DVec3,
+    a0: DVec3,
+    a1: DVec3,
+) -> Option<(DVec3, f64)> {
+    let c = curve.derivative_points();
+    let (b0, b1) = end_directions(curve, n0, n1);
+    let half = middle_direction(curve, b0, b1, normal)?;
+    let (k0, _) = split(a0, b0, c[0]);
+    let (k1, _) = split(a1, b1, c[2]);
+    Some((half, 0.5 * (k0 + k1)))
 }
 
 /// `normalize(n × t)` for the first direction of travel `t` not along `n`; the last resort is a
@@ -124,7 +171,7 @@ fn cross_direction(n: DVec3, travel: [DVec3; 3]) -> DVec3 {
 }
 
 /// `a = k b + h c` in least squares (exact when `a` lies in the plane of `b` and `c`).
-fn split(a: DVec3, b: DVec3, c: DVec3) -> (f64, f64) {
+pub(crate) fn split(a: DVec3, b: DVec3, c: DVec3) -> (f64, f64) {
     let (bb, bc, cc) = (b.dot(b), b.dot(c), c.dot(c));
     let det = bb * cc - bc * bc;
     if det <= 1e-24 * bb * cc || cc == 0.0 {
@@ -240,7 +287,7 @@ mod tests {
         let side_a1 = CubicBezier::new(b, b_left, DVec3::new(3.2, 2.0, 0.6), top.points[0]);
         let side_a3 = CubicBezier::new(top.points[3], DVec3::new(-0.1, 2.0, 0.0), a_left, a);
         let na = [n0, n1, DVec3::Z, DVec3::Z];
-        let pa = gregory_patch(&PatchBoundary { sides: [curve, side_a1, top, side_a3], normals: na, mids: [None; 4] });
+        let nb = [n1, n0, DVec3::Z, DVec3::Z];
         // Patch B on −y runs the curve backwards.
         let a_right = a + in_plane(n0, DVec3::new(0.1, -1.0, -0.1));
         let b_right = b + in_plane(n1, DVec3::new(-0.2, -0.9, 0.4));
@@ -252,20 +299,40 @@ mod tests {
         );
         let side_b1 = CubicBezier::new(a, a_right, DVec3::new(-0.2, -2.0, 0.1), bottom.points[0]);
         let side_b3 = CubicBezier::new(bottom.points[3], DVec3::new(3.0, -2.0, 0.0), b_right, b);
-        let nb = [n1, n0, DVec3::Z, DVec3::Z];
-        let pb = gregory_patch(&PatchBoundary {
-            sides: [curve.reversed(), side_b1, bottom, side_b3],
-            normals: nb,
-            mids: [None; 4],
-        });
-        let mut worst: f64 = 0.0;
-        for s in 0..=32 {
-            let t = s as f64 / 32.0;
-            let na = pa.normal(t, 0.0).unwrap();
-            let nb = pb.normal(1.0 - t, 0.0).unwrap();
-            worst = worst.max(na.cross(nb).length().atan2(na.dot(nb)));
+        // The linear field, one through a tilted middle normal, and one with a fitted length too:
+        // whatever the two patches share about the curve, they meet with G1.
+        let normal = DVec3::new(0.05, -0.2, 1.0).normalize();
+        let middles =
+            [None, Some(CurveMiddle { normal, length: None }), Some(CurveMiddle { normal, length: Some(1.6) })];
+        let (mut pa, mut pb) =
+            (GregoryPatch::from_bezier([[DVec3::ZERO; 4]; 4]), GregoryPatch::from_bezier([[DVec3::ZERO; 4]; 4]));
+        for mid in middles {
+            let mut mids = [None; 4];
+            mids[0] = mid;
+            pa = gregory_patch(&PatchBoundary { sides: [curve, side_a1, top, side_a3], normals: na, mids });
+            pb = gregory_patch(&PatchBoundary {
+                sides: [curve.reversed(), side_b1, bottom, side_b3],
+                normals: nb,
+                mids,
+            });
+            let mut worst: f64 = 0.0;
+            for s in 0..=32 {
+                let t = s as f64 / 32.0;
+                let na = pa.normal(t, 0.0).unwrap();
+                let nb = pb.normal(1.0 - t, 0.0).unwrap();
+                worst = worst.max(na.cross(nb).length().atan2(na.dot(nb)));
+            }
+            assert!(worst < 1e-12, "largest normal angle {worst} with {mid:?}");
+            if let Some(CurveMiddle { length: Some(length), .. }) = mid {
+                // The cross derivative at the middle is k(½) |b(½)| b̂ + h(½) C'(½).
+                let a0 = 3.0 * (side_a3.points[2] - curve.points[0]);
+                let a1 = 3.0 * (side_a1.points[1] - curve.points[3]);
+                let (half, k_mid) = middle_factor(&curve, n0, n1, normal, a0, a1).unwrap();
+                let (along_b, _) = split(pa.evaluate(0.5, 0.0).dv, half, curve.derivative(0.5));
+                assert!((along_b - k_mid * length).abs() < 1e-12 * along_b.abs(), "{along_b} vs {}", k_mid * length);
+                assert!(half.dot(normal).abs() < 1e-12);
+            }
         }
-        assert!(worst < 1e-12, "largest normal angle {worst}");
         // Without the common b(t) (inner points of B moved off it) the angle is visible.
         let mut broken = pb;
         broken.inner[0][0][0] += DVec3::new(0.0, 0.0, 0.3);

@@ -25,7 +25,7 @@
 //! only on the stored values, a reopened file gives bit-identical patches.
 
 use super::bezier::CubicBezier;
-use super::chiyokura_kimura::{PatchBoundary, gregory_patch};
+use super::chiyokura_kimura::{CurveMiddle, PatchBoundary, gregory_patch};
 use super::continuity::{ContinuityReport, PatchSide, SharedBoundary, continuity_report};
 use super::patch::GregoryPatch;
 use crate::mesh::{EdgeId, FaceId, HalfedgeId, PolyMesh, VertexId};
@@ -43,9 +43,9 @@ pub struct CurveMesh {
     normals: Vec<DVec3>,
     /// Per curve (edge), the inner points `[P1, P2]` for the direction of `edge.halfedge(0)`.
     inner: Vec<[DVec3; 2]>,
-    /// Per curve, the normal of the limit surface at its middle, while the curve and its ends
-    /// are as built (an edit drops it: the field falls back to linear there).
-    mids: Vec<Option<DVec3>>,
+    /// Per curve, the limit surface at its middle (normal, field length), used while the curve
+    /// and its ends are as built (an edit drops it: the field falls back to linear there).
+    mids: Vec<Option<CurveMiddle>>,
     patches: Vec<GregoryPatch>,
     /// The values as built, before any edit (for [`CurveMesh::set_edits`]).
     base: Values,
@@ -183,10 +183,10 @@ impl CurveMesh {
         Ok(mesh)
     }
 
-    /// Sets the limit surface's normal at the middle of every curve (one per curve) and rebuilds
-    /// the patches: each curve's cross-boundary field then turns through it
-    /// ([`super::chiyokura_kimura::side_inner_points`]).
-    pub fn with_mid_normals(mut self, mids: Vec<DVec3>) -> Result<Self> {
+    /// Sets the limit surface at the middle of every curve (one per curve: its normal and, when
+    /// fitted, the field's length there) and rebuilds the patches: each curve's cross-boundary
+    /// field then turns through it ([`super::chiyokura_kimura::side_inner_points`]).
+    pub fn with_middles(mut self, mids: Vec<CurveMiddle>) -> Result<Self> {
         if mids.len() != self.topology.edge_count() {
             return Err(Error::Input(format!(
                 "{} middle normals for {} curves; give one per curve",
@@ -194,7 +194,13 @@ impl CurveMesh {
                 self.topology.edge_count()
             )));
         }
-        self.mids = mids.into_iter().map(|n| (n.is_finite() && n.length() > 0.0).then(|| n.normalize())).collect();
+        self.mids = mids
+            .into_iter()
+            .map(|m| {
+                let n = m.normal;
+                (n.is_finite() && n.length() > 0.0).then(|| CurveMiddle { normal: n.normalize(), length: m.length })
+            })
+            .collect();
         self.patches = self.topology.faces().collect::<Vec<_>>().par_iter().map(|&f| self.build_patch(f)).collect();
         Ok(self)
     }
@@ -273,13 +279,13 @@ impl CurveMesh {
         PatchBoundary {
             sides: hs.map(|h| self.curve_along(h)),
             normals: hs.map(|h| self.normals[self.topology.from_vertex(h).index()]),
-            mids: hs.map(|h| self.mid_normal(h.edge())),
+            mids: hs.map(|h| self.middle(h.edge())),
         }
     }
 
-    /// The limit normal at the middle of curve `e`, while the curve and both its ends are as
+    /// The limit surface at the middle of curve `e`, while the curve and both its ends are as
     /// built (an edited curve or end vertex no longer stands for the limit surface there).
-    fn mid_normal(&self, e: EdgeId) -> Option<DVec3> {
+    pub fn middle(&self, e: EdgeId) -> Option<CurveMiddle> {
         let (a, b) = self.topology.edge_vertices(e);
         let edited = self.edited_curves.contains(&e.0)
             || self.edited_vertices.contains(&a.0)

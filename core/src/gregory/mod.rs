@@ -14,6 +14,7 @@
 //! - [`build`]: from a cage to a curve mesh on its Catmull–Clark limit surface, with the fit's
 //!   figures.
 //! - [`closeness`]: distances from the limit surface to the patches.
+//! - `middle`: the limit surface at the middle of every curve (normal, cross-derivative length).
 //! - [`curve_mesh`]: the editable curve mesh, its edits and their serialisable state.
 //! - [`tessellate`]: crack-free `K × K` sampling into one polygon mesh with analytic normals.
 //! - [`export`]: OBJ and GLB of the tessellated patches, JSON of the curves and control points.
@@ -31,12 +32,13 @@ pub mod continuity;
 pub mod curve_mesh;
 pub mod document;
 pub mod export;
+mod middle;
 pub mod patch;
 pub mod tessellate;
 
 pub use bezier::CubicBezier;
 pub use build::{BuildReport, FitReport, fit_edge_curves};
-pub use chiyokura_kimura::{PatchBoundary, gregory_patch};
+pub use chiyokura_kimura::{CurveMiddle, PatchBoundary, gregory_patch};
 pub use continuity::{ContinuityReport, SharedBoundary, continuity_report};
 pub use curve_mesh::{Changed, CurveMesh, CurveMeshEdits};
 pub use patch::{GregoryPatch, SurfacePatch};
