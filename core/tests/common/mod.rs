@@ -84,3 +84,13 @@ pub fn faces_around(mesh: &PolyMesh, v: VertexId) -> Vec<FaceId> {
     f.sort();
     f
 }
+
+/// A cube of side 100 with one corner pulled out along its diagonal by half its distance from
+/// the centre (every vertex of valence 3, nothing subdivided first: the coarsest curve mesh).
+pub fn pulled_cube() -> PolyMesh {
+    let corners = [(-1, -1, 1), (1, -1, 1), (-1, -1, -1), (1, -1, -1), (-1, 1, 1), (1, 1, 1), (-1, 1, -1), (1, 1, -1)];
+    let mut p: Vec<DVec3> = corners.iter().map(|&(x, y, z)| 50.0 * DVec3::new(x as f64, y as f64, z as f64)).collect();
+    p[5] *= 1.5;
+    let faces = [[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]];
+    PolyMesh::from_polygons(p, &faces.map(|f| f.to_vec())).unwrap()
+}
