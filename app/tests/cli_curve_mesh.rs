@@ -155,7 +155,7 @@ fn bad_arguments_and_inputs_fail_cleanly() {
     let o = out_obj.to_str().unwrap();
     assert_clean_failure(
         &taut(&["curve-mesh", &asset("cube.obj"), "-o", dir.join("x.stl").to_str().unwrap()]),
-        "use .obj, .glb or .taut",
+        "use .obj, .glb, .step or .taut",
     );
     assert_clean_failure(&taut(&["curve-mesh", &asset("cube.obj"), "-o", o, "--samples", "0"]), "--samples 0");
     assert_clean_failure(
