@@ -6,8 +6,9 @@
 //! shells ([`brep`]) are written as an AP214 file ([`step`]). What each scheme gives and where we
 //! chose: `docs/cad-export.md`.
 //! - Catmull–Clark: the exact limit surface (limit points of a fine level); a regular face comes
-//!   out as its exact bicubic patch, the faces at extraordinary vertices as fitted patches with
-//!   interior knots; sharp creases are edges without tangent continuity.
+//!   out as its exact bicubic patch, and grids of them are merged into larger faces ([`merge`]);
+//!   the faces at extraordinary vertices as fitted patches with interior knots; sharp creases are
+//!   edges without tangent continuity.
 //! - NUSD: the solved finest level, fitted per cage face (per quad of the first level when the
 //!   cage has other polygons).
 //! - Curve mesh: the Gregory patches, each fitted by a B-spline face whose boundary is its four
@@ -18,6 +19,7 @@
 pub mod brep;
 pub mod bspline;
 pub mod fit;
+pub mod merge;
 pub mod network;
 pub mod step;
 
@@ -47,6 +49,9 @@ pub struct CadSurface {
     pub samples: usize,
     /// What was done, a line each (the command line prints them).
     pub notes: Vec<String>,
+    /// Per patch of the network (as [`surface_samples`] numbers them): the face of `model` it
+    /// lies on and where (regular regions are merged into larger faces).
+    pub placements: Vec<merge::Placement>,
 }
 
 /// The document's surface as B-spline faces within `tolerance` (a distance; `None` for
@@ -94,7 +99,7 @@ pub fn fit_document(doc: &Document, tolerance: Option<f64>) -> Result<CadSurface
                         "Catmull–Clark limit surface sampled at level {levels}, checked at level {}",
                         levels + 1
                     )];
-                    return finish(model, report, tolerance, samples, notes);
+                    return finish(&net, model, report, tolerance, samples, notes);
                 }
                 samples = finer;
             }
@@ -121,7 +126,7 @@ pub fn fit_document(doc: &Document, tolerance: Option<f64>) -> Result<CadSurface
             let notes = vec![format!(
                 "NUSD solved to level {levels}, fitted per cage face (per quad of level 1 on a cage of other polygons)"
             )];
-            finish(model, report, tolerance, samples, notes)
+            finish(&net, model, report, tolerance, samples, notes)
         }
         SchemeKind::CurveMesh => {
             let (curves, _) = doc.curve_mesh()?;
@@ -131,7 +136,7 @@ pub fn fit_document(doc: &Document, tolerance: Option<f64>) -> Result<CadSurface
                 let (model, report) = fit::fit(&net, tolerance)?;
                 if report.within || samples * 2 > MAX_SAMPLES {
                     let notes = vec![format!("curve mesh sampled {samples} times per patch side")];
-                    return finish(model, report, tolerance, samples, notes);
+                    return finish(&net, model, report, tolerance, samples, notes);
                 }
                 samples *= 2;
             }
@@ -188,6 +193,7 @@ fn extraordinary_grading(layout: &crate::mesh::PolyMesh, depth: u32) -> Vec<u32>
 }
 
 fn finish(
+    net: &PatchNetwork,
     model: BrepModel,
     report: FitReport,
     tolerance: f64,
@@ -197,7 +203,7 @@ fn finish(
     let most = report.spans.iter().copied().max().unwrap_or(1);
     let exact = report.spans.iter().filter(|&&s| s == 1).count();
     notes.push(format!(
-        "{} faces ({} of one span, up to {most}×{most} spans), within {:.3e} of the surface (tolerance {:.3e}), \
+        "{} patches ({} of one span, up to {most}×{most} spans), within {:.3e} of the surface (tolerance {:.3e}), \
          normals across smooth edges within {:.4}° (the sampled surface's own: up to {:.4}°)",
         report.spans.len(),
         exact,
@@ -219,13 +225,27 @@ fn finish(
             report.max_distance, report.max_excess_degrees
         )));
     }
-    Ok(CadSurface { model, report, tolerance, samples, notes })
+    let patches = model.faces.len();
+    let (model, placements) = merge::merge_regular(model, &net.layout, &net.sharp);
+    if model.faces.len() < patches {
+        let mut per_face = vec![0usize; model.faces.len()];
+        for p in &placements {
+            per_face[p.face] += 1;
+        }
+        let merged: usize = per_face.iter().filter(|&&n| n > 1).sum();
+        notes.push(format!(
+            "{merged} patches of regular regions merged into {} larger faces: {} faces in all",
+            model.faces.len() + merged - patches,
+            model.faces.len()
+        ));
+    }
+    Ok(CadSurface { model, report, tolerance, samples, notes, placements })
 }
 
 /// The document's surface sampled exactly on every patch of the layout the export fits,
 /// `per_side` samples per side (a power of two for Catmull–Clark and NUSD, whose finest level
-/// is then the one that has them): what a test compares an exported file with, patch `f` being STEP face
-/// `f` with the same `(u, v)`.
+/// is then the one that has them): what a test compares an exported file with, patch `f` lying
+/// on STEP face `placements[f].face` at `placements[f].map(u, v)` (see [`CadSurface::placements`]).
 pub fn surface_samples(doc: &Document, per_side: usize) -> Result<PatchNetwork> {
     let all_quads = doc.cage.faces().all(|f| doc.cage.face_valence(f) == 4);
     let base = if all_quads { 0 } else { 1 };
