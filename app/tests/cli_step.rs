@@ -108,12 +108,18 @@ fn samples_or_fewer(doc: &Document, per_side: usize) -> cad::network::PatchNetwo
 
 /// The volume the sampled grids enclose (a polyhedron of the surface).
 fn volume(samples: &cad::network::PatchNetwork) -> f64 {
+    volume_every(samples, 1)
+}
+
+/// The volume of the polyhedron through every `stride`-th sample of each grid side.
+fn volume_every(samples: &cad::network::PatchNetwork, stride: usize) -> f64 {
     let m = samples.m;
+    let n = m / stride;
     let mut v = 0.0;
     for g in &samples.grids {
-        let p = |i: usize, j: usize| g[j * (m + 1) + i];
-        for j in 0..m {
-            for i in 0..m {
+        let p = |i: usize, j: usize| g[j * stride * (m + 1) + i * stride];
+        for j in 0..n {
+            for i in 0..n {
                 v += p(i, j).dot(p(i + 1, j).cross(p(i + 1, j + 1))) + p(i, j).dot(p(i + 1, j + 1).cross(p(i, j + 1)));
             }
         }
@@ -164,8 +170,11 @@ fn export_and_measure(dir: &Scratch, command: &str, input: &str, extra: &[&str])
         assert_eq!(measured["free_edges"], 0, "{name}: {measured}");
         let step_volume = measured["volume"].as_f64().unwrap();
         let taut_volume = if doc.scheme == taut_core::surface::SchemeKind::Nusd {
-            // NUSD's own finest surface is the polyhedron of its finest level.
-            volume(&cad::surface_samples(&doc, fitted.samples).unwrap())
+            // NUSD's own finest surface is its finest level's points: the volume of the smooth
+            // surface through them, extrapolated from the polyhedra through all of them and
+            // through every other one (their error falls as the square of the spacing).
+            let finest = cad::surface_samples(&doc, fitted.samples).unwrap();
+            (4.0 * volume(&finest) - volume_every(&finest, 2)) / 3.0
         } else {
             // The exact surface's volume: the polyhedra of the fit's sampling and twice as
             // dense, extrapolated (their error falls as the square of the spacing).
@@ -175,9 +184,9 @@ fn export_and_measure(dir: &Scratch, command: &str, input: &str, extra: &[&str])
         };
         assert!(step_volume > 0.0, "{name}: outward normals give a positive volume, not {step_volume}");
         let error = (step_volume - taut_volume).abs() / taut_volume;
-        // NUSD: smooth faces through the finest level's points enclose more than that level's
-        // polyhedron (the cube at level 4: 0.4 %); the 0.1 % holds for the exact schemes
-        // only.
+        // NUSD: measured against the extrapolation, the cube is within 5e-5 and the torus 2e-4,
+        // but the prism 5.7e-3: the 0.1 % holds for the exact schemes only.
+        eprintln!("{command} {name}: volume {step_volume} against Taut's {taut_volume} ({error:.2e})");
         let bound = if doc.scheme == taut_core::surface::SchemeKind::Nusd { 1e-2 } else { 1e-3 };
         assert!(error < bound, "{command} {name}: volume {step_volume} against Taut's {taut_volume} ({error:.2e})");
     } else {
