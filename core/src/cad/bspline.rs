@@ -197,6 +197,15 @@ pub fn refine(from: &Knots, points: &[DVec3], to: &Knots) -> Vec<DVec3> {
     pts
 }
 
+impl super::brep::BSplineSurface {
+    /// The bicubic surface on `knots_u` × `knots_v` with `points[i][j]` (the `i`-th along u).
+    pub fn bicubic(knots_u: &Knots, knots_v: &Knots, points: Vec<Vec<DVec3>>) -> Self {
+        let (knots_u, multiplicities_u) = knots_u.with_multiplicities();
+        let (knots_v, multiplicities_v) = knots_v.with_multiplicities();
+        Self { degree_u: DEGREE, degree_v: DEGREE, knots_u, multiplicities_u, knots_v, multiplicities_v, points }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

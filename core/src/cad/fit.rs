@@ -679,22 +679,12 @@ fn model(net: &PatchNetwork, curves: &[(Knots, usize, Vec<DVec3>)], patches: Vec
     let parts = components(layout);
     let mut faces = Vec::with_capacity(patches.len());
     for (f, patch) in layout.faces().zip(patches) {
-        let (knots_u, multiplicities_u) = patch.knots_u.with_multiplicities();
-        let (knots_v, multiplicities_v) = patch.knots_v.with_multiplicities();
         let outer: Vec<(usize, bool)> = layout
             .face_halfedges(f)
             .map(|h| (h.edge().index(), layout.from_vertex(h) == layout.edge_vertices(h.edge()).0))
             .collect();
         faces.push(BrepFace {
-            surface: BSplineSurface {
-                degree_u: DEGREE,
-                degree_v: DEGREE,
-                knots_u,
-                multiplicities_u,
-                knots_v,
-                multiplicities_v,
-                points: patch.points,
-            },
+            surface: BSplineSurface::bicubic(&patch.knots_u, &patch.knots_v, patch.points),
             outer,
             same_sense: true,
         });

@@ -318,17 +318,7 @@ fn merged_face(model: &BrepModel, layout: &PolyMesh, block: &Block, scale: f64) 
             entry.1 = !entry.1;
         }
     }
-    let (knots_u, multiplicities_u) = knots_u.with_multiplicities();
-    let (knots_v, multiplicities_v) = knots_v.with_multiplicities();
-    let surface = BSplineSurface {
-        degree_u: DEGREE,
-        degree_v: DEGREE,
-        knots_u,
-        multiplicities_u,
-        knots_v,
-        multiplicities_v,
-        points,
-    };
+    let surface = BSplineSurface::bicubic(&knots_u, &knots_v, points);
     Some(BrepFace { surface, outer, same_sense })
 }
 
