@@ -15,12 +15,17 @@
 //! agree with its neighbour's within [`MAX_ANGLE_DEGREES`]; a regular Catmull–Clark face (a
 //! bicubic polynomial) is reproduced exactly with one span.
 
-use super::brep::{BSplineCurve, BSplineSurface, BrepEdge, BrepFace, BrepModel, BrepShell};
-use super::bspline::{self, DEGREE, Knots};
+use super::assemble;
+use super::brep::{BSplineSurface, BrepModel};
+use super::bspline::{self, Knots};
 use super::network::PatchNetwork;
-use crate::mesh::{EdgeId, FaceId, HalfedgeId, PolyMesh, VertexId};
+use crate::mesh::{EdgeId, FaceId, HalfedgeId, VertexId};
 use crate::{DVec3, Error, Result};
 use rayon::prelude::*;
+
+#[path = "fit_angles.rs"]
+mod angles;
+use angles::{angle_degrees, edge_angles, side_angle};
 
 /// Normals of neighbouring faces along a smooth edge may differ by at most this much (the export
 /// promises 0.1°; the fit aims lower).
@@ -198,7 +203,8 @@ pub fn fit(net: &PatchNetwork, tolerance: f64) -> Result<(BrepModel, FitReport)>
         spans: patches.iter().map(|p| p.spans).collect(),
         within: max_distance <= SAMPLE_SHARE * tolerance && max_excess <= 2.0 * MAX_ANGLE_DEGREES,
     };
-    Ok((model(net, &ctx.curves, patches), report))
+    let surfaces = patches.into_iter().map(|p| BSplineSurface::bicubic(&p.knots_u, &p.knots_v, p.points)).collect();
+    Ok((assemble::model(net, &ctx.curves, surfaces), report))
 }
 
 /// The exact normals along halfedge `h`'s side of its face, where the network has them.
@@ -569,230 +575,6 @@ pub fn distance_to(model: &BrepModel, net: &PatchNetwork) -> f64 {
         .reduce(|| 0.0, f64::max)
 }
 
-/// The (u, v) of position `t ∈ [0, 1]` along side `k` (in its halfedge's direction).
-fn side_uv(k: usize, t: f64) -> (f64, f64) {
-    match k {
-        0 => (t, 0.0),
-        1 => (1.0, t),
-        2 => (1.0 - t, 1.0),
-        _ => (0.0, 1.0 - t),
-    }
-}
-
-fn unit_normal(patch: &FacePatch, u: f64, v: f64) -> DVec3 {
-    let (_, du, dv) = bspline::surface_point(&patch.knots_u, &patch.knots_v, &patch.points, u, v);
-    du.cross(dv).normalize_or_zero()
-}
-
-/// Largest angle (degrees) between the fitted face's normal and the shared normal along its
-/// smooth sides, away from the corners.
-fn side_angle(ctx: &Context<'_>, f: FaceId, patch: &FacePatch) -> f64 {
-    let layout = &ctx.net.layout;
-    let m = ctx.net.m;
-    let mut worst: f64 = 0.0;
-    for (k, h) in layout.face_halfedges(f).enumerate() {
-        let Some(normals) = &ctx.shared[h.index()] else { continue };
-        let gap = ctx.own_gap[h.index()].as_deref().unwrap_or(&[]);
-        let star_start = 2.0 * corner_span(ctx.net, layout.from_vertex(h));
-        let star_end = 2.0 * corner_span(ctx.net, layout.to_vertex(h));
-        for (t, n) in normals.iter().enumerate().take(m).skip(1) {
-            let x = t as f64 / m as f64;
-            if x < star_start || x > 1.0 - star_end {
-                continue;
-            }
-            let (u, v) = side_uv(k, x);
-            let own = 0.5 * gap.get(t).copied().unwrap_or(0.0);
-            worst = worst.max(angle_degrees(unit_normal(patch, u, v), *n) - own);
-        }
-    }
-    worst
-}
-
-fn angle_degrees(a: DVec3, b: DVec3) -> f64 {
-    a.cross(b).length().atan2(a.dot(b)).to_degrees()
-}
-
-/// Per smooth interior edge: the largest angle between its two faces' normals, the largest
-/// amount by which it exceeds the surface's own there, both away from the two innermost rings
-/// around extraordinary ends, and the largest angle within those rings (sampled at `4m` points
-/// along it, corners excluded).
-fn edge_angles(ctx: &Context<'_>, patches: &[FacePatch]) -> Vec<(EdgeId, f64, f64, f64)> {
-    let layout = &ctx.net.layout;
-    let samples = 4 * ctx.net.m;
-    layout
-        .edges()
-        .collect::<Vec<_>>()
-        .par_iter()
-        .filter(|&&e| ctx.shared[e.halfedge(0).index()].is_some())
-        .map(|&e| {
-            let (h, twin) = (e.halfedge(0), e.halfedge(1));
-            let (fa, fb) = (layout.face(h), layout.face(twin));
-            let ka = layout.face_halfedges(fa).position(|x| x == h).unwrap_or(0);
-            let kb = layout.face_halfedges(fb).position(|x| x == twin).unwrap_or(0);
-            let gap = ctx.own_gap[h.index()].as_deref().unwrap_or(&[]);
-            let m = ctx.net.m;
-            let (mut worst, mut excess, mut star): (f64, f64, f64) = (0.0, 0.0, 0.0);
-            // The two innermost rings of knots around an extraordinary end.
-            let (a, b) = (layout.from_vertex(h), layout.to_vertex(h));
-            let (star_start, star_end) = (2.0 * corner_span(ctx.net, a), 2.0 * corner_span(ctx.net, b));
-            for s in 1..samples {
-                let t = s as f64 / samples as f64;
-                let (ua, va) = side_uv(ka, t);
-                let (ub, vb) = side_uv(kb, 1.0 - t);
-                let na = unit_normal(&patches[fa.index()], ua, va);
-                let nb = unit_normal(&patches[fb.index()], ub, vb);
-                let angle = angle_degrees(na, nb);
-                // The surface's own gap here, from the nearest samples on either side.
-                let x = t * m as f64;
-                let own = gap
-                    .get(x.floor() as usize)
-                    .copied()
-                    .unwrap_or(0.0)
-                    .max(gap.get(x.ceil() as usize).copied().unwrap_or(0.0));
-                if t < star_start || t > 1.0 - star_end {
-                    star = star.max(angle);
-                } else {
-                    worst = worst.max(angle);
-                    excess = excess.max(angle - own);
-                }
-            }
-            (e, worst, excess, star)
-        })
-        .collect()
-}
-
-/// The B-rep of the fitted faces: one edge per network edge, one shell per connected part,
-/// every face turned so that closed parts enclose positive volume.
-fn model(net: &PatchNetwork, curves: &[(Knots, usize, Vec<DVec3>)], patches: Vec<FacePatch>) -> BrepModel {
-    let layout = &net.layout;
-    let vertices = layout.positions().to_vec();
-    let edges = layout
-        .edges()
-        .map(|e| {
-            let (a, b) = layout.edge_vertices(e);
-            let (knots, _, points) = &curves[e.index()];
-            let (knots, multiplicities) = knots.with_multiplicities();
-            let curve = BSplineCurve { degree: DEGREE, knots, multiplicities, points: points.clone() };
-            BrepEdge { start: a.index(), end: b.index(), curve }
-        })
-        .collect();
-    let parts = components(layout);
-    let mut faces = Vec::with_capacity(patches.len());
-    for (f, patch) in layout.faces().zip(patches) {
-        let outer: Vec<(usize, bool)> = layout
-            .face_halfedges(f)
-            .map(|h| (h.edge().index(), layout.from_vertex(h) == layout.edge_vertices(h.edge()).0))
-            .collect();
-        faces.push(BrepFace {
-            surface: BSplineSurface::bicubic(&patch.knots_u, &patch.knots_v, patch.points),
-            outer,
-            same_sense: true,
-        });
-    }
-    let mut shells = Vec::new();
-    for part in parts {
-        let closed = part.iter().all(|&f| layout.face_halfedges(f).all(|h| !layout.is_boundary_halfedge(h.twin())));
-        if closed && signed_volume(net, &part) < 0.0 {
-            for &f in &part {
-                let face = &mut faces[f.index()];
-                face.same_sense = false;
-                face.outer.reverse();
-                for entry in &mut face.outer {
-                    entry.1 = !entry.1;
-                }
-            }
-        }
-        shells.push(BrepShell { faces: part.iter().map(|f| f.index()).collect(), closed });
-    }
-    BrepModel { vertices, edges, faces, shells }
-}
-
-/// The faces of each connected part, in face order.
-fn components(layout: &PolyMesh) -> Vec<Vec<FaceId>> {
-    let mut part = vec![usize::MAX; layout.face_count()];
-    let mut parts = Vec::new();
-    for seed in layout.faces() {
-        if part[seed.index()] != usize::MAX {
-            continue;
-        }
-        let id = parts.len();
-        let mut faces = vec![seed];
-        part[seed.index()] = id;
-        let mut k = 0;
-        while k < faces.len() {
-            let f = faces[k];
-            k += 1;
-            for h in layout.face_halfedges(f) {
-                let t = h.twin();
-                if !layout.is_boundary_halfedge(t) {
-                    let g = layout.face(t);
-                    if part[g.index()] == usize::MAX {
-                        part[g.index()] = id;
-                        faces.push(g);
-                    }
-                }
-            }
-        }
-        faces.sort();
-        parts.push(faces);
-    }
-    parts
-}
-
-/// The volume the part's sample grids enclose (positive when their normals point out).
-fn signed_volume(net: &PatchNetwork, part: &[FaceId]) -> f64 {
-    let m = net.m;
-    let mut v = 0.0;
-    for f in part {
-        let g = &net.grids[f.index()];
-        for j in 0..m {
-            for i in 0..m {
-                let p = |i: usize, j: usize| g[j * (m + 1) + i];
-                v += p(i, j).dot(p(i + 1, j).cross(p(i + 1, j + 1)));
-                v += p(i, j).dot(p(i + 1, j + 1).cross(p(i, j + 1)));
-            }
-        }
-    }
-    v / 6.0
-}
-
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// One open quad patch sampled from `surface`.
-    fn single_patch(m: usize, grade: u32, surface: impl Fn(f64, f64) -> DVec3) -> PatchNetwork {
-        let layout = PolyMesh::from_polygons(
-            vec![surface(0.0, 0.0), surface(1.0, 0.0), surface(1.0, 1.0), surface(0.0, 1.0)],
-            &[[0u32, 1, 2, 3]],
-        )
-        .unwrap();
-        let grid = (0..=m)
-            .flat_map(|j| (0..=m).map(move |i| (i, j)))
-            .map(|(i, j)| surface(i as f64 / m as f64, j as f64 / m as f64))
-            .collect();
-        PatchNetwork {
-            layout,
-            m,
-            grids: vec![grid],
-            normals: None,
-            sharp: vec![false; 4],
-            corner: vec![false; 4],
-            grade: vec![grade; 4],
-            singular_corners: false,
-        }
-    }
-
-    #[test]
-    fn a_bicubic_patch_is_reproduced_with_and_without_graded_knots() {
-        let s =
-            |u: f64, v: f64| DVec3::new(u + 0.1 * v * v, v - 0.2 * u * u * u, u * u * v + 0.3 * v * v * v * u * u * u);
-        for grade in [0, 2] {
-            let net = single_patch(16, grade, s);
-            let (model, report) = fit(&net, 1e-6).unwrap();
-            assert!(report.max_distance < 1e-12, "grade {grade}: {report:?}");
-            assert_eq!(report.spans, vec![1]);
-            assert_eq!(model.faces[0].surface.knots_u.len(), if grade == 0 { 2 } else { 5 });
-        }
-    }
-}
+#[path = "fit_tests.rs"]
+mod tests;

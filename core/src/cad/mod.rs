@@ -16,6 +16,7 @@
 //!
 //! Loop surfaces are refused (they are made of triangles; convert the cage or use Catmull–Clark).
 
+mod assemble;
 pub mod brep;
 pub mod bspline;
 pub mod fit;
