@@ -184,11 +184,8 @@ fn export_and_measure(dir: &Scratch, command: &str, input: &str, extra: &[&str])
         };
         assert!(step_volume > 0.0, "{name}: outward normals give a positive volume, not {step_volume}");
         let error = (step_volume - taut_volume).abs() / taut_volume;
-        // NUSD: measured against the extrapolation, the cube is within 5e-5 and the torus 2e-4,
-        // but the prism 5.7e-3: the 0.1 % holds for the exact schemes only.
         eprintln!("{command} {name}: volume {step_volume} against Taut's {taut_volume} ({error:.2e})");
-        let bound = if doc.scheme == taut_core::surface::SchemeKind::Nusd { 1e-2 } else { 1e-3 };
-        assert!(error < bound, "{command} {name}: volume {step_volume} against Taut's {taut_volume} ({error:.2e})");
+        assert!(error < 1e-3, "{command} {name}: volume {step_volume} against Taut's {taut_volume} ({error:.2e})");
     } else {
         assert_eq!(measured["solids"], 0, "{name}: an open cage is a surface, not a solid: {measured}");
         assert!(measured["free_edges"].as_u64().unwrap() > 0, "{name}: {measured}");
@@ -284,7 +281,11 @@ fn the_file_declares_ap214_its_units_and_one_solid_of_b_spline_faces() {
     assert_eq!(count("B_SPLINE_SURFACE_WITH_KNOTS"), 6);
     assert_eq!(count("ADVANCED_FACE"), 6);
     assert_eq!(count("EDGE_CURVE"), 12);
-    assert_eq!(count("B_SPLINE_CURVE_WITH_KNOTS"), 12);
+    // Each edge's 3D curve and, on each of its two faces, its line in the parameter plane.
+    assert_eq!(count("B_SPLINE_CURVE_WITH_KNOTS"), 12 + 24);
+    assert_eq!(count("SURFACE_CURVE"), 12);
+    assert_eq!(count("PCURVE"), 24);
+    assert_eq!(count("DEFINITIONAL_REPRESENTATION"), 24);
     assert_eq!(count("ORIENTED_EDGE"), 24);
     assert_eq!(count("VERTEX_POINT"), 8);
     assert_eq!(count("CLOSED_SHELL"), 1);

@@ -5,7 +5,7 @@ use super::brep::{BSplineCurve, BSplineSurface, BrepEdge, BrepFace, BrepModel, B
 use super::bspline::{DEGREE, Knots};
 use super::network::PatchNetwork;
 use crate::DVec3;
-use crate::mesh::{FaceId, PolyMesh};
+use crate::mesh::{FaceId, HalfedgeId, PolyMesh};
 
 /// The B-rep of the fitted faces: one edge per network edge, one shell per connected part,
 /// every face turned so that closed parts enclose positive volume.
@@ -33,7 +33,8 @@ pub(super) fn model(
             .face_halfedges(f)
             .map(|h| (h.edge().index(), layout.from_vertex(h) == layout.edge_vertices(h.edge()).0))
             .collect();
-        faces.push(BrepFace { surface, outer, same_sense: true });
+        let outer_uv = layout.face_halfedges(f).map(|h| side_uv(layout, h)).collect();
+        faces.push(BrepFace { surface, outer, outer_uv, same_sense: true });
     }
     let mut shells = Vec::new();
     for part in parts {
@@ -43,6 +44,7 @@ pub(super) fn model(
                 let face = &mut faces[f.index()];
                 face.same_sense = false;
                 face.outer.reverse();
+                face.outer_uv.reverse();
                 for entry in &mut face.outer {
                     entry.1 = !entry.1;
                 }
@@ -51,6 +53,17 @@ pub(super) fn model(
         shells.push(BrepShell { faces: part.iter().map(|f| f.index()).collect(), closed });
     }
     BrepModel { vertices, edges, faces, shells }
+}
+
+/// Where the edge of halfedge `h` lies on the patch of `h`'s face, in the patch's own
+/// parameters: the `(u, v)` at the edge curve's start and at its end. Side `k` of a patch runs
+/// from corner `k` to corner `k + 1` of the unit square, and an edge curve is its side's
+/// boundary curve with the same parameter, reversed where the edge runs against the halfedge.
+pub(super) fn side_uv(layout: &PolyMesh, h: HalfedgeId) -> [[f64; 2]; 2] {
+    const CORNERS: [[f64; 2]; 4] = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+    let k = layout.face_halfedges(layout.face(h)).position(|x| x == h).expect("a halfedge of its own face");
+    let (from, to) = (CORNERS[k], CORNERS[(k + 1) % 4]);
+    if layout.from_vertex(h) == layout.edge_vertices(h.edge()).0 { [from, to] } else { [to, from] }
 }
 
 /// The faces of each connected part, in face order.

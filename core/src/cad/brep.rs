@@ -47,6 +47,11 @@ pub struct BrepFace {
     /// The outer loop: `(edge, same_sense)`, true when the loop runs from the edge's start to its
     /// end.
     pub outer: Vec<(usize, bool)>,
+    /// Per entry of `outer`, where its edge lies on this face's surface: the `(u, v)` at the
+    /// edge curve's first and at its last parameter, the curve running straight between them
+    /// with its own parameter (written as the edge's `PCURVE`s, so a reader need not project the
+    /// edge onto the surface). Empty when not known.
+    pub outer_uv: Vec<[[f64; 2]; 2]>,
     /// True when the face's normal is the surface's `∂u × ∂v`, false when it is the opposite.
     pub same_sense: bool,
 }

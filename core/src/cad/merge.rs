@@ -14,6 +14,7 @@
 //! is a disc (a ring of a torus does not close on itself). [`Placement`] says where each patch
 //! went, so a patch's `(u, v)` can still be found on its merged face.
 
+use super::assemble::side_uv;
 use super::brep::{BSplineSurface, BrepFace, BrepModel, BrepShell};
 use super::bspline::{self, DEGREE, Knots};
 use crate::DVec3;
@@ -301,25 +302,44 @@ fn merged_face(model: &BrepModel, layout: &PolyMesh, block: &Block, scale: f64) 
             }
         }
     }
-    // The outer loop: the grid's boundary, counter-clockwise as each patch's own loop.
+    // The outer loop: the grid's boundary, counter-clockwise as each patch's own loop; each side
+    // with the place of its patch, to put the edge on the merged surface.
+    let place = |i: usize, j: usize| Placement {
+        face: 0,
+        rotation: turn(layout, block.cells[j][i]),
+        origin: (i, j),
+        size: (a, b),
+    };
     let mut sides = Vec::with_capacity(2 * (a + b));
-    sides.extend(block.cells[0].iter().copied());
-    sides.extend(block.cells.iter().map(|row| layout.next(row[a - 1])));
-    sides.extend(block.cells[b - 1].iter().rev().map(|&h| layout.next(layout.next(h))));
-    sides.extend(block.cells.iter().rev().map(|row| layout.prev(row[0])));
+    sides.extend(block.cells[0].iter().enumerate().map(|(i, &h)| (h, place(i, 0))));
+    sides.extend(block.cells.iter().enumerate().map(|(j, row)| (layout.next(row[a - 1]), place(a - 1, j))));
+    sides.extend(
+        block.cells[b - 1].iter().enumerate().rev().map(|(i, &h)| (layout.next(layout.next(h)), place(i, b - 1))),
+    );
+    sides.extend(block.cells.iter().enumerate().rev().map(|(j, row)| (layout.prev(row[0]), place(0, j))));
     let mut outer: Vec<(usize, bool)> = sides
-        .into_iter()
-        .map(|h| (h.edge().index(), layout.from_vertex(h) == layout.edge_vertices(h.edge()).0))
+        .iter()
+        .map(|&(h, _)| (h.edge().index(), layout.from_vertex(h) == layout.edge_vertices(h.edge()).0))
+        .collect();
+    let mut outer_uv: Vec<[[f64; 2]; 2]> = sides
+        .iter()
+        .map(|&(h, place)| {
+            side_uv(layout, h).map(|[u, v]| {
+                let (s, t) = place.map(u, v);
+                [s, t]
+            })
+        })
         .collect();
     let same_sense = model.faces[layout.face(block.cells[0][0]).index()].same_sense;
     if !same_sense {
         outer.reverse();
+        outer_uv.reverse();
         for entry in &mut outer {
             entry.1 = !entry.1;
         }
     }
     let surface = BSplineSurface::bicubic(&knots_u, &knots_v, points);
-    Some(BrepFace { surface, outer, same_sense })
+    Some(BrepFace { surface, outer, outer_uv, same_sense })
 }
 
 /// The control points, on `knots` (simple inner knots), of the curve whose Bézier pieces are

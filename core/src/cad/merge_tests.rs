@@ -60,6 +60,46 @@ fn assert_closed_and_oriented(model: &BrepModel) {
     assert!(uses.iter().all(|&u| u == (1, 1)), "every edge once each way: {uses:?}");
     let referenced = model.edges.iter().flat_map(|e| [e.start, e.end]).collect::<std::collections::BTreeSet<_>>();
     assert_eq!(referenced.len(), model.vertices.len(), "no vertex left without an edge");
+    assert_edges_lie_where_their_faces_say(model);
+}
+
+/// Every edge curve starts and ends at its vertices and is, with its own parameter, the face's
+/// surface along the straight line `outer_uv` gives (the `PCURVE` the file carries).
+fn assert_edges_lie_where_their_faces_say(model: &BrepModel) {
+    let size = diagonal(&model.vertices);
+    for (f, face) in model.faces.iter().enumerate() {
+        assert_eq!(face.outer_uv.len(), face.outer.len(), "face {f}: every edge placed");
+        for (&(e, _), &[a, b]) in face.outer.iter().zip(&face.outer_uv) {
+            let edge = &model.edges[e];
+            let knots = Knots::from_breaks(edge.curve.knots.clone());
+            let points = &edge.curve.points;
+            assert!(points[0].distance(model.vertices[edge.start]) <= 1e-12 * size);
+            assert!(points[points.len() - 1].distance(model.vertices[edge.end]) <= 1e-12 * size);
+            let (first, last) = (edge.curve.knots[0], edge.curve.knots[edge.curve.knots.len() - 1]);
+            for k in 0..=16 {
+                let s = k as f64 / 16.0;
+                let on_curve = bspline::curve_point(&knots, points, first + s * (last - first));
+                let (u, v) = (a[0] + s * (b[0] - a[0]), a[1] + s * (b[1] - a[1]));
+                let on_face = evaluate(&face.surface, u, v);
+                let apart = on_curve.distance(on_face);
+                assert!(apart <= 1e-9 * size, "face {f}, edge {e} at {s}: {apart} off the face");
+            }
+        }
+    }
+}
+
+#[test]
+fn nusd_edges_meet_their_vertices_and_lie_on_their_faces() {
+    // A pentagonal prism: patches of level 1, whose corners move as the levels are solved.
+    let ring = |y: f64| (0..5).map(move |k| DVec3::new((k as f64 * 1.2566).cos(), y, (k as f64 * 1.2566).sin()));
+    let polygons: Vec<Vec<u32>> = [vec![4, 3, 2, 1, 0], vec![5, 6, 7, 8, 9]]
+        .into_iter()
+        .chain((0..5).map(|k| vec![k, (k + 1) % 5, (k + 1) % 5 + 5, k + 5]))
+        .collect();
+    let cage = crate::mesh::PolyMesh::from_polygons(ring(0.0).chain(ring(1.0)).collect(), &polygons).unwrap();
+    let doc = Document::new(cage).with_scheme(SchemeKind::Nusd);
+    let (net, _) = crate::cad::nusd_network(&doc, 1, Some(4)).unwrap();
+    assert_edges_lie_where_their_faces_say(&fitted(&net));
 }
 
 #[test]
@@ -112,6 +152,7 @@ fn faces_at_extraordinary_vertices_and_the_turned_solid_are_kept_as_they_are() {
     for face in &mut before.faces {
         face.same_sense = false;
         face.outer.reverse();
+        face.outer_uv.reverse();
         for entry in &mut face.outer {
             entry.1 = !entry.1;
         }

@@ -155,7 +155,11 @@ fn nusd_network(doc: &Document, base: u32, levels: Option<u32>) -> Result<(Patch
     solver.solve()?;
     let surface =
         |l: u32| solver.level_surface(l).ok_or_else(|| Error::Solver(format!("NUSD level {l} was not solved")));
-    let (layout, fine) = (surface(base)?, surface(levels)?);
+    let (mut layout, fine) = (surface(base)?, surface(levels)?);
+    // The patch corners where the finest level has them (a vertex keeps its index down the
+    // levels, and a coarser level's points are not on the finest surface).
+    let count = layout.vertex_count();
+    layout.positions_mut().copy_from_slice(&fine.positions()[..count]);
     let (e, v) = (layout.edge_count(), layout.vertex_count());
     let net = PatchNetwork::from_refined(layout, &fine, None, 1 << (levels - base), vec![false; e], vec![false; v])?;
     Ok((net, levels))

@@ -40,10 +40,10 @@ const SCHEMA: &str = "AUTOMOTIVE_DESIGN { 1 0 10303 214 1 1 1 1 }";
 /// index to a missing vertex, edge or face, a face loop whose edges do not join, or knots and
 /// multiplicities that do not fit the control points.
 pub fn step_text(model: &BrepModel, unit: LengthUnit, tolerance: f64, header: &StepHeader<'_>) -> Result<String> {
-    check_model(model)?;
     if !(tolerance.is_finite() && tolerance > 0.0) {
         return Err(Error::Input(format!("STEP tolerance must be a positive number, got {tolerance}")));
     }
+    check_model(model, tolerance)?;
     let mut file = Part21::default();
     file.header(header);
     let context = file.context(unit, tolerance);
@@ -56,20 +56,61 @@ pub fn step_text(model: &BrepModel, unit: LengthUnit, tolerance: f64, header: &S
             file.entity(format_args!("VERTEX_POINT('',{})", Ref(point)))
         })
         .collect();
+    // Surfaces first: an edge names the faces' surfaces its parameter-plane curves lie on.
+    let surfaces: Vec<usize> = model.faces.iter().map(|face| file.surface(&face.surface)).collect();
+    let mut on_faces: Vec<Vec<(usize, [[f64; 2]; 2])>> = vec![Vec::new(); model.edges.len()];
+    for (f, face) in model.faces.iter().enumerate() {
+        for (&(e, _), &uv) in face.outer.iter().zip(&face.outer_uv) {
+            on_faces[e].push((f, uv));
+        }
+    }
+    let parametric = on_faces.iter().any(|uses| !uses.is_empty()).then(|| {
+        file.entity(format_args!(
+            "( GEOMETRIC_REPRESENTATION_CONTEXT(2) PARAMETRIC_REPRESENTATION_CONTEXT() \
+             REPRESENTATION_CONTEXT('2D SPACE','') )"
+        ))
+    });
     let edges: Vec<usize> = model
         .edges
         .iter()
-        .map(|edge| {
-            let curve = file.curve(&edge.curve);
+        .zip(&on_faces)
+        .map(|(edge, uses)| {
+            let mut geometry = file.curve(&edge.curve);
+            if let (Some(context), 1..=2) = (parametric, uses.len()) {
+                // The edge as a line in each face's parameter plane, with the curve's parameter.
+                let (first, last) = (edge.curve.knots[0], edge.curve.knots[edge.curve.knots.len() - 1]);
+                let pcurves: Vec<usize> = uses
+                    .iter()
+                    .map(|&(f, [a, b])| {
+                        let (a, b) = (file.point_2d(a), file.point_2d(b));
+                        let line = file.entity(format_args!(
+                            "B_SPLINE_CURVE_WITH_KNOTS('',1,({},{}),.POLYLINE_FORM.,.F.,.F.,(2,2),({},{}),\
+                             .UNSPECIFIED.)",
+                            Ref(a),
+                            Ref(b),
+                            Real(first),
+                            Real(last)
+                        ));
+                        let representation = file.entity(format_args!(
+                            "DEFINITIONAL_REPRESENTATION('',({}),{})",
+                            Ref(line),
+                            Ref(context)
+                        ));
+                        file.entity(format_args!("PCURVE('',{},{})", Ref(surfaces[f]), Ref(representation)))
+                    })
+                    .collect();
+                let curve = Ref(geometry);
+                geometry = file.entity(format_args!("SURFACE_CURVE('',{curve},{},.CURVE_3D.)", Refs(&pcurves)));
+            }
             let (start, end) = (Ref(vertices[edge.start]), Ref(vertices[edge.end]));
-            file.entity(format_args!("EDGE_CURVE('',{start},{end},{},.T.)", Ref(curve)))
+            file.entity(format_args!("EDGE_CURVE('',{start},{end},{},.T.)", Ref(geometry)))
         })
         .collect();
     let faces: Vec<usize> = model
         .faces
         .iter()
-        .map(|face| {
-            let surface = file.surface(&face.surface);
+        .zip(&surfaces)
+        .map(|(face, &surface)| {
             let oriented: Vec<usize> = face
                 .outer
                 .iter()
@@ -194,6 +235,10 @@ impl Part21 {
     fn point(&mut self, p: DVec3) -> usize {
         let (x, y, z) = (Real(p.x), Real(p.y), Real(p.z));
         self.entity(format_args!("CARTESIAN_POINT('',({x},{y},{z}))"))
+    }
+
+    fn point_2d(&mut self, [u, v]: [f64; 2]) -> usize {
+        self.entity(format_args!("CARTESIAN_POINT('',({},{}))", Real(u), Real(v)))
     }
 
     fn curve(&mut self, curve: &BSplineCurve) -> usize {
@@ -364,7 +409,7 @@ impl Display for Grid<'_> {
 
 /// Everything [`step_text`] needs to hold before it writes: indices in range, numbers finite,
 /// loops joined, knot vectors that fit.
-fn check_model(model: &BrepModel) -> Result<()> {
+fn check_model(model: &BrepModel, tolerance: f64) -> Result<()> {
     let fail = |message: String| Err(Error::Input(message));
     if model.faces.is_empty() || model.shells.is_empty() {
         return fail("the model is empty: there are no faces or no shells to write".into());
@@ -385,12 +430,27 @@ fn check_model(model: &BrepModel) -> Result<()> {
         check_points(&curve.points).map_err(|m| Error::Input(format!("edge {i}: {m}")))?;
         check_knots("", curve.degree, &curve.knots, &curve.multiplicities, curve.points.len())
             .map_err(|m| Error::Input(format!("edge {i}: {m}")))?;
+        let ends = [(curve.points[0], edge.start), (curve.points[curve.points.len() - 1], edge.end)];
+        if let Some((p, v)) = ends.into_iter().find(|&(p, v)| p.distance(model.vertices[v]) > tolerance) {
+            let gap = p.distance(model.vertices[v]);
+            return fail(format!("edge {i}'s curve ends {gap:.3e} from its vertex {v}, more than the tolerance"));
+        }
     }
     let edge_count = model.edges.len();
     for (i, face) in model.faces.iter().enumerate() {
         check_surface(&face.surface).map_err(|m| Error::Input(format!("face {i}: {m}")))?;
         if face.outer.is_empty() {
             return fail(format!("face {i} has no edges in its outer loop"));
+        }
+        if !face.outer_uv.is_empty() && face.outer_uv.len() != face.outer.len() {
+            return fail(format!(
+                "face {i} places {} of its {} edges on its surface",
+                face.outer_uv.len(),
+                face.outer.len()
+            ));
+        }
+        if face.outer_uv.iter().flatten().flatten().any(|x| !x.is_finite()) {
+            return fail(format!("face {i} places an edge at a non-finite parameter"));
         }
         if let Some(&(e, _)) = face.outer.iter().find(|&&(e, _)| e >= edge_count) {
             return fail(format!("face {i}'s loop refers to edge {e}, but there are {edge_count}"));

@@ -51,7 +51,7 @@ fn cuboid(min: DVec3, max: DVec3) -> BrepModel {
         let [c0, c1, c2, c3] = quad.map(|v| vertices[v]);
         let same_sense = f % 2 == 0;
         let points = if same_sense { vec![vec![c0, c3], vec![c1, c2]] } else { vec![vec![c0, c1], vec![c3, c2]] };
-        faces.push(BrepFace { surface: surface(1, 1, points), outer, same_sense });
+        faces.push(BrepFace { surface: surface(1, 1, points), outer, outer_uv: Vec::new(), same_sense });
     }
     BrepModel { vertices, edges, faces, shells: vec![BrepShell { faces: (0..6).collect(), closed: true }] }
 }
@@ -78,7 +78,7 @@ fn bezier_patch() -> BrepModel {
     let vertices = vec![grid[0][0], grid[3][0], grid[3][3], grid[0][3]];
     let edges = vec![cubic(row(0), 0, 1), cubic(column(3), 1, 2), cubic(row(3), 3, 2), cubic(column(0), 0, 3)];
     let outer = vec![(0, true), (1, true), (2, false), (3, false)];
-    let face = BrepFace { surface: surface(3, 3, grid), outer, same_sense: true };
+    let face = BrepFace { surface: surface(3, 3, grid), outer, outer_uv: Vec::new(), same_sense: true };
     BrepModel { vertices, edges, faces: vec![face], shells: vec![BrepShell { faces: vec![0], closed: false }] }
 }
 
