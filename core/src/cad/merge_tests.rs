@@ -98,7 +98,7 @@ fn nusd_edges_meet_their_vertices_and_lie_on_their_faces() {
         .collect();
     let cage = crate::mesh::PolyMesh::from_polygons(ring(0.0).chain(ring(1.0)).collect(), &polygons).unwrap();
     let doc = Document::new(cage).with_scheme(SchemeKind::Nusd);
-    let (net, _) = crate::cad::nusd_network(&doc, 1, Some(4)).unwrap();
+    let (net, _) = crate::cad::nusd_network(&doc, 1, 4).unwrap();
     assert_edges_lie_where_their_faces_say(&fitted(&net));
 }
 

@@ -9,8 +9,9 @@
 //!   out as its exact bicubic patch, and grids of them are merged into larger faces ([`merge`]);
 //!   the faces at extraordinary vertices as fitted patches with interior knots; sharp creases are
 //!   edges without tangent continuity.
-//! - NUSD: the solved finest level, fitted per cage face (per quad of the first level when the
-//!   cage has other polygons).
+//! - NUSD: the solved finest level, fitted per cage face (per quad of the first split of every
+//!   face at its centre when the cage has other polygons; triangles are read by interpolation,
+//!   `nusd_patches.rs`).
 //! - Curve mesh: the Gregory patches, each fitted by a B-spline face whose boundary is its four
 //!   Bézier curves (a B-spline of one span each, exactly).
 //!
@@ -22,6 +23,7 @@ pub mod bspline;
 pub mod fit;
 pub mod merge;
 pub mod network;
+mod nusd_patches;
 pub mod step;
 
 use crate::document::Document;
@@ -31,6 +33,7 @@ use crate::{Error, Result};
 pub use brep::{BrepModel, LengthUnit};
 pub use fit::FitReport;
 use network::PatchNetwork;
+use nusd_patches::nusd_network;
 
 /// The default tolerance, a fraction of the surface's bounding-box diagonal.
 pub const DEFAULT_RELATIVE_TOLERANCE: f64 = 1e-4;
@@ -106,28 +109,36 @@ pub fn fit_document(doc: &Document, tolerance: Option<f64>) -> Result<CadSurface
             }
         }
         SchemeKind::Nusd => {
-            if doc.cage.faces().any(|f| doc.cage.face_valence(f) == 3) {
-                return Err(Error::Input(
-                    "STEP export of a NUSD surface needs a cage without triangles (NUSD splits a triangle into \
-                     triangles, which four-sided B-spline faces do not take); use Catmull–Clark or the curve mesh"
-                        .into(),
-                ));
+            // From the document's levels (at least four below the patches) one level finer at a
+            // time while the fit is not within the tolerance and a finer level is affordable: a
+            // surface with tight bends needs more samples and spans than a smooth one.
+            let corners: usize = doc.cage.faces().map(|f| doc.cage.face_valence(f)).sum();
+            let mut levels = doc.settings.levels.max(base + 4).min(crate::nusd::MAX_LEVELS);
+            loop {
+                let (mut net, solved) = nusd_network(doc, base, levels)?;
+                let samples = net.m;
+                // NUSD is not a polynomial at its boundary corners either: rings there too.
+                let layout = &net.layout;
+                let depth = solved - base;
+                net.grade = extraordinary_grading(layout, depth)
+                    .into_iter()
+                    .zip(layout.vertices())
+                    .map(|(g, v)| if layout.is_boundary_vertex(v) && layout.valence(v) == 2 { depth } else { g })
+                    .collect();
+                let (model, report) = fit::fit(&net, tolerance)?;
+                let finer = 2 * samples;
+                let affordable = levels < crate::nusd::MAX_LEVELS
+                    && finer <= MAX_SAMPLES
+                    && corners * finer * finer <= crate::subdiv::MAX_REFINED_FACES;
+                if report.within || !affordable {
+                    let notes = vec![format!(
+                        "NUSD solved to level {solved}, fitted per cage face (per quad of its first split on a cage of \
+                         other polygons)"
+                    )];
+                    return finish(&net, model, report, tolerance, samples, notes);
+                }
+                levels += 1;
             }
-            let (mut net, levels) = nusd_network(doc, base, None)?;
-            let samples = net.m;
-            // NUSD is not a polynomial at its boundary corners either: rings there too.
-            let layout = &net.layout;
-            let depth = levels - base;
-            net.grade = extraordinary_grading(layout, depth)
-                .into_iter()
-                .zip(layout.vertices())
-                .map(|(g, v)| if layout.is_boundary_vertex(v) && layout.valence(v) == 2 { depth } else { g })
-                .collect();
-            let (model, report) = fit::fit(&net, tolerance)?;
-            let notes = vec![format!(
-                "NUSD solved to level {levels}, fitted per cage face (per quad of level 1 on a cage of other polygons)"
-            )];
-            finish(&net, model, report, tolerance, samples, notes)
         }
         SchemeKind::CurveMesh => {
             let (curves, _) = doc.curve_mesh()?;
@@ -143,26 +154,6 @@ pub fn fit_document(doc: &Document, tolerance: Option<f64>) -> Result<CadSurface
             }
         }
     }
-}
-
-/// NUSD solved to `levels` (by default the document's, at least four below `base`, 0 or 1), its
-/// finest level on the patches of level `base`; and the level it was solved to.
-fn nusd_network(doc: &Document, base: u32, levels: Option<u32>) -> Result<(PatchNetwork, u32)> {
-    let levels = levels.unwrap_or(doc.settings.levels.max(base + 4)).min(crate::nusd::MAX_LEVELS);
-    let mut solved = doc.clone();
-    solved.settings.levels = levels;
-    let mut solver = crate::nusd::surface::SurfaceSolver::new(&solved)?;
-    solver.solve()?;
-    let surface =
-        |l: u32| solver.level_surface(l).ok_or_else(|| Error::Solver(format!("NUSD level {l} was not solved")));
-    let (mut layout, fine) = (surface(base)?, surface(levels)?);
-    // The patch corners where the finest level has them (a vertex keeps its index down the
-    // levels, and a coarser level's points are not on the finest surface).
-    let count = layout.vertex_count();
-    layout.positions_mut().copy_from_slice(&fine.positions()[..count]);
-    let (e, v) = (layout.edge_count(), layout.vertex_count());
-    let net = PatchNetwork::from_refined(layout, &fine, None, 1 << (levels - base), vec![false; e], vec![false; v])?;
-    Ok((net, levels))
 }
 
 /// The Catmull–Clark limit surface sampled at `levels`, patches on level `base` (0 or 1).
@@ -260,7 +251,7 @@ pub fn surface_samples(doc: &Document, per_side: usize) -> Result<PatchNetwork> 
         }
         SchemeKind::CurveMesh => PatchNetwork::from_curve_mesh(&doc.curve_mesh()?.0, per_side),
         SchemeKind::Nusd if per_side.is_power_of_two() => {
-            Ok(nusd_network(doc, base, Some(base + per_side.trailing_zeros()))?.0)
+            Ok(nusd_network(doc, base, base + per_side.trailing_zeros())?.0)
         }
         _ => Err(Error::Input(format!("no STEP samples for {} with {per_side} per side", doc.scheme.display_name()))),
     }

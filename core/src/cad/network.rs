@@ -111,7 +111,7 @@ impl PatchNetwork {
     }
 }
 
-fn check_layout(layout: &PolyMesh) -> Result<()> {
+pub(super) fn check_layout(layout: &PolyMesh) -> Result<()> {
     if layout.face_count() == 0 {
         return Err(Error::Input("the surface is empty: there are no faces to export".into()));
     }
@@ -146,7 +146,7 @@ fn first_halfedge(fine: &PolyMesh, a: VertexId, b: VertexId, m: usize) -> Option
 }
 
 /// The fine vertices of coarse face `f`'s grid.
-fn grid_in_refined(layout: &PolyMesh, fine: &PolyMesh, f: FaceId, m: usize) -> Result<Vec<VertexId>> {
+pub(super) fn grid_in_refined(layout: &PolyMesh, fine: &PolyMesh, f: FaceId, m: usize) -> Result<Vec<VertexId>> {
     let h0 = layout.face_halfedge(f);
     let (a, b) = (layout.from_vertex(h0), layout.to_vertex(h0));
     let lost = || Error::Input(format!("patch {} could not be found in the refined surface", f.0));

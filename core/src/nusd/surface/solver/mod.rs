@@ -322,6 +322,12 @@ impl SurfaceSolver {
         Some(mesh)
     }
 
+    /// The connectivity of one level and how it was made from the level above (`None` for a
+    /// level not built yet).
+    pub fn level_topology(&self, level: u32) -> Option<&super::hierarchy::LevelTopology> {
+        self.levels.get(level as usize).map(|l| &l.topology)
+    }
+
     /// Where the solve stands.
     pub fn status(&self) -> Status {
         // Once done, the step and estimate are those the finest level stopped with.
