@@ -77,12 +77,48 @@ pub enum Edit {
     RebuildCurveMesh,
     /// Turns the mirror option on with a plane, or off ([`crate::symmetry`]).
     SetMirror(Option<crate::mesh::edit::MirrorPlane>),
+    /// A cage-modelling operation ([`crate::modelling`]): performed on the cage, the document's
+    /// properties carried to the new cage, and checked as a new cage is.
+    Mesh(crate::modelling::MeshEdit),
+}
+
+impl Edit {
+    /// What the edit does, as undo names it ("Undo Extrude").
+    pub fn name(&self) -> &'static str {
+        match self {
+            Edit::MoveVertices(_) => "Move",
+            Edit::SetFixed(_, true) => "Fix Vertices",
+            Edit::SetFixed(_, false) => "Free Vertices",
+            Edit::SetVertexTension(..) | Edit::SetEdgeTension(..) => "Set Tension",
+            Edit::ResetTension { .. } => "Reset Tension",
+            Edit::SetCrease(..) => "Set Crease",
+            Edit::SetCorner(..) => "Set Corner",
+            Edit::SetSettings(_) => "Smoothing Settings",
+            Edit::SetSubdivSettings(_) => "Subdivision Settings",
+            Edit::SetScheme(_) => "Change Scheme",
+            Edit::SetCurves(_) => "Edit Curves",
+            Edit::Replace(_) => "Replace Cage",
+            Edit::MoveCurveMeshVertices(_) => "Move Curve-Mesh Vertex",
+            Edit::SetCurveMeshNormal(..) | Edit::RotateCurveMeshNormal(..) => "Turn Tangent Plane",
+            Edit::MoveCurveMeshInnerPoint { .. } => "Move Tangent Handle",
+            Edit::SetCurveMeshEdits(_) => "Curve-Mesh Edits",
+            Edit::RebuildCurveMesh => "Rebuild Curve Mesh",
+            Edit::SetMirror(Some(_)) => "Mirror On",
+            Edit::SetMirror(None) => "Mirror Off",
+            Edit::Mesh(op) => op.name(),
+        }
+    }
 }
 
 impl Document {
     /// Checks `edit` completely and applies it; a refused edit changes nothing and says why.
     /// Returns whether the document changed (an edit that sets what is already there does not).
     pub fn apply(&mut self, edit: Edit) -> Result<bool> {
+        // A modelling operation is its new document, checked as any new document is.
+        let edit = match edit {
+            Edit::Mesh(op) => Edit::Replace(Box::new(op.run(self)?.doc)),
+            edit => edit,
+        };
         if is_curve_mesh_edit(&edit) {
             return self.apply_curve_mesh_edit(&edit);
         }
@@ -198,6 +234,7 @@ impl Document {
             | Edit::SetCurveMeshEdits(_)
             | Edit::RebuildCurveMesh => self.check_curve_mesh_edit(edit),
             Edit::SetMirror(plane) => Document::check_mirror(*plane),
+            Edit::Mesh(op) => self.check_edit(&Edit::Replace(Box::new(op.run(self)?.doc))),
         }
     }
 
@@ -244,6 +281,8 @@ impl Document {
             | Edit::SetCurveMeshEdits(_)
             | Edit::RebuildCurveMesh => self.changed_by_curve_mesh_edit(edit),
             Edit::SetMirror(plane) => self.mirror != *plane,
+            // Every operation that is not refused changes the cage.
+            Edit::Mesh(_) => true,
         }
     }
 
@@ -300,6 +339,12 @@ impl Document {
             | Edit::SetCurveMeshEdits(_)
             | Edit::RebuildCurveMesh => {}
             Edit::SetMirror(plane) => self.mirror = plane,
+            // Turned into its new document by `apply` before it gets here.
+            Edit::Mesh(op) => {
+                if let Ok(done) = op.run(self) {
+                    *self = done.doc;
+                }
+            }
         }
     }
 }

@@ -19,6 +19,7 @@ pub mod error;
 pub mod gregory;
 pub mod io;
 pub mod mesh;
+pub mod modelling;
 pub mod nusd;
 pub mod subdiv;
 pub mod surface;

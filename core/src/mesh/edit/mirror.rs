@@ -31,7 +31,8 @@ use std::collections::BTreeMap;
 pub const DEFAULT_MIRROR_TOLERANCE: f64 = 1e-6;
 
 /// A coordinate axis.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
 pub enum Axis {
     X,
     Y,
@@ -52,7 +53,7 @@ impl Axis {
 }
 
 /// The plane `axis = offset`.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct MirrorPlane {
     pub axis: Axis,
     pub offset: f64,
