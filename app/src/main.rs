@@ -10,6 +10,7 @@ mod cli;
 mod coons_cmd;
 mod curve_cmd;
 mod curve_mesh_cmd;
+mod edit_cmd;
 mod editor;
 mod fair_cmd;
 mod fair_surface_cmd;
@@ -52,6 +53,8 @@ enum Command {
     Render(render_cmd::RenderArgs),
     /// Make a light Loop control cage from a dense mesh (a scan or a heavy export).
     Cage(cage_cmd::CageArgs),
+    /// Replay a script of modelling edits (JSON) on a cage and write the result.
+    Edit(edit_cmd::EditArgs),
     /// Fair a sketched or digitised curve towards a log-aesthetic curve.
     Fair(fair_cmd::FairArgs),
     /// A log-aesthetic curve segment from three control points and α.
@@ -101,6 +104,7 @@ fn main() -> ExitCode {
         Some(Command::SmoothCurve(args)) => curve_cmd::run(args),
         Some(Command::Render(args)) => render_cmd::run(args),
         Some(Command::Cage(args)) => cage_cmd::run(args),
+        Some(Command::Edit(args)) => edit_cmd::run(args),
         Some(Command::Fair(args)) => fair_cmd::run(args),
         Some(Command::AestheticCurve(args)) => aesthetic_curve_cmd::run(args),
         Some(Command::Coons(args)) => coons_cmd::run(args),

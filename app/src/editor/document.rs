@@ -18,7 +18,10 @@ use std::collections::VecDeque;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
 pub use taut_core::Edit;
+use taut_core::gregory::carry::CarryReport;
 use taut_core::io::{self, ImportReport, UpAxis};
+use taut_core::mesh::edit::Provenance;
+use taut_core::modelling::{MeshEdit, Script, ScriptStep};
 use taut_core::{Document, PolyMesh};
 
 /// Most undo steps kept; older ones are forgotten first.
@@ -37,6 +40,10 @@ fn fresh_revision() -> u64 {
 struct Snapshot {
     doc: Document,
     state: u64,
+    /// The step between this state and the current one, as undo or redo names it.
+    name: &'static str,
+    /// How many steps of the session's journal led to this state.
+    journal_len: usize,
     /// The files the document belonged to, for a step that changed them ([`EditorDocument::adopt`]);
     /// `None` for every other step, which leaves the files as they are.
     files: Option<Files>,
@@ -56,6 +63,10 @@ struct Gesture {
     before: Snapshot,
     changed: bool,
 }
+
+/// One step of the session's journal: its scripted form, or the name of an edit a script cannot
+/// say.
+type JournalEntry = Result<ScriptStep, &'static str>;
 
 /// The document open in the editor, with its file, undo history and dirty state.
 #[derive(Debug)]
@@ -77,6 +88,10 @@ pub struct EditorDocument {
     revision: u64,
     /// Highest cage generation seen, so restored snapshots are bumped past it (see `restore`).
     generation_floor: u64,
+    /// Every edit applied since the document was opened, in order (the first `journal_len` lead
+    /// to the current state; the rest are undone steps redo can bring back).
+    journal: Vec<JournalEntry>,
+    journal_len: usize,
 }
 
 impl EditorDocument {
@@ -97,6 +112,8 @@ impl EditorDocument {
             saved_state: Some(0),
             revision: fresh_revision(),
             generation_floor,
+            journal: Vec::new(),
+            journal_len: 0,
         }
     }
 
@@ -196,6 +213,7 @@ impl EditorDocument {
     /// Checks and applies one edit. A refused edit leaves the document and its history as they
     /// were and says why; an edit that changes nothing records nothing.
     pub fn apply(&mut self, edit: Edit) -> Result<(), String> {
+        let (name, step) = (edit.name(), ScriptStep::of(&edit).ok_or(edit.name()));
         // The one validator of the core: ranges, indices, and a NUSD surface kept anchored.
         let after = match edit {
             // A new cage is checked as it is: no copy of the current document to overwrite.
@@ -211,24 +229,76 @@ impl EditorDocument {
                 after
             }
         };
+        self.record(after, name, step);
+        Ok(())
+    }
+
+    /// Performs a modelling operation ([`MeshEdit`]) as one named step (checked as any new cage
+    /// is); returns where the new cage's elements came from and what became of the curve-mesh
+    /// edits, or `None` when the operation changed nothing.
+    pub fn apply_mesh(&mut self, op: MeshEdit) -> Result<Option<(Option<Provenance>, CarryReport)>, String> {
+        let done = op.run(&self.doc).map_err(|e| e.to_string())?;
+        let Some(after) = self.doc.checked_replacement(Box::new(done.doc)).map_err(|e| e.to_string())? else {
+            return Ok(None);
+        };
+        let name = op.name();
+        self.record(after, name, Ok(ScriptStep::Mesh(op)));
+        Ok(Some((done.provenance, done.carried)))
+    }
+
+    /// Makes a checked document current: one undo step named `name` (or part of the open
+    /// gesture), and one step of the journal.
+    fn record(&mut self, after: Document, name: &'static str, step: JournalEntry) {
+        self.journal.truncate(self.journal_len);
+        let journal_len = self.journal_len;
+        self.journal.push(step);
+        self.journal_len += 1;
         // The document before the edit is the undo snapshot (no second copy of it).
         let before = std::mem::replace(&mut self.doc, after);
         match &mut self.gesture {
             Some(gesture) => {
                 if !gesture.changed {
                     gesture.changed = true;
+                    gesture.before.name = name;
                     self.redo.clear();
                 }
             }
             None => {
-                let before = Snapshot { doc: before, state: self.state, files: None };
+                let before = Snapshot { doc: before, state: self.state, name, journal_len, files: None };
                 self.push_undo(before);
                 self.redo.clear();
             }
         }
         self.state = self.take_state();
         self.touch();
-        Ok(())
+    }
+
+    /// What Undo would undo ("Extrude"), if anything.
+    pub fn undo_name(&self) -> Option<&'static str> {
+        match &self.gesture {
+            Some(gesture) if gesture.changed => Some(gesture.before.name),
+            _ => self.undo.back().map(|s| s.name),
+        }
+    }
+
+    /// What Redo would redo, if anything.
+    pub fn redo_name(&self) -> Option<&'static str> {
+        self.redo.last().map(|s| s.name)
+    }
+
+    /// The edits that led from the document as opened to the current one, as a script
+    /// (`taut edit --script` replays it on the opened file); an error naming the first edit a
+    /// script cannot say (a new cage from a fit, a curve edit, the solver settings).
+    pub fn script(&self) -> Result<Script, String> {
+        let edits = self.journal[..self.journal_len]
+            .iter()
+            .map(|entry| {
+                entry.clone().map_err(|name| {
+                    format!("this session holds \"{name}\", which an edit script cannot say; save the document instead")
+                })
+            })
+            .collect::<Result<Vec<_>, String>>()?;
+        Ok(Script { taut_edit_script: 1, edits })
     }
 
     /// Starts a gesture (a drag, one slider movement): the edits applied until
@@ -236,7 +306,8 @@ impl EditorDocument {
     /// open continues the open one.
     pub fn begin_gesture(&mut self) {
         if self.gesture.is_none() {
-            let before = Snapshot { doc: self.doc.clone(), state: self.state, files: None };
+            let (name, journal_len) = ("Edit", self.journal_len);
+            let before = Snapshot { doc: self.doc.clone(), state: self.state, name, journal_len, files: None };
             self.gesture = Some(Gesture { before, changed: false });
         }
     }
@@ -250,7 +321,10 @@ impl EditorDocument {
             return;
         }
         if self.doc == gesture.before.doc {
+            // Nothing happened, in the journal either (a cancelled tool puts the document back).
             self.state = gesture.before.state;
+            self.journal_len = gesture.before.journal_len;
+            self.journal.truncate(self.journal_len);
         } else {
             self.push_undo(gesture.before);
         }
@@ -350,7 +424,12 @@ impl EditorDocument {
         doc.validate().map_err(|e| e.to_string())?;
         self.end_gesture();
         let files = self.swap_files(Files { path: None, source, import_report: None });
-        let before = Snapshot { doc: std::mem::replace(&mut self.doc, doc), state: self.state, files: Some(files) };
+        let (name, journal_len) = ("Replace Document", self.journal_len);
+        self.journal.truncate(self.journal_len);
+        self.journal.push(Err(name));
+        self.journal_len += 1;
+        let doc = std::mem::replace(&mut self.doc, doc);
+        let before = Snapshot { doc, state: self.state, name, journal_len, files: Some(files) };
         self.push_undo(before);
         self.redo.clear();
         self.state = self.take_state();
@@ -389,8 +468,11 @@ impl EditorDocument {
     /// Makes a snapshot current and returns the state it replaced.
     fn restore(&mut self, snapshot: Snapshot) -> Snapshot {
         let files = snapshot.files.map(|files| self.swap_files(files));
-        let current = Snapshot { doc: std::mem::replace(&mut self.doc, snapshot.doc), state: self.state, files };
+        let doc = std::mem::replace(&mut self.doc, snapshot.doc);
+        let (name, journal_len) = (snapshot.name, self.journal_len);
+        let current = Snapshot { doc, state: self.state, name, journal_len, files };
         self.state = snapshot.state;
+        self.journal_len = snapshot.journal_len;
         // A snapshot carries the cage generation it had when taken, which later edits have
         // already counted past; a cache keyed on the generation would take the restored cage for
         // one it saw since. Counting on from the highest generation seen keeps it unambiguous.

@@ -19,6 +19,7 @@ use super::ui::UiState;
 use egui::Key;
 use glam::Vec2;
 use taut_core::mesh::edit::{EdgeOrigin, VertexOrigin, loop_cut};
+use taut_core::modelling::MeshEdit;
 use taut_core::{DVec3, Document, EdgeId, VertexId};
 
 /// The loop-cut tool's stage.
@@ -92,30 +93,22 @@ impl EditorState {
 
     /// Cuts the ring through `edge` at its middle and starts sliding it (one gesture).
     fn cut_and_slide(&mut self, edge: EdgeId, ui_state: &mut UiState) {
-        let doc = self.document.doc();
-        let cut = loop_cut(&doc.cage, edge, 0.5).and_then(|edited| {
-            let new_vertices: Vec<VertexId> = (0..edited.provenance.vertices.len() as u32)
+        let original = Box::new(self.document.doc().clone());
+        self.document.begin_gesture();
+        let cut = self.document.apply_mesh(MeshEdit::LoopCut { edge: edge.0, fraction: 0.5 });
+        let new_vertices: Vec<VertexId> = match cut {
+            Ok(Some((Some(provenance), _))) => (0..provenance.vertices.len() as u32)
                 .map(VertexId)
-                .filter(|v| matches!(edited.provenance.vertices[v.index()], VertexOrigin::OnEdge { .. }))
-                .collect();
-            Ok((doc.with_edited_cage(edited)?, new_vertices))
-        });
-        let (new_doc, new_vertices) = match cut {
-            Ok(done) => done,
-            Err(e) => {
+                .filter(|v| matches!(provenance.vertices[v.index()], VertexOrigin::OnEdge { .. }))
+                .collect(),
+            Ok(_) => Vec::new(),
+            Err(message) => {
+                self.document.end_gesture();
                 ui_state.loop_cut = None;
-                self.notify(e.to_string(), true);
+                self.notify(message, true);
                 return;
             }
         };
-        let original = Box::new(doc.clone());
-        self.document.begin_gesture();
-        if let Err(message) = self.document.apply(Edit::Replace(Box::new(new_doc))) {
-            self.document.end_gesture();
-            ui_state.loop_cut = None;
-            self.notify(message, true);
-            return;
-        }
         // The new loop is the selection, in the current mode's elements.
         let mode = self.selection.mode;
         self.selection.clear();

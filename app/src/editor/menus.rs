@@ -87,6 +87,15 @@ impl EditorState {
                 self.ask_path(PathPurpose::ExportGlb, ui_state);
             }
             self.step_export_item(ui, ui_state);
+            if ui
+                .button("Save edit script…")
+                .on_hover_text(
+                    "This session's modelling steps as JSON, which `taut edit --script` replays on the file opened",
+                )
+                .clicked()
+            {
+                self.ask_path(PathPurpose::EditScript, ui_state);
+            }
             if ui.button("Save screenshot…").clicked() {
                 self.ask_path(PathPurpose::Screenshot, ui_state);
             }
@@ -104,10 +113,16 @@ impl EditorState {
         });
         let surface = self.curves.workspace == taut_core::curve::Workspace::Surface;
         ui.menu_button("Edit", |ui| {
-            if ui.add_enabled(self.document.can_undo(), egui::Button::new(item(Action::Undo))).clicked() {
+            let named = |action: Action, name: Option<&str>| match name {
+                Some(name) => format!("{} {name}  {}", shortcuts::describe(action), shortcuts::label(action)),
+                None => item(action),
+            };
+            let undo = named(Action::Undo, self.document.undo_name());
+            if ui.add_enabled(self.document.can_undo(), egui::Button::new(undo)).clicked() {
                 self.run_action(Action::Undo, ui_state);
             }
-            if ui.add_enabled(self.document.can_redo(), egui::Button::new(item(Action::Redo))).clicked() {
+            let redo = named(Action::Redo, self.document.redo_name());
+            if ui.add_enabled(self.document.can_redo(), egui::Button::new(redo)).clicked() {
                 self.run_action(Action::Redo, ui_state);
             }
             if surface {

@@ -2,10 +2,10 @@
 //! delete and dissolve (X, Delete), merge (M), fill (F), subdivide and connect, flip normals,
 //! triangulate and join triangles, each on the current selection and select mode.
 //!
-//! Each operation calls one topological edit of the core (`taut_core::mesh::edit`), carries
-//! fixed flags, tensions and creases to the new cage with `Document::with_edited_cage`, and sends
-//! the new document as one `Edit::Replace`: one undo step, checked completely before anything
-//! changes. A refused request (nothing suitable selected, or the core refusing the edit) shows
+//! Each operation becomes one core modelling edit (`taut_core::modelling::MeshEdit`: the
+//! elements and distances of the selection), which the core performs, carries fixed flags,
+//! tensions and creases through, and checks completely before anything changes: one undo step
+//! named after it ("Undo Extrude"), and one step of the session's edit script. A refused request (nothing suitable selected, or the core refusing the edit) shows
 //! the one-line message and leaves the document and the selection as they were. The selection
 //! follows the edit through the provenance: an element stays selected when it came from a
 //! selected one (the lifted cap of an extrusion, the inner faces of an inset).
@@ -16,10 +16,10 @@
 //! (or the one selected edge) at its middle, with no preview of the ring. The surface re-solves
 //! from the new cage from the start (no warm start through the provenance).
 
-use super::document::Edit;
 use super::select_modes::{SelectMode, selected_vertex_set};
 use super::state::EditorState;
-use taut_core::mesh::edit::{self, Edited, FaceGrouping, JoinParams, MergeAt, Provenance, Triangulation};
+use taut_core::mesh::edit::Provenance;
+use taut_core::modelling::MeshEdit;
 use taut_core::{EdgeId, FaceId, PolyMesh, VertexId};
 
 /// A cage-modelling operation on the selection.
@@ -159,27 +159,54 @@ impl EditorState {
     }
 
     fn try_mesh_op(&mut self, op: MeshOp) -> Result<(), String> {
-        let doc = self.document.doc();
-        let cage = &doc.cage;
+        let edit = self.mesh_edit(op)?;
+        let faces = picked(&self.document.doc().cage, self).faces;
+        let mode = self.selection.mode;
+        let Some((provenance, carried)) = self.document.apply_mesh(edit)? else { return Ok(()) };
+        // Curve-mesh edits whose vertices did not survive the operation are said, not lost
+        // silently (undo brings them back).
+        if let Some(message) = carried.message() {
+            self.notify(message, false);
+        }
+        let Some(provenance) = provenance else { return Ok(()) };
+        if matches!(op, MeshOp::Extrude | MeshOp::Inset) && !faces.is_empty() && mode != SelectMode::Edge {
+            // The lifted faces stay selected, in the current mode's elements.
+            self.selection.clear();
+            self.selection.faces = faces;
+            self.map_selection(&provenance);
+            let selection = &mut self.selection;
+            super::select_modes::set_mode(&self.document.doc().cage, selection, mode);
+        } else {
+            self.map_selection(&provenance);
+        }
+        Ok(())
+    }
+
+    /// The core's operation for `op` on the current selection, its distances from the
+    /// selection's size; a message when nothing suitable is selected.
+    fn mesh_edit(&self, op: MeshOp) -> Result<MeshEdit, String> {
+        let cage = &self.document.doc().cage;
         let p = picked(cage, self);
         let mode = self.selection.mode;
-        let err = |e: taut_core::Error| e.to_string();
-        let edited: Edited = match op {
+        let v = |ids: &[VertexId]| ids.iter().map(|v| v.0).collect::<Vec<_>>();
+        let e = |ids: &[EdgeId]| ids.iter().map(|e| e.0).collect::<Vec<_>>();
+        let f = |ids: &[FaceId]| ids.iter().map(|f| f.0).collect::<Vec<_>>();
+        let boundary: Vec<EdgeId> = p.edges.iter().copied().filter(|&e| cage.is_boundary_edge(e)).collect();
+        Ok(match op {
             MeshOp::Extrude => {
                 if mode == SelectMode::Edge || p.faces.is_empty() {
-                    let boundary: Vec<EdgeId> = p.edges.iter().copied().filter(|&e| cage.is_boundary_edge(e)).collect();
                     need(&boundary, "faces (Tab to face mode) or open-boundary edges to extrude")?;
-                    edit::extrude_boundary_edges(cage, &boundary, OFFSET_FRACTION * mean_edge_length(cage, &boundary))
-                        .map_err(err)?
+                    let distance = OFFSET_FRACTION * mean_edge_length(cage, &boundary);
+                    MeshEdit::ExtrudeEdges { edges: e(&boundary), distance }
                 } else {
-                    let d = OFFSET_FRACTION * mean_edge_length(cage, &face_edges(cage, &p.faces));
-                    edit::extrude_faces(cage, &p.faces, FaceGrouping::Region, d).map_err(err)?
+                    let distance = OFFSET_FRACTION * mean_edge_length(cage, &face_edges(cage, &p.faces));
+                    MeshEdit::ExtrudeFaces { faces: f(&p.faces), distance }
                 }
             }
             MeshOp::Inset => {
                 need(&p.faces, "the faces to inset")?;
-                let d = OFFSET_FRACTION * mean_edge_length(cage, &face_edges(cage, &p.faces));
-                edit::inset_faces(cage, &p.faces, FaceGrouping::Region, d).map_err(err)?
+                let distance = OFFSET_FRACTION * mean_edge_length(cage, &face_edges(cage, &p.faces));
+                MeshEdit::Inset { faces: f(&p.faces), distance }
             }
             MeshOp::LoopCut => {
                 let edge = self.selection.hovered_edge.or(match self.selection.edges.as_slice() {
@@ -188,110 +215,69 @@ impl EditorState {
                 });
                 let edge =
                     edge.ok_or_else(|| "point at an edge (or select one edge) to cut the ring across it".to_string())?;
-                edit::loop_cut(cage, edge, 0.5).map_err(err)?
+                MeshEdit::LoopCut { edge: edge.0, fraction: 0.5 }
             }
             MeshOp::Delete => match mode {
-                SelectMode::Vertex => {
-                    need(&p.vertices, "the vertices to delete")?;
-                    edit::delete_vertices(cage, &p.vertices).map_err(err)?
-                }
-                SelectMode::Edge => {
-                    need(&p.edges, "the edges to delete")?;
-                    edit::delete_edges(cage, &p.edges).map_err(err)?
-                }
-                SelectMode::Face => {
-                    need(&p.faces, "the faces to delete")?;
-                    edit::delete_faces(cage, &p.faces).map_err(err)?
-                }
+                SelectMode::Vertex => return self.mesh_edit(MeshOp::DeleteVertices),
+                SelectMode::Edge => return self.mesh_edit(MeshOp::DeleteEdges),
+                SelectMode::Face => return self.mesh_edit(MeshOp::DeleteFaces),
             },
             MeshOp::DeleteVertices => {
                 need(&p.vertices, "the vertices to delete")?;
-                edit::delete_vertices(cage, &p.vertices).map_err(err)?
+                MeshEdit::DeleteVertices { vertices: v(&p.vertices) }
             }
             MeshOp::DeleteEdges => {
                 need(&p.edges, "the edges to delete")?;
-                edit::delete_edges(cage, &p.edges).map_err(err)?
+                MeshEdit::DeleteEdges { edges: e(&p.edges) }
             }
             MeshOp::DeleteFaces => {
                 need(&p.faces, "the faces to delete")?;
-                edit::delete_faces(cage, &p.faces).map_err(err)?
+                MeshEdit::DeleteFaces { faces: f(&p.faces) }
             }
             MeshOp::DissolveVertices => {
                 need(&p.vertices, "the vertices to dissolve")?;
-                edit::dissolve_vertices(cage, &p.vertices).map_err(err)?
+                MeshEdit::DissolveVertices { vertices: v(&p.vertices) }
             }
             MeshOp::DissolveEdges => {
                 need(&p.edges, "the edges to dissolve")?;
-                edit::dissolve_edges(cage, &p.edges).map_err(err)?
+                MeshEdit::DissolveEdges { edges: e(&p.edges) }
             }
             MeshOp::DissolveFaces => {
                 need(&p.faces, "the faces to dissolve")?;
-                edit::dissolve_faces(cage, &p.faces).map_err(err)?
+                MeshEdit::DissolveFaces { faces: f(&p.faces) }
             }
             MeshOp::MergeAtCentre => {
                 if p.vertices.len() < 2 {
                     return Err("select two or more vertices to merge".to_string());
                 }
-                edit::merge_vertices(cage, &p.vertices, MergeAt::Centre).map_err(err)?
+                MeshEdit::MergeAtCentre { vertices: v(&p.vertices) }
             }
             MeshOp::MergeByDistance => {
                 let all: Vec<VertexId> =
                     if p.vertices.is_empty() { cage.vertices().collect() } else { p.vertices.clone() };
-                let threshold = MERGE_DISTANCE_FRACTION * cage.bounding_diagonal();
-                edit::merge_by_distance(cage, &all, threshold).map_err(err)?
+                let distance = MERGE_DISTANCE_FRACTION * cage.bounding_diagonal();
+                MeshEdit::MergeByDistance { vertices: v(&all), distance }
             }
             MeshOp::Fill => {
                 if mode == SelectMode::Vertex && !self.selection.vertices.is_empty() {
-                    edit::fill_vertices(cage, &p.vertices).map_err(err)?
+                    MeshEdit::FillVertices { vertices: v(&p.vertices) }
                 } else {
-                    let boundary: Vec<EdgeId> = p.edges.iter().copied().filter(|&e| cage.is_boundary_edge(e)).collect();
                     need(&boundary, "a closed run of open-boundary edges to fill")?;
-                    edit::fill_edges(cage, &boundary).map_err(err)?
+                    MeshEdit::FillEdges { edges: e(&boundary) }
                 }
             }
             MeshOp::Subdivide => {
                 need(&p.edges, "the edges to subdivide")?;
-                edit::split_edges(cage, &p.edges, 0.5).map_err(err)?
+                MeshEdit::SplitEdges { edges: e(&p.edges), fraction: 0.5 }
             }
             MeshOp::Connect => match p.vertices.as_slice() {
-                [a, b] => edit::connect_vertices(cage, *a, *b).map_err(err)?,
+                [a, b] => MeshEdit::Connect { a: a.0, b: b.0 },
                 _ => return Err("select exactly two vertices of one face to connect".to_string()),
             },
-            MeshOp::FlipNormals => {
-                let faces = (!p.faces.is_empty()).then_some(p.faces.as_slice());
-                edit::flip_normals(cage, faces).map_err(err)?
-            }
-            MeshOp::Triangulate => {
-                let faces = (!p.faces.is_empty()).then_some(p.faces.as_slice());
-                edit::triangulate(cage, faces, Triangulation::ShortestDiagonal).map_err(err)?
-            }
-            MeshOp::JoinTriangles => {
-                let edges = (!p.edges.is_empty()).then_some(p.edges.as_slice());
-                edit::join_triangles(cage, edges, &JoinParams::default()).map_err(err)?
-            }
-        };
-        let provenance = edited.provenance.clone();
-        let (new_doc, carried) = doc.with_edited_cage_reported(edited).map_err(err)?;
-        let revision = self.document.revision();
-        self.document.apply(Edit::Replace(Box::new(new_doc)))?;
-        if self.document.revision() != revision {
-            // Curve-mesh edits whose vertices did not survive the operation are said, not lost
-            // silently (undo brings them back).
-            if let Some(message) = carried.message() {
-                self.notify(message, false);
-            }
-            if matches!(op, MeshOp::Extrude | MeshOp::Inset) && !p.faces.is_empty() && mode != SelectMode::Edge {
-                // The lifted faces stay selected, in the current mode's elements.
-                self.selection.clear();
-                self.selection.faces = p.faces;
-                self.map_selection(&provenance);
-                let selection = &mut self.selection;
-                super::select_modes::set_mode(&self.document.doc().cage, selection, mode);
-            } else {
-                self.map_selection(&provenance);
-            }
-        }
-        Ok(())
+            MeshOp::FlipNormals => MeshEdit::FlipNormals { faces: (!p.faces.is_empty()).then(|| f(&p.faces)) },
+            MeshOp::Triangulate => MeshEdit::Triangulate { faces: (!p.faces.is_empty()).then(|| f(&p.faces)) },
+            MeshOp::JoinTriangles => MeshEdit::JoinTriangles { edges: (!p.edges.is_empty()).then(|| e(&p.edges)) },
+        })
     }
 
     /// The selection after an edit: the new elements whose source was selected.

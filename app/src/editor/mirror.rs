@@ -107,17 +107,14 @@ impl EditorState {
 
     /// Makes the virtual half real, one undo step; the option stays on, editing both halves.
     pub fn apply_mirror(&mut self) {
-        match self.document.doc().with_mirror_applied() {
-            Ok(whole) => {
-                let revision = self.document.revision();
-                self.edit(Edit::Replace(Box::new(whole)));
-                if self.document.revision() != revision {
-                    // The half's elements keep their numbers; the new half is not selected.
-                    self.prune_selection();
-                    self.notify("mirror applied: both halves are real and edited together", false);
-                }
+        match self.document.apply_mesh(taut_core::modelling::MeshEdit::ApplyMirror) {
+            Ok(Some(_)) => {
+                // The half's elements keep their numbers; the new half is not selected.
+                self.prune_selection();
+                self.notify("mirror applied: both halves are real and edited together", false);
             }
-            Err(e) => self.notify(e.to_string(), true),
+            Ok(None) => {}
+            Err(message) => self.notify(message, true),
         }
     }
 

@@ -25,6 +25,8 @@ mod defects_solver_tests;
 #[cfg(test)]
 mod defects_xray_tests;
 pub mod document;
+#[cfg(test)]
+mod edit_script_tests;
 mod extrude_move;
 pub mod files;
 pub mod gizmo;

@@ -27,7 +27,8 @@ pub(super) struct App {
 const VERTEX: VertexId = VertexId(7);
 const TENSION_LABEL: &str = "vertex tension τ";
 const FIXED_LABEL: &str = "fixed (the surface passes through)";
-const UNDO_ITEM: &str = "Undo  Ctrl+Z";
+// Edit ▸ Undo names the step it undoes: here unticking "fixed".
+const UNDO_ITEM: &str = "Undo Free Vertices  Ctrl+Z";
 
 /// An editor on the cube primitive, with vertex 7 selected, as a window of 1280 × 800 points.
 pub(super) fn cube_editor() -> Harness<'static, App> {

@@ -30,6 +30,8 @@ pub enum PathPurpose {
     ImportCurve,
     /// The mesh of File ▸ Make cage from mesh…
     MakeCage,
+    /// File ▸ Save edit script…: the session's edits for `taut edit --script`.
+    EditScript,
 }
 
 impl PathPurpose {
@@ -45,6 +47,7 @@ impl PathPurpose {
                 "Import a curve: points as .json ({\"points\": [[x, y], ...]}) or .csv (x,y(,z) rows)"
             }
             PathPurpose::MakeCage => "Make a cage from a mesh (.obj, .stl, .ply, .gltf, .glb)",
+            PathPurpose::EditScript => "Save this session's edits as a script for taut edit (.json)",
         }
     }
 
@@ -58,6 +61,7 @@ impl PathPurpose {
             PathPurpose::Screenshot => "png",
             PathPurpose::ImportCurve => "json",
             PathPurpose::MakeCage => "obj",
+            PathPurpose::EditScript => "json",
         }
     }
 }
@@ -428,6 +432,7 @@ impl EditorState {
         let stem = path.file_stem().map_or_else(|| "untitled".into(), |s| s.to_string_lossy().into_owned());
         let name = match purpose {
             PathPurpose::ExportObj | PathPurpose::ExportGlb => format!("{stem}-surface.{}", purpose.extension()),
+            PathPurpose::EditScript => format!("{stem}-edits.json"),
             _ => format!("{stem}.{}", purpose.extension()),
         };
         path.with_file_name(name).display().to_string()
@@ -444,6 +449,7 @@ impl EditorState {
                 ui_state.screenshot = Some(super::state::with_extension_if_missing(&path, "png"))
             }
             PathPurpose::ImportCurve => self.import_curve(&path),
+            PathPurpose::EditScript => self.save_edit_script(&super::state::with_extension_if_missing(&path, "json")),
             PathPurpose::MakeCage => {
                 self.open_cage_dialog();
                 if let Some(dialog) = &mut self.cage.dialog {
@@ -455,6 +461,21 @@ impl EditorState {
 }
 
 impl EditorState {
+    /// Writes the session's edits as a script (atomically); an existing file is not replaced.
+    pub fn save_edit_script(&mut self, path: &std::path::Path) {
+        let written = self.document.script().and_then(|script| {
+            if std::fs::symlink_metadata(path).is_ok() {
+                return Err(format!("{} exists already: choose another name", path.display()));
+            }
+            taut_core::io::write_atomic(path, script.to_json().as_bytes()).map_err(|e| e.to_string())?;
+            Ok(script.edits.len())
+        });
+        match written {
+            Ok(n) => self.notify(format!("saved {n} edits to {}", path.display()), false),
+            Err(message) => self.notify(format!("could not save the edit script: {message}"), true),
+        }
+    }
+
     /// Save As to `path`, asking first when a file is there already (whichever way the path was
     /// chosen: the system dialog or the path field): nothing is written until the designer says
     /// Replace.
