@@ -8,8 +8,8 @@
 use crate::cli::FileFlags;
 use clap::Args;
 use std::path::PathBuf;
+use taut_core::document::modelling::Script;
 use taut_core::io;
-use taut_core::modelling::Script;
 
 #[derive(Debug, Args)]
 pub struct EditArgs {

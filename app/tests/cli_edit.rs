@@ -4,7 +4,7 @@
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
-use taut_core::modelling::{MeshEdit, Script};
+use taut_core::document::modelling::{MeshEdit, Script};
 use taut_core::surface::SchemeKind;
 use taut_core::{Document, EdgeId, Edit, VertexId};
 

@@ -14,19 +14,16 @@ pub mod cage_fit;
 pub mod curvature;
 pub mod curve;
 pub mod document;
-pub mod edit;
 pub mod error;
 pub mod gregory;
 pub mod io;
 pub mod mesh;
-pub mod modelling;
 pub mod nusd;
 pub mod subdiv;
 pub mod surface;
-pub mod symmetry;
 
 pub use document::Document;
-pub use edit::Edit;
+pub use document::Edit;
 pub use error::{Error, Result};
 pub use mesh::{EdgeId, FaceId, HalfedgeId, PolyMesh, VertexId};
 

@@ -18,10 +18,10 @@ use std::collections::VecDeque;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
 pub use taut_core::Edit;
+use taut_core::document::modelling::{MeshEdit, Script, ScriptStep};
 use taut_core::gregory::carry::CarryReport;
 use taut_core::io::{self, ImportReport, UpAxis};
 use taut_core::mesh::edit::Provenance;
-use taut_core::modelling::{MeshEdit, Script, ScriptStep};
 use taut_core::{Document, PolyMesh};
 
 /// Most undo steps kept; older ones are forgotten first.

@@ -9,7 +9,7 @@ use super::select_modes::SelectMode;
 use egui::{Key, Modifiers};
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
-use taut_core::modelling::Script;
+use taut_core::document::modelling::Script;
 use taut_core::{DVec3, EdgeId, Edit};
 
 fn press(h: &mut Harness<'static, App>, modifiers: Modifiers, key: Key) {

@@ -18,8 +18,8 @@ use super::state::EditorState;
 use super::ui::UiState;
 use egui::Key;
 use glam::Vec2;
+use taut_core::document::modelling::MeshEdit;
 use taut_core::mesh::edit::{EdgeOrigin, VertexOrigin, loop_cut};
-use taut_core::modelling::MeshEdit;
 use taut_core::{DVec3, Document, EdgeId, VertexId};
 
 /// The loop-cut tool's stage.

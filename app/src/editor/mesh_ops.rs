@@ -2,7 +2,7 @@
 //! delete and dissolve (X, Delete), merge (M), fill (F), subdivide and connect, flip normals,
 //! triangulate and join triangles, each on the current selection and select mode.
 //!
-//! Each operation becomes one core modelling edit (`taut_core::modelling::MeshEdit`: the
+//! Each operation becomes one core modelling edit (`taut_core::document::modelling::MeshEdit`: the
 //! elements and distances of the selection), which the core performs, carries fixed flags,
 //! tensions and creases through, and checks completely before anything changes: one undo step
 //! named after it ("Undo Extrude"), and one step of the session's edit script. A refused request (nothing suitable selected, or the core refusing the edit) shows
@@ -18,8 +18,8 @@
 
 use super::select_modes::{SelectMode, selected_vertex_set};
 use super::state::EditorState;
+use taut_core::document::modelling::MeshEdit;
 use taut_core::mesh::edit::Provenance;
-use taut_core::modelling::MeshEdit;
 use taut_core::{EdgeId, FaceId, PolyMesh, VertexId};
 
 /// A cage-modelling operation on the selection.

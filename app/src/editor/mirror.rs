@@ -14,8 +14,8 @@ use super::document::Edit;
 use super::select_modes::selected_vertex_set;
 use super::state::EditorState;
 use taut_core::Document;
+use taut_core::document::symmetry::{MirrorHalves, MirroredWhole};
 use taut_core::mesh::edit::{Axis, MirrorPlane};
-use taut_core::symmetry::{MirrorHalves, MirroredWhole};
 use taut_render::overlay::{LineSegment, OverlayData};
 
 /// The ghost lines of the virtual half: linear RGBA and width in pixels.
@@ -107,7 +107,7 @@ impl EditorState {
 
     /// Makes the virtual half real, one undo step; the option stays on, editing both halves.
     pub fn apply_mirror(&mut self) {
-        match self.document.apply_mesh(taut_core::modelling::MeshEdit::ApplyMirror) {
+        match self.document.apply_mesh(taut_core::document::modelling::MeshEdit::ApplyMirror) {
             Ok(Some(_)) => {
                 // The half's elements keep their numbers; the new half is not selected.
                 self.prune_selection();

@@ -19,7 +19,7 @@
 //! - [`tessellate`]: crack-free `K × K` sampling into one polygon mesh with analytic normals.
 //! - [`export`]: OBJ and GLB of the tessellated patches, JSON of the curves and control points.
 //! - [`continuity`]: G1 angles and G2 jumps along shared boundaries of any patch network.
-//! - [`document`]: the curve mesh of a document: its saved edit state, the core edits of it, a
+//! - [`crate::document::curve_mesh_edits`]: the curve mesh of a document: its saved edit state, the core edits of it, a
 //!   cache of the built curve mesh.
 //! - [`carry`]: how curve-mesh edits follow a change of the cage they were made on.
 
@@ -30,7 +30,6 @@ pub mod chiyokura_kimura;
 pub mod closeness;
 pub mod continuity;
 pub mod curve_mesh;
-pub mod document;
 pub mod export;
 mod middle;
 pub mod patch;

@@ -131,3 +131,12 @@ impl SolverSettings {
         Ok(())
     }
 }
+
+/// Refuses a tension τ that is not a finite number ≥ 0, naming what it belongs to.
+pub(crate) fn check_tension(tau: f64, what: impl Fn() -> String) -> crate::Result<()> {
+    if tau.is_finite() && tau >= 0.0 {
+        Ok(())
+    } else {
+        Err(crate::Error::Input(format!("tension of {} must be a finite number ≥ 0, not {tau}", what())))
+    }
+}

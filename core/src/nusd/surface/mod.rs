@@ -37,6 +37,7 @@
 pub mod anchoring;
 pub mod frame;
 pub mod hierarchy;
+mod input;
 pub mod kernel;
 mod level;
 pub mod local;
@@ -46,6 +47,7 @@ mod solver;
 mod status;
 
 pub use anchoring::check_anchoring;
+pub use input::NusdInput;
 pub use solver::SurfaceSolver;
 pub use status::{Budget, LevelReport, LevelTiming, Phase, Status};
 

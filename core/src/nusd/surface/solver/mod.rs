@@ -4,6 +4,7 @@ mod blocks;
 mod cycle;
 mod local_solve;
 
+use super::NusdInput;
 use super::anchoring::check_anchoring;
 use super::frame::Frame;
 use super::kernel;
@@ -11,7 +12,6 @@ use super::level::{Level, refresh_levels};
 use super::operator::Controls;
 use super::status::{Budget, LevelReport, LevelTiming, Phase, Status};
 use super::{DIVERGENCE_GROWTH, MIN_LAMBDA, OSCILLATION_ITERATIONS};
-use crate::document::Document;
 use crate::mesh::PolyMesh;
 use crate::nusd::SolverSettings;
 use crate::nusd::convergence::ConvergenceMonitor;
@@ -64,32 +64,34 @@ pub struct SurfaceSolver {
 }
 
 impl SurfaceSolver {
-    /// A solver for a document; nothing is iterated until [`advance`](Self::advance).
-    pub fn new(doc: &Document) -> Result<Self> {
+    /// A solver for a cage and its controls (a `&Document` converts); nothing is iterated until
+    /// [`advance`](Self::advance).
+    pub fn new<'a>(input: impl Into<NusdInput<'a>>) -> Result<Self> {
+        let doc = input.into();
         doc.validate()?;
         if doc.cage.face_count() == 0 {
             return Err(Error::Input("the cage has no faces to smooth".into()));
         }
-        let frame = frame_of(&doc.cage);
+        let frame = frame_of(doc.cage);
         let mut cage = doc.cage.clone();
         if !frame.is_identity() {
             cage.positions_mut().iter_mut().for_each(|p| *p = frame.to_internal(*p));
         }
         let diagonal = extent(cage.positions())?;
-        check_anchoring(&doc.cage, &doc.fixed)?;
+        check_anchoring(doc.cage, doc.fixed)?;
         let controls = Controls {
-            fixed: &doc.fixed,
-            vertex_tension: &doc.vertex_tension,
-            edge_tension: &doc.edge_tension,
+            fixed: doc.fixed,
+            vertex_tension: doc.vertex_tension,
+            edge_tension: doc.edge_tension,
             spacing: doc.settings.spacing,
         };
         let level0 = Level::cage(&cage, &controls);
         let mut solver = SurfaceSolver {
             frame,
             external: None,
-            fixed: doc.fixed.clone(),
-            vertex_tension: doc.vertex_tension.clone(),
-            edge_tension: doc.edge_tension.clone(),
+            fixed: doc.fixed.to_vec(),
+            vertex_tension: doc.vertex_tension.to_vec(),
+            edge_tension: doc.edge_tension.to_vec(),
             settings: doc.settings,
             levels: vec![level0],
             active: 0,
@@ -445,14 +447,16 @@ impl SurfaceSolver {
         &self.levels[top]
     }
 
-    /// Applies a changed document and warm-starts. A changed connectivity starts over.
-    pub fn update(&mut self, doc: &Document) -> Result<()> {
+    /// Applies a changed cage or controls (a `&Document` converts) and warm-starts. A changed
+    /// connectivity starts over.
+    pub fn update<'a>(&mut self, input: impl Into<NusdInput<'a>>) -> Result<()> {
+        let doc = input.into();
         doc.validate()?;
         let same_topology = doc.cage.vertex_count() == self.cage.vertex_count()
             && doc.cage.face_count() == self.cage.face_count()
             && (doc.cage.topology_generation() == self.cage.topology_generation()
                 || doc.cage.polygons() == self.cage.polygons());
-        if !same_topology || frame_of(&doc.cage) != self.frame {
+        if !same_topology || frame_of(doc.cage) != self.frame {
             *self = SurfaceSolver::new(doc)?;
             return Ok(());
         }
@@ -476,7 +480,7 @@ impl SurfaceSolver {
         // Check everything before changing anything: a refused edit leaves the solver as it was.
         let diagonal = if moved { extent(positions)? } else { self.diagonal };
         if moved || doc.fixed != self.fixed {
-            check_anchoring(&doc.cage, &doc.fixed)?;
+            check_anchoring(doc.cage, doc.fixed)?;
         }
         if moved {
             self.diagonal = diagonal;
@@ -507,9 +511,9 @@ impl SurfaceSolver {
         // Full operator builds for a changed role or spacing; otherwise only the rows that see a
         // moved vertex, and the tension overrides.
         let rebuild = doc.fixed != self.fixed || doc.settings.spacing != self.settings.spacing;
-        self.fixed.clone_from(&doc.fixed);
-        self.vertex_tension.clone_from(&doc.vertex_tension);
-        self.edge_tension.clone_from(&doc.edge_tension);
+        self.fixed = doc.fixed.to_vec();
+        self.vertex_tension = doc.vertex_tension.to_vec();
+        self.edge_tension = doc.edge_tension.to_vec();
         self.settings = doc.settings;
         self.threshold = self.settings.tol * self.diagonal;
         self.levels.truncate(self.settings.levels as usize + 1);

@@ -13,7 +13,7 @@
 //! edit changes nothing. They are allowed in any scheme (the curve mesh of any buildable cage
 //! exists), though only the curve-mesh scheme shows them. A change of the cage (a move of cage
 //! points, a topology edit) carries the edits onto the new cage's curve mesh by the rule of
-//! [`super::carry`]; where the new cage cannot be built into a curve mesh, the cage change is
+//! [`crate::gregory::carry`]; where the new cage cannot be built into a curve mesh, the cage change is
 //! refused while there are edits to carry.
 //!
 //! Building a curve mesh costs a Catmull–Clark refinement two levels down and a fit per edge, far
@@ -21,11 +21,11 @@
 //! a document (the editor's undo snapshots, the copy an edit is tried on) and used when it was
 //! built from the same cage and edits; otherwise the curve mesh is built anew.
 
-use super::build::BuildReport;
-use super::carry::{CarryReport, carry_edits, continuing_vertices, roles};
-use super::curve_mesh::{CurveMesh, CurveMeshEdits};
 use crate::document::Document;
-use crate::edit::Edit;
+use crate::document::Edit;
+use crate::gregory::build::BuildReport;
+use crate::gregory::carry::{CarryReport, carry_edits, continuing_vertices, roles};
+use crate::gregory::curve_mesh::{CurveMesh, CurveMeshEdits};
 use crate::mesh::PolyMesh;
 use crate::mesh::VertexId;
 use crate::mesh::edit::Provenance;
@@ -253,7 +253,7 @@ impl Document {
 
     /// After this document's cage replaced `before`'s (moved points when `provenance` is `None`, a
     /// topology edit with its provenance otherwise): `before`'s curve-mesh edits carried onto this
-    /// cage's curve mesh by [`super::carry`]'s rule, replacing this document's edit state.
+    /// cage's curve mesh by [`crate::gregory::carry`]'s rule, replacing this document's edit state.
     pub fn carry_curve_mesh_edits(
         &mut self,
         before: &Document,

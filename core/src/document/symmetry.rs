@@ -29,7 +29,7 @@
 //! absent when off.
 
 use crate::document::Document;
-use crate::edit::Edit;
+use crate::document::Edit;
 use crate::mesh::edit::{
     Axis, CarryRule, DEFAULT_MIRROR_TOLERANCE, Edited, MirrorPartner, MirrorPlane, Provenance, VertexOrigin,
     apply_mirror, carry_edge_property, carry_vertex_property, mirror_moves, mirror_partners,

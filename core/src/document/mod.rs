@@ -11,18 +11,26 @@
 //! version-1 file opens as a NUSD document. An infinitely sharp crease is written `"inf"` (JSON
 //! has no infinity). The optional key `corner` (version 2) lists `[vertex, sharpness]` pairs of
 //! the sharp vertices, absent when there are none. The optional key `curve_mesh` holds the curve mesh's edit state
-//! ([`crate::gregory::document`]); absent, the curve mesh is as the cage builds it.
+//! ([`crate::document::curve_mesh_edits`]); absent, the curve mesh is as the cage builds it.
 //!
 //! The optional key `curves` holds the Curves workspace's curves, segments and Coons patches
 //! ([`CurveSet`]); it is written only when there are some, so files without curves are as before.
-//! The optional key `mirror` holds the mirror option ([`crate::symmetry`]), absent when off.
+//! The optional key `mirror` holds the mirror option ([`crate::document::symmetry`]), absent when off.
+
+pub mod curve_mesh_edits;
+pub mod edit;
+pub mod modelling;
+pub mod symmetry;
+
+pub use edit::Edit;
 
 use crate::curve::CurveSet;
 use crate::curve::set::CurvesFile;
+use crate::document::curve_mesh_edits::CurveMeshCache;
 use crate::gregory::CurveMeshEdits;
-use crate::gregory::document::CurveMeshCache;
 use crate::mesh::{EdgeId, PolyMesh, VertexId};
 use crate::nusd::SolverSettings;
+pub(crate) use crate::nusd::check_tension;
 pub use crate::surface::{SchemeKind, SubdivSettings};
 use crate::{DVec3, Error, Result};
 use serde::{Deserialize, Serialize};
@@ -57,14 +65,14 @@ pub struct Document {
     pub subdiv: SubdivSettings,
     /// Curves, log-aesthetic segments and Coons patches (the Curves workspace).
     pub curves: CurveSet,
-    /// Curve mesh: the edited curve-mesh vertices and curves ([`crate::gregory::document`]).
+    /// Curve mesh: the edited curve-mesh vertices and curves ([`crate::document::curve_mesh_edits`]).
     pub curve_mesh: CurveMeshEdits,
     /// The last curve mesh built for this document or a clone of it.
     pub(crate) curve_cache: CurveMeshCache,
-    /// The mirror option: the plane the cage is modelled symmetric about ([`crate::symmetry`]).
+    /// The mirror option: the plane the cage is modelled symmetric about ([`crate::document::symmetry`]).
     pub mirror: Option<crate::mesh::edit::MirrorPlane>,
     /// The mirror partners last found for this document or a clone of it.
-    pub(crate) mirror_cache: crate::symmetry::PartnerCache,
+    pub(crate) mirror_cache: crate::document::symmetry::PartnerCache,
 }
 
 impl Document {
@@ -411,11 +419,15 @@ fn same_faces(a: &PolyMesh, b: &PolyMesh) -> bool {
     a.face_count() == b.face_count() && a.faces().all(|f| a.face_vertices(f).eq(b.face_vertices(f)))
 }
 
-pub(crate) fn check_tension(tau: f64, what: impl Fn() -> String) -> Result<()> {
-    if tau.is_finite() && tau >= 0.0 {
-        Ok(())
-    } else {
-        Err(Error::Input(format!("tension of {} must be a finite number ≥ 0, not {tau}", what())))
+impl<'a> From<&'a Document> for crate::nusd::surface::NusdInput<'a> {
+    fn from(doc: &'a Document) -> Self {
+        crate::nusd::surface::NusdInput {
+            cage: &doc.cage,
+            fixed: &doc.fixed,
+            vertex_tension: &doc.vertex_tension,
+            edge_tension: &doc.edge_tension,
+            settings: doc.settings,
+        }
     }
 }
 
@@ -455,7 +467,7 @@ struct TautFile {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     curve_mesh: Option<CurveMeshEdits>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    mirror: Option<crate::symmetry::MirrorFile>,
+    mirror: Option<crate::document::symmetry::MirrorFile>,
 }
 
 #[derive(Serialize, Deserialize)]

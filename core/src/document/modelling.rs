@@ -13,8 +13,8 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::document::Edit;
 use crate::document::{Document, SchemeKind};
-use crate::edit::Edit;
 use crate::gregory::carry::CarryReport;
 use crate::mesh::edit::{self, Edited, FaceGrouping, JoinParams, MergeAt, Provenance, Triangulation};
 use crate::mesh::{EdgeId, FaceId, VertexId};

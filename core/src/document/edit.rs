@@ -7,12 +7,12 @@
 //! without enough fixed vertices collapses or flattens (see
 //! [`check_anchoring`](crate::nusd::surface::check_anchoring)), so the edit that would do that is
 //! refused, naming the vertices to fix. The curve-mesh edits are tried on the document's curve
-//! mesh ([`crate::gregory::document`]), and a move of cage points carries the curve-mesh edits
+//! mesh ([`crate::document::curve_mesh_edits`]), and a move of cage points carries the curve-mesh edits
 //! onto the moved cage's curve mesh ([`crate::gregory::carry`]), or is refused when it cannot.
 
+use crate::document::curve_mesh_edits::is_curve_mesh_edit;
 use crate::document::{Document, SchemeKind, SubdivSettings, check_sharpness, check_tension};
 use crate::gregory::CurveMeshEdits;
-use crate::gregory::document::is_curve_mesh_edit;
 use crate::mesh::{EdgeId, VertexId};
 use crate::nusd::SolverSettings;
 use crate::{DVec3, Error, Result};
@@ -75,11 +75,11 @@ pub enum Edit {
     SetCurveMeshEdits(CurveMeshEdits),
     /// Discards every curve-mesh edit: the curve mesh as the cage builds it ("Rebuild from cage").
     RebuildCurveMesh,
-    /// Turns the mirror option on with a plane, or off ([`crate::symmetry`]).
+    /// Turns the mirror option on with a plane, or off ([`crate::document::symmetry`]).
     SetMirror(Option<crate::mesh::edit::MirrorPlane>),
-    /// A cage-modelling operation ([`crate::modelling`]): performed on the cage, the document's
+    /// A cage-modelling operation ([`crate::document::modelling`]): performed on the cage, the document's
     /// properties carried to the new cage, and checked as a new cage is.
-    Mesh(crate::modelling::MeshEdit),
+    Mesh(crate::document::modelling::MeshEdit),
 }
 
 impl Edit {
