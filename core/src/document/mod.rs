@@ -20,6 +20,7 @@
 pub mod curve_mesh_edits;
 pub mod edit;
 pub mod modelling;
+mod scheme;
 pub mod symmetry;
 
 pub use edit::Edit;
@@ -31,8 +32,8 @@ use crate::gregory::CurveMeshEdits;
 use crate::mesh::{EdgeId, PolyMesh, VertexId};
 use crate::nusd::SolverSettings;
 pub(crate) use crate::nusd::check_tension;
-pub use crate::surface::{SchemeKind, SubdivSettings};
 use crate::{DVec3, Error, Result};
+pub use scheme::{SchemeKind, SubdivSettings};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 

@@ -30,12 +30,12 @@
 
 use crate::document::Document;
 use crate::document::Edit;
+use crate::document::SchemeKind;
 use crate::mesh::edit::{
     Axis, CarryRule, DEFAULT_MIRROR_TOLERANCE, Edited, MirrorPartner, MirrorPlane, Provenance, VertexOrigin,
     apply_mirror, carry_edge_property, carry_vertex_property, mirror_moves, mirror_partners,
 };
 use crate::mesh::{EdgeId, VertexId};
-use crate::surface::SchemeKind;
 use crate::{Error, Result};
 use serde::{Deserialize, Serialize};
 use std::sync::{Arc, Mutex};
