@@ -8,6 +8,7 @@
 //! line's pictures.
 
 pub mod buffers;
+pub mod cache;
 pub mod camera;
 pub mod colormap;
 pub mod display;
@@ -20,6 +21,7 @@ pub mod picture;
 pub mod renderer;
 
 pub use buffers::{Changes, GpuSurface, SurfaceBuffers, SurfaceVertex};
+pub use cache::{ShownMesh, SurfaceCache};
 pub use camera::{Camera, StandardView};
 pub use display::DisplayFrame;
 pub use gpu::{AdapterPreference, Gpu};

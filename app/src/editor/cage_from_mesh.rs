@@ -418,34 +418,23 @@ impl EditorState {
 /// The original drawn as a ghost: uploaded once per original and display frame.
 #[derive(Debug, Default)]
 pub struct OriginalGhost {
-    buffers: taut_render::SurfaceBuffers,
-    gpu: Option<taut_render::GpuSurface>,
-    drawn: Option<(u64, u64, u64, taut_render::DisplayFrame)>,
+    cache: taut_render::SurfaceCache<(u64, u64, u64, taut_render::DisplayFrame)>,
 }
 
 impl OriginalGhost {
     /// Uploads the original when it changed; drops it when there is none or it is hidden.
     pub fn upload(&mut self, gpu: &taut_render::Gpu, editor: &EditorState) {
         let Some(original) = editor.cage.original.as_ref().filter(|o| o.show_ghost) else {
-            self.gpu = None;
-            self.drawn = None;
+            self.cache.clear();
             return;
         };
         let mesh = &original.mesh;
         let key = (original.id, mesh.topology_generation(), mesh.generation(), editor.display_frame);
-        if self.drawn == Some(key) && self.gpu.is_some() {
-            return;
-        }
-        let changes = self.buffers.update_with(mesh, None, &editor.display_frame);
-        match &mut self.gpu {
-            Some(g) => g.upload(&gpu.device, &gpu.queue, &self.buffers, changes),
-            None => self.gpu = Some(taut_render::GpuSurface::new(&gpu.device, &self.buffers)),
-        }
-        self.drawn = Some(key);
+        self.cache.show(gpu, key, taut_render::ShownMesh::plain(mesh), &editor.display_frame);
     }
 
     /// The ghost to draw, if shown.
     pub fn shown(&self, editor: &EditorState) -> Option<(&taut_render::GpuSurface, [f32; 4])> {
-        editor.cage.original.as_ref().filter(|o| o.show_ghost).and(self.gpu.as_ref()).map(|g| (g, ORIGINAL_GHOST))
+        editor.cage.original.as_ref().filter(|o| o.show_ghost).and(self.cache.surface()).map(|g| (g, ORIGINAL_GHOST))
     }
 }

@@ -5,7 +5,7 @@
 use super::state::EditorState;
 use taut_core::curve::Workspace;
 use taut_render::passes::surface::{GHOST, SurfaceMode};
-use taut_render::{Gpu, GpuSurface, Scene, SurfaceBuffers};
+use taut_render::{Gpu, GpuSurface, Scene, ShownMesh, SurfaceCache};
 
 /// The stripes the patches are drawn with.
 pub fn patch_zebra(editor: &EditorState) -> SurfaceMode {
@@ -13,18 +13,13 @@ pub fn patch_zebra(editor: &EditorState) -> SurfaceMode {
     SurfaceMode::Zebra { stripes: d.stripes, angle_degrees: d.stripe_angle, width_ratio: d.stripe_width }
 }
 
-/// The patches' GPU surface, kept in step with the document.
+/// The patches' GPU surface, kept in step with the document: keyed on the document revision,
+/// the running filter's curve and passes (patches follow a running filter live) and the display
+/// frame.
 #[derive(Debug, Default)]
 pub struct PatchSurface {
-    buffers: SurfaceBuffers,
-    gpu: Option<GpuSurface>,
-    /// What was uploaded: the document revision, the running filter's curve and passes (patches
-    /// follow a running filter live), the display frame.
-    drawn: Option<Drawn>,
+    cache: SurfaceCache<(u64, Option<(usize, usize)>, taut_render::DisplayFrame)>,
 }
-
-/// The document revision, the running filter's curve and passes, and the display frame.
-type Drawn = (u64, Option<(usize, usize)>, taut_render::DisplayFrame);
 
 impl PatchSurface {
     /// Uploads the patches when the document, a running filter's points or the display frame
@@ -35,19 +30,13 @@ impl PatchSurface {
         }
         let run = editor.curves.run.as_ref().map(|r| (r.curve, r.status().passes));
         let key = (editor.document.revision(), run, editor.display_frame);
-        if self.drawn == Some(key) {
-            return;
-        }
-        self.drawn = Some(key);
-        let Some(mesh) = editor.patches_mesh() else {
-            self.gpu = None;
-            return;
-        };
-        let changes = self.buffers.update_with(&mesh, None, &editor.display_frame);
-        match &mut self.gpu {
-            Some(g) => g.upload(&gpu.device, &gpu.queue, &self.buffers, changes),
-            None => self.gpu = Some(GpuSurface::new(&gpu.device, &self.buffers)),
-        }
+        let mesh = std::cell::OnceCell::new();
+        self.cache.show_with(
+            gpu,
+            key,
+            || Some(ShownMesh::plain(mesh.get_or_init(|| editor.patches_mesh()).as_ref()?)),
+            &editor.display_frame,
+        );
     }
 
     /// The Curves workspace's scene: the patches in zebra, the cage's surface ghosted behind
@@ -61,7 +50,7 @@ impl PatchSurface {
         (editor.curves.workspace == Workspace::Curves).then(|| Scene {
             overlays: Some(overlays),
             ghost: cage_surface.map(|g| (g, GHOST)),
-            ..Scene::new(editor.camera, self.gpu.as_ref(), patch_zebra(editor))
+            ..Scene::new(editor.camera, self.cache.surface(), patch_zebra(editor))
         })
     }
 }

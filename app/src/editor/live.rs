@@ -13,6 +13,10 @@ use taut_core::curvature::robust_range;
 use taut_core::surface::{self, Budget, ColourBy, Phase, SchemeKind, SurfaceScheme};
 use taut_core::{DVec3, PolyMesh};
 
+/// Source of [`SurfaceView::values_id`]: unique across views, so a new surface's values never
+/// take an old one's identity.
+static NEXT_VALUES_ID: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
+
 /// The surface the viewport draws, kept in step with the document.
 #[derive(Debug)]
 pub struct SurfaceView {
@@ -21,13 +25,16 @@ pub struct SurfaceView {
     /// Per-vertex values of the colour view (already mapped to the range, see
     /// `taut_render::colormap::normalize`), with their range.
     pub values: Option<(Vec<f32>, f64, f64)>,
+    /// Names the values shown (a fresh number each time they are set; 0 for none), for the GPU
+    /// cache's key.
+    pub values_id: u64,
     values_stale: bool,
     values_at: Option<Instant>,
 }
 
 impl SurfaceView {
     fn new(scheme: Box<dyn SurfaceScheme>) -> Self {
-        SurfaceView { scheme, values: None, values_stale: true, values_at: None }
+        SurfaceView { scheme, values: None, values_id: 0, values_stale: true, values_at: None }
     }
 
     /// The surface mesh (cage vertices first).
@@ -266,6 +273,7 @@ impl EditorState {
                 let (min, max) = fixed_range.unwrap_or_else(|| robust_range(&values, by.is_signed()));
                 // Mapped to the colour range in f64: a tiny model's curvatures overflow f32.
                 view.values = Some((taut_render::colormap::normalize(&values, min, max), min, max));
+                view.values_id = NEXT_VALUES_ID.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
             }
             Err(e) => self.notify(e, true),
         }

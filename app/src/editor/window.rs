@@ -11,7 +11,9 @@ use std::sync::Arc;
 use std::time::Instant;
 use taut_render::passes::surface::GHOST;
 use taut_render::renderer::Attachments;
-use taut_render::{AdapterPreference, Gpu, GpuSurface, Renderer, Scene, SurfaceBuffers, TargetFormats, offscreen};
+use taut_render::{
+    AdapterPreference, Gpu, GpuSurface, Renderer, Scene, ShownMesh, SurfaceCache, TargetFormats, offscreen,
+};
 use winit::application::ApplicationHandler;
 use winit::event::WindowEvent;
 use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
@@ -50,7 +52,8 @@ struct App {
 struct Running {
     window: Arc<Window>,
     gpu: Gpu,
-    surface: wgpu::Surface<'static>,
+    /// The window's drawing target (wgpu's surface).
+    screen: wgpu::Surface<'static>,
     config: wgpu::SurfaceConfiguration,
     renderer: Renderer,
     attachments: Attachments,
@@ -58,17 +61,14 @@ struct Running {
     egui_renderer: egui_wgpu::Renderer,
     editor: EditorState,
     ui: UiState,
-    buffers: SurfaceBuffers,
-    gpu_surface: Option<GpuSurface>,
+    /// The surface on the GPU: its mesh generations, colour values and display frame.
+    surface_gpu: SurfaceCache<(u64, u64, u64, taut_render::DisplayFrame)>,
     /// The other scheme's surface of the compare view, drawn as a ghost.
     ghost: Ghost,
     /// The Coons patches of the Curves workspace.
     patches: super::curves_render::PatchSurface,
     /// The original mesh of a cage made from a mesh, drawn as a second ghost.
     original_ghost: super::cage_from_mesh::OriginalGhost,
-    drawn_generation: Option<(u64, u64)>,
-    drawn_values: Option<*const f32>,
-    drawn_frame: Option<taut_render::DisplayFrame>,
     title: String,
     /// When egui wants the next frame (a tooltip delay, a cursor blink), if not at once.
     repaint_at: Option<Instant>,
@@ -207,7 +207,7 @@ impl Running {
         Ok(Running {
             window,
             gpu,
-            surface,
+            screen: surface,
             config,
             renderer,
             attachments,
@@ -215,14 +215,10 @@ impl Running {
             egui_renderer,
             editor,
             ui,
-            buffers: SurfaceBuffers::default(),
-            gpu_surface: None,
+            surface_gpu: SurfaceCache::default(),
             ghost: Ghost::default(),
             patches: Default::default(),
             original_ghost: Default::default(),
-            drawn_generation: None,
-            drawn_values: None,
-            drawn_frame: None,
             title,
             repaint_at: None,
         })
@@ -234,7 +230,7 @@ impl Running {
         }
         self.config.width = width;
         self.config.height = height;
-        self.surface.configure(&self.gpu.device, &self.config);
+        self.screen.configure(&self.gpu.device, &self.config);
         self.attachments = Attachments::new(&self.gpu.device, &self.renderer.targets, width, height);
         self.window.request_redraw();
     }
@@ -265,14 +261,14 @@ impl Running {
         let mut overlays = self.editor.workspace_overlays();
         // The window's legend is drawn by egui in the viewport's strip (see `legend.rs`).
         overlays.legend = None;
-        let scene = match self.patches.scene(&self.editor, self.gpu_surface.as_ref(), &overlays) {
+        let scene = match self.patches.scene(&self.editor, self.surface_gpu.surface(), &overlays) {
             Some(scene) => Scene { viewport: self.ui.viewport_px, ..scene },
             None => Scene {
                 overlays: Some(&overlays),
                 viewport: self.ui.viewport_px,
                 ghost: self.ghost.shown(&self.editor),
                 second_ghost: self.original_ghost.shown(&self.editor),
-                ..Scene::new(self.editor.camera, self.gpu_surface.as_ref(), self.editor.surface_mode())
+                ..Scene::new(self.editor.camera, self.surface_gpu.surface(), self.editor.surface_mode())
             },
         };
         // egui's texture changes are applied whether or not this frame reaches the screen.
@@ -286,10 +282,10 @@ impl Running {
         for id in std::mem::take(&mut textures.free) {
             self.egui_renderer.free_texture(&id);
         }
-        let frame = match self.surface.get_current_texture() {
+        let frame = match self.screen.get_current_texture() {
             wgpu::CurrentSurfaceTexture::Success(t) | wgpu::CurrentSurfaceTexture::Suboptimal(t) => t,
             wgpu::CurrentSurfaceTexture::Outdated | wgpu::CurrentSurfaceTexture::Lost => {
-                self.surface.configure(&self.gpu.device, &self.config);
+                self.screen.configure(&self.gpu.device, &self.config);
                 self.window.request_redraw();
                 return;
             }
@@ -345,49 +341,23 @@ impl Running {
     /// Uploads the surface when the solver moved it or the curvature values changed.
     fn upload_surface(&mut self) {
         let Some(surface) = &self.editor.surface else {
-            self.gpu_surface = None;
-            self.drawn_generation = None;
+            self.surface_gpu.clear();
             return;
         };
         let mesh = surface.mesh();
-        let normals = surface.scheme.normals();
-        let generation = (mesh.topology_generation(), mesh.generation());
-        let values = surface.values.as_ref().map(|(v, _, _)| v.as_ptr());
         let frame = self.editor.display_frame;
-        if self.drawn_generation == Some(generation)
-            && self.drawn_values == values
-            && self.drawn_frame == Some(frame)
-            && self.gpu_surface.is_some()
-        {
-            return;
-        }
-        let first = self.buffers.update_with(mesh, normals, &frame);
-        let mut changes = first;
-        if let Some((v, _, _)) = &surface.values
-            && v.len() == mesh.vertex_count()
-        {
-            self.buffers.set_values(v);
-            changes = self.buffers.update_with(mesh, normals, &frame);
-            changes.vertices = true;
-            // The second update sees the new topology as known already: keep the first's word,
-            // or a new mesh drawn in colour keeps the old mesh's triangles.
-            changes.indices |= first.indices;
-        }
-        match &mut self.gpu_surface {
-            Some(gpu_surface) => gpu_surface.upload(&self.gpu.device, &self.gpu.queue, &self.buffers, changes),
-            None => self.gpu_surface = Some(GpuSurface::new(&self.gpu.device, &self.buffers)),
-        }
-        self.drawn_generation = Some(generation);
-        self.drawn_values = values;
-        self.drawn_frame = Some(frame);
+        let key = (mesh.topology_generation(), mesh.generation(), surface.values_id, frame);
+        let values = surface.values.as_ref().map(|(v, _, _)| v.as_slice());
+        let shown = ShownMesh { mesh, normals: surface.scheme.normals(), values };
+        self.surface_gpu.show(&self.gpu, key, shown, &frame);
     }
 
     /// Saves the viewport (without the panels) as a PNG of its size on screen.
     fn screenshot(&mut self, path: &std::path::Path) {
         let [_, _, w, h] = self.ui.viewport_px.unwrap_or([0, 0, self.config.width, self.config.height]);
         let overlays = self.editor.workspace_overlays();
-        let scene = self.patches.scene(&self.editor, self.gpu_surface.as_ref(), &overlays).unwrap_or_else(|| {
-            Scene::new(self.editor.camera, self.gpu_surface.as_ref(), self.editor.surface_mode())
+        let scene = self.patches.scene(&self.editor, self.surface_gpu.surface(), &overlays).unwrap_or_else(|| {
+            Scene::new(self.editor.camera, self.surface_gpu.surface(), self.editor.surface_mode())
                 .with_overlays(&overlays)
         });
         // An off-screen picture needs a format the read-back understands.
@@ -405,34 +375,24 @@ impl Running {
 /// A second surface drawn translucent over the first: the compare view's other scheme.
 #[derive(Debug, Default)]
 struct Ghost {
-    buffers: SurfaceBuffers,
-    gpu: Option<GpuSurface>,
-    drawn: Option<(u64, u64, taut_render::DisplayFrame)>,
+    cache: SurfaceCache<(u64, u64, taut_render::DisplayFrame)>,
 }
 
 impl Ghost {
     /// Uploads the comparison surface when it changed; drops it when the compare view is off.
     fn upload(&mut self, gpu: &taut_render::Gpu, editor: &super::state::EditorState) {
         let Some(other) = editor.comparison.as_ref().filter(|_| editor.display.compare == CompareMode::Ghost) else {
-            self.gpu = None;
-            self.drawn = None;
+            self.cache.clear();
             return;
         };
         let mesh = other.scheme.mesh();
         let key = (mesh.topology_generation(), mesh.generation(), editor.display_frame);
-        if self.drawn == Some(key) && self.gpu.is_some() {
-            return;
-        }
-        let changes = self.buffers.update_with(mesh, other.scheme.normals(), &editor.display_frame);
-        match &mut self.gpu {
-            Some(g) => g.upload(&gpu.device, &gpu.queue, &self.buffers, changes),
-            None => self.gpu = Some(GpuSurface::new(&gpu.device, &self.buffers)),
-        }
-        self.drawn = Some(key);
+        let shown = ShownMesh { mesh, normals: other.scheme.normals(), values: None };
+        self.cache.show(gpu, key, shown, &editor.display_frame);
     }
 
     fn shown(&self, editor: &super::state::EditorState) -> Option<(&GpuSurface, [f32; 4])> {
-        (editor.display.compare == CompareMode::Ghost).then_some(self.gpu.as_ref()).flatten().map(|g| (g, GHOST))
+        (editor.display.compare == CompareMode::Ghost).then_some(self.cache.surface()).flatten().map(|g| (g, GHOST))
     }
 }
 
