@@ -111,7 +111,7 @@ mod tests {
         let mut cache = SurfaceCache::<u32>::default();
         let mut mesh = quads(2);
         let made = std::cell::Cell::new(0);
-        let mut show = |cache: &mut SurfaceCache<u32>, key: u32, mesh: &PolyMesh| {
+        let show = |cache: &mut SurfaceCache<u32>, key: u32, mesh: &PolyMesh| {
             cache.show_with(
                 &gpu,
                 key,
