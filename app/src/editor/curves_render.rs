@@ -18,8 +18,11 @@ pub fn patch_zebra(editor: &EditorState) -> SurfaceMode {
 /// frame.
 #[derive(Debug, Default)]
 pub struct PatchSurface {
-    cache: SurfaceCache<(u64, Option<(usize, usize)>, taut_render::DisplayFrame)>,
+    cache: SurfaceCache<PatchKey>,
 }
+
+/// The document revision, the running filter's curve and passes, and the display frame.
+type PatchKey = (u64, Option<(usize, usize)>, taut_render::DisplayFrame);
 
 impl PatchSurface {
     /// Uploads the patches when the document, a running filter's points or the display frame

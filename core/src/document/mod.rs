@@ -251,15 +251,12 @@ impl Document {
                 self.crease.len()
             )));
         }
-        for (v, &t) in self.vertex_tension.iter().enumerate() {
-            check_tension(t, || format!("vertex {v}"))?;
-        }
+        // The tensions and the solver settings, as the NUSD solver checks them.
+        crate::nusd::surface::NusdInput::from(self).validate()?;
         for e in self.cage.edges() {
             let (a, b) = self.cage.edge_vertices(e);
-            check_tension(self.edge_tension[e.index()], || format!("edge {}-{}", a.0, b.0))?;
             check_sharpness(self.crease[e.index()], || format!("edge {}-{}", a.0, b.0))?;
         }
-        self.settings.validate()?;
         self.subdiv.validate()?;
         self.curves.validate()?;
         Document::check_mirror(self.mirror)?;

@@ -38,6 +38,6 @@ impl NusdInput<'_> {
             let (a, b) = self.cage.edge_vertices(edge);
             check_tension(self.edge_tension[edge.index()], || format!("edge {}-{}", a.0, b.0))?;
         }
-        self.settings.validate().map_err(|e| crate::Error::Input(e.to_string()))
+        self.settings.validate()
     }
 }
