@@ -173,14 +173,11 @@ fn parse_index(text: &str, spec: &str, flag: &str) -> Result<VertexId, String> {
 /// Reads a cage document from any supported file (a mesh is a NUSD document with every vertex
 /// fixed), reporting what the import repaired as a note.
 pub fn load_document(path: &Path, files: &FileFlags) -> Result<Document, String> {
-    if extension(path) == "taut" {
-        return Document::load(path).map_err(|e| e.to_string());
-    }
-    let (mesh, report) = io::import_mesh_with(path, &files.import_options()).map_err(|e| e.to_string())?;
-    if !report.is_clean() {
+    let (doc, report) = Document::open(path, &files.import_options()).map_err(|e| e.to_string())?;
+    if let Some(report) = report.filter(|r| !r.is_clean()) {
         note(format!("{}: {report}", path.display()));
     }
-    Ok(Document::new(mesh))
+    Ok(doc)
 }
 
 /// Makes the document's surface to the end through the seam, printing what the work did (per

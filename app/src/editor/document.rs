@@ -125,16 +125,15 @@ impl EditorDocument {
         Self::open_with(path, UpAxis::default())
     }
 
-    /// [`open`](Self::open), reading OBJ files with the given up axis.
+    /// [`open`](Self::open), reading OBJ files with the given up axis. The file is read as the
+    /// command line reads it (`Document::open`); an imported mesh is then shown at
+    /// [`display_levels`] rather than the command line's default, so a large cage stays live.
     pub fn open_with(path: &Path, obj_up: UpAxis) -> Result<Self, String> {
-        if is_taut(path) {
-            let doc = Document::load(path).map_err(|e| e.to_string())?;
+        let (mut doc, report) = Document::open(path, &io::ImportOptions { obj_up }).map_err(|e| e.to_string())?;
+        let Some(report) = report else {
             return Ok(Self::new(doc, Some(path.to_path_buf())));
-        }
-        let (mesh, report) = io::import_mesh_with(path, &io::ImportOptions { obj_up }).map_err(|e| e.to_string())?;
-        let mut doc = Document::new(mesh);
+        };
         doc.settings.levels = display_levels(doc.cage.face_count());
-        doc.validate().map_err(|e| format!("{}: {e}", path.display()))?;
         let mut opened = Self::new(doc, None);
         opened.source = Some(path.to_path_buf());
         opened.import_report = Some(report);

@@ -263,6 +263,22 @@ impl Document {
         self.check_curve_mesh_edits()
     }
 
+    /// Opens a file as a document, the one way the editor and the command line both open one: a
+    /// `.taut` document as saved, or a mesh (any format [`crate::io`] imports) as a NUSD cage with
+    /// every vertex fixed and the default settings, with what the import repaired.
+    pub fn open(
+        path: &Path,
+        options: &crate::io::ImportOptions,
+    ) -> Result<(Document, Option<crate::io::ImportReport>)> {
+        if path.extension().is_some_and(|e| e.eq_ignore_ascii_case("taut")) {
+            return Ok((Document::load(path)?, None));
+        }
+        let (mesh, report) = crate::io::import_mesh_with(path, options)?;
+        let doc = Document::new(mesh);
+        doc.validate().map_err(|e| Error::Input(format!("{}: {e}", path.display())))?;
+        Ok((doc, Some(report)))
+    }
+
     /// The document as `.taut` JSON text.
     pub fn to_json(&self) -> String {
         let file = TautFile {
