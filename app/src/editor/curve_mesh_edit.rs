@@ -29,10 +29,10 @@
 
 use super::document::Edit;
 use super::interaction::{self, Axis, ViewportRect};
-use super::shortcuts;
+
 use super::state::EditorState;
 use super::ui::UiState;
-use egui::{Key, PointerButton};
+use egui::PointerButton;
 use taut_core::gregory::CurveMeshEdits;
 use taut_core::gregory::continuity::{ContinuityReport, DEFAULT_BOUNDARY_SAMPLES};
 use taut_core::surface::SchemeKind;
@@ -375,20 +375,7 @@ impl EditorState {
     /// (the keys are taken, nothing else runs).
     pub(super) fn curve_mesh_drag_keys(&mut self, ctx: &egui::Context, ui_state: &mut UiState) -> bool {
         let Some(drag) = &mut ui_state.curve_mesh.drag else { return false };
-        let (x, y, z, escape) = ctx.input_mut(|i| {
-            (
-                shortcuts::take_plain(i, Key::X),
-                shortcuts::take_plain(i, Key::Y),
-                shortcuts::take_plain(i, Key::Z),
-                shortcuts::take_plain(i, Key::Escape),
-            )
-        });
-        for (pressed, axis) in [(x, Axis::X), (y, Axis::Y), (z, Axis::Z)] {
-            if pressed {
-                drag.axis = if drag.axis == Some(axis) { None } else { Some(axis) };
-            }
-        }
-        if escape {
+        if super::navigation::drag_keys(ctx, &mut drag.axis) {
             let before = drag.before.clone();
             ui_state.curve_mesh.drag = None;
             self.edit(Edit::SetCurveMeshEdits(before));

@@ -44,6 +44,7 @@ mod mesh_ops_tests;
 pub mod mirror;
 #[cfg(test)]
 mod modelling_gesture_tests;
+mod navigation;
 pub mod new_primitive;
 #[cfg(test)]
 mod panel_tests;
