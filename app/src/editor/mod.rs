@@ -8,6 +8,7 @@ pub mod cage_job;
 #[cfg(test)]
 mod cage_tests;
 pub mod curve_mesh_edit;
+mod curve_mesh_panel;
 pub mod curves;
 mod curves_history;
 mod curves_keys;
@@ -24,6 +25,7 @@ mod defects_mode_tests;
 mod defects_solver_tests;
 #[cfg(test)]
 mod defects_xray_tests;
+mod display_panel;
 pub mod document;
 #[cfg(test)]
 mod edit_script_tests;
