@@ -18,7 +18,7 @@ use std::collections::VecDeque;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
 pub use taut_core::Edit;
-use taut_core::document::modelling::{MeshEdit, Script, ScriptStep};
+use taut_core::document::modelling::{DocumentStep, MeshEdit, Script, ScriptStep};
 use taut_core::gregory::carry::CarryReport;
 use taut_core::io::{self, ImportReport, UpAxis};
 use taut_core::mesh::edit::Provenance;
@@ -134,7 +134,12 @@ impl EditorDocument {
             return Ok(Self::new(doc, Some(path.to_path_buf())));
         };
         doc.settings.levels = display_levels(doc.cage.face_count());
+        let settings = doc.settings;
         let mut opened = Self::new(doc, None);
+        // The session's script starts with that choice, so replayed on the mesh it gives this
+        // document (a mesh opened by `taut edit` has the default levels).
+        opened.journal.push(Ok(ScriptStep::Document(DocumentStep::SetSolverSettings { settings })));
+        opened.journal_len = 1;
         opened.source = Some(path.to_path_buf());
         opened.import_report = Some(report);
         Ok(opened)
@@ -287,7 +292,7 @@ impl EditorDocument {
 
     /// The edits that led from the document as opened to the current one, as a script
     /// (`taut edit --script` replays it on the opened file); an error naming the first edit a
-    /// script cannot say (a new cage from a fit, a curve edit, the solver settings).
+    /// script cannot say (a new cage from a fit, a curve edit, a curve-mesh edit).
     pub fn script(&self) -> Result<Script, String> {
         let edits = self.journal[..self.journal_len]
             .iter()

@@ -101,11 +101,25 @@ fn a_session_with_a_step_a_script_cannot_say_refuses_to_be_saved_as_one() {
     let mut h = cube_editor();
     let editor = &mut h.state_mut().editor;
     let mut other = editor.document.doc().clone();
-    other.settings.levels = 2;
-    editor.edit(Edit::SetSettings(other.settings));
+    other.cage.set_position(taut_core::VertexId(0), DVec3::new(0.1, 0.2, 0.3));
+    editor.edit(Edit::Replace(Box::new(other)));
     let message = editor.document.script().unwrap_err();
-    assert!(message.contains("Smoothing Settings") && !message.contains('\n'), "{message}");
+    assert!(message.contains("Replace Cage") && !message.contains('\n'), "{message}");
     // Undone, it is no longer part of the session.
     editor.undo();
     assert_eq!(editor.document.script().unwrap().edits.len(), 0);
+}
+
+#[test]
+fn a_session_on_an_imported_mesh_replays_on_that_mesh_as_taut_edit_opens_it() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets/knob.obj");
+    let mut editor = super::document::EditorDocument::open(&path).unwrap();
+    editor.apply_mesh(taut_core::document::modelling::MeshEdit::Inset { faces: vec![3], distance: 2.0 }).unwrap();
+    editor.apply(Edit::SetVertexTension(vec![taut_core::VertexId(5)], 0.5)).unwrap();
+    let script = Script::from_json(&editor.script().unwrap().to_json()).unwrap();
+    // The editor shows the mesh at its display levels; the script says so first.
+    let (mut replayed, _) = taut_core::Document::open(&path, &Default::default()).unwrap();
+    assert_ne!(replayed.settings.levels, editor.doc().settings.levels);
+    script.replay(&mut replayed).unwrap();
+    assert_eq!(replayed.to_json(), editor.doc().to_json());
 }

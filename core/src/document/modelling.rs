@@ -213,8 +213,8 @@ impl MeshEdit {
 
 /// The JSON form of a list of edits: what `taut edit --script` replays on a cage, and what the
 /// editor saves of a session. Only edits that say everything they do by value are scripted:
-/// modelling operations, moves, fixed flags, tensions, creases, corners, the scheme and the
-/// mirror option.
+/// modelling operations, moves, fixed flags, tensions, creases, corners, the scheme, the mirror
+/// option and the settings.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Script {
@@ -268,6 +268,14 @@ pub enum DocumentStep {
     SetMirror {
         plane: Option<crate::mesh::edit::MirrorPlane>,
     },
+    /// NUSD's solver settings, every field (as a `.taut` file writes them).
+    SetSolverSettings {
+        settings: crate::nusd::SolverSettings,
+    },
+    /// The subdivision schemes' settings.
+    SetSubdivSettings {
+        settings: crate::document::SubdivSettings,
+    },
 }
 
 /// A sharpness: a number, or `"inf"`.
@@ -294,7 +302,7 @@ impl Sharpness {
 
 impl ScriptStep {
     /// The scripted form of an edit, or `None` for one a script does not hold (a whole new
-    /// document, the curves, the curve-mesh edits, the solver settings).
+    /// document, the curves, the curve-mesh edits).
     pub fn of(edit: &Edit) -> Option<ScriptStep> {
         let ids = |v: &[VertexId]| v.iter().map(|v| v.0).collect::<Vec<_>>();
         let eids = |e: &[EdgeId]| e.iter().map(|e| e.0).collect::<Vec<_>>();
@@ -310,6 +318,8 @@ impl ScriptStep {
             Edit::SetCorner(v, s) => DocumentStep::SetCorner { vertices: ids(v), sharpness: Sharpness::of(*s) },
             Edit::SetScheme(scheme) => DocumentStep::SetScheme { scheme: *scheme },
             Edit::SetMirror(plane) => DocumentStep::SetMirror { plane: *plane },
+            Edit::SetSettings(settings) => DocumentStep::SetSolverSettings { settings: *settings },
+            Edit::SetSubdivSettings(settings) => DocumentStep::SetSubdivSettings { settings: *settings },
             _ => return None,
         };
         Some(ScriptStep::Document(step))
@@ -331,6 +341,8 @@ impl ScriptStep {
                 DocumentStep::SetCorner { vertices: v, sharpness } => Edit::SetCorner(ids(v), sharpness.value()?),
                 DocumentStep::SetScheme { scheme } => Edit::SetScheme(*scheme),
                 DocumentStep::SetMirror { plane } => Edit::SetMirror(*plane),
+                DocumentStep::SetSolverSettings { settings } => Edit::SetSettings(*settings),
+                DocumentStep::SetSubdivSettings { settings } => Edit::SetSubdivSettings(*settings),
             },
         })
     }
