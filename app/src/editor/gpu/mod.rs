@@ -1,0 +1,3 @@
+//! The window and what goes to the GPU each frame.
+
+pub mod window;

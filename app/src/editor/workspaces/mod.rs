@@ -1,0 +1,4 @@
+//! The editor's two workspaces.
+
+pub mod curves;
+pub mod surface;

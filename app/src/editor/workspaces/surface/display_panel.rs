@@ -1,0 +1,109 @@
+//! The Display panel: how the surface is drawn (shaded, zebra, curvature colour and its range,
+//! the compare view, overlays, X-ray), each control with a tooltip.
+
+use crate::editor::live::CompareMode;
+use crate::editor::state::{DisplayMode, EditorState};
+use taut_core::curvature::CurvatureQuantity;
+use taut_core::surface::{ColourBy, fields_of};
+
+impl EditorState {
+    pub(crate) fn display_panel(&mut self, ui: &mut egui::Ui) {
+        ui.heading("Display");
+        let before = self.display.clone();
+        let range = self.value_range();
+        let scheme = self.document.doc().scheme;
+        let other = self.other_scheme();
+        let d = &mut self.display;
+        ui.horizontal(|ui| {
+            ui.radio_value(&mut d.mode, DisplayMode::Shaded, "shaded").on_hover_text("Plain shading");
+            ui.radio_value(&mut d.mode, DisplayMode::Zebra, "zebra").on_hover_text(
+                "Reflection lines: a break in the stripes is a break in tangent, a kink a break in curvature",
+            );
+            ui.radio_value(&mut d.mode, DisplayMode::Curvature, "curvature")
+                .on_hover_text("Colour by a curvature quantity, with a legend");
+        });
+        match d.mode {
+            DisplayMode::Shaded => {}
+            DisplayMode::Zebra => {
+                ui.add(egui::Slider::new(&mut d.stripes, 2.0..=40.0).text("stripes"))
+                    .on_hover_text("Black and white stripe pairs across half a turn of reflected directions");
+                ui.add(egui::Slider::new(&mut d.stripe_angle, -90.0..=90.0).text("angle °"))
+                    .on_hover_text("The direction of the stripes on screen (0: horizontal)");
+                ui.add(egui::Slider::new(&mut d.stripe_width, 0.1..=0.9).text("black share"))
+                    .on_hover_text("The fraction of each stripe pair that is black");
+            }
+            DisplayMode::Curvature => {
+                let mut choices: Vec<ColourBy> =
+                    CurvatureQuantity::ALL.iter().map(|&q| ColourBy::Curvature(q)).collect();
+                choices.extend(fields_of(scheme).iter().map(|&f| ColourBy::Field(f)));
+                if !choices.contains(&d.colour_by) {
+                    d.colour_by = choices[0];
+                }
+                egui::ComboBox::from_label("quantity")
+                    .selected_text(d.colour_by.display_name())
+                    .show_ui(ui, |ui| {
+                        for c in choices {
+                            ui.selectable_value(&mut d.colour_by, c, c.display_name());
+                        }
+                    })
+                    .response
+                    .on_hover_text("Mean, Gaussian, principal curvatures, or what the scheme offers (NUSD's |R|)");
+                let mut automatic = d.fixed_range.is_none();
+                if ui
+                    .checkbox(&mut automatic, "automatic range (2–98 %)")
+                    .on_hover_text(
+                        "Colour from the 2nd to the 98th percentile, symmetric about 0 for signed quantities",
+                    )
+                    .changed()
+                {
+                    d.fixed_range = if automatic { None } else { Some(range) };
+                }
+                if let Some((min, max)) = &mut d.fixed_range {
+                    ui.horizontal(|ui| {
+                        let name = ui.label("min");
+                        ui.add(egui::DragValue::new(min).speed(0.001))
+                            .labelled_by(name.id)
+                            .on_hover_text("The value at the bottom of the colour bar");
+                        let name = ui.label("max");
+                        ui.add(egui::DragValue::new(max).speed(0.001))
+                            .labelled_by(name.id)
+                            .on_hover_text("The value at the top of the colour bar");
+                    });
+                    if *max <= *min {
+                        *max = *min + 1e-9_f64.max(min.abs() * 1e-6);
+                    }
+                }
+            }
+        }
+        ui.separator();
+        ui.checkbox(&mut d.show_cage, "cage").on_hover_text("The cage's edges and vertices, with tension shown");
+        ui.checkbox(&mut d.xray, "X-ray (Alt+Z)")
+            .on_hover_text("Off: the back of the cage is drawn dimmer and cannot be picked. On: all of it is");
+        ui.checkbox(&mut d.show_wire, "refined wireframe").on_hover_text("The edges of the smoothed surface");
+        ui.checkbox(&mut d.show_curves, "curves with curvature combs")
+            .on_hover_text("The surface's curves along the cage edges, with their curvature combs");
+        if d.show_curves {
+            ui.add(egui::Slider::new(&mut d.comb_length, 0.01..=0.5).logarithmic(true).text("comb length"))
+                .on_hover_text("The longest tooth of the combs, as a fraction of the model's size");
+            ui.add(egui::Slider::new(&mut d.comb_density, 1..=8).text("every n-th point"))
+                .on_hover_text("A tooth at every n-th point of each curve");
+        }
+        ui.separator();
+        let mut compare = d.compare;
+        ui.label(format!("compare with {}", other.display_name()));
+        ui.horizontal(|ui| {
+            ui.radio_value(&mut compare, CompareMode::Off, "off").on_hover_text("Only this scheme's surface");
+            ui.radio_value(&mut compare, CompareMode::Ghost, "ghost")
+                .on_hover_text("The other scheme's surface drawn as a translucent ghost over this one");
+            ui.radio_value(&mut compare, CompareMode::Distance, "distance")
+                .on_hover_text("This surface coloured by its distance to the other scheme's, with a legend");
+        });
+        let compare_changed = compare != self.display.compare;
+        if compare_changed {
+            self.set_compare(compare);
+        }
+        if self.display != before {
+            self.invalidate_values();
+        }
+    }
+}

@@ -1,0 +1,12 @@
+//! The Surface workspace: the cage panels, the Mesh menu's operations, selection modes, mirror,
+//! X-ray, the curve-mesh scheme's controls and the colour legend.
+
+pub mod curve_mesh_edit;
+pub mod curve_mesh_panel;
+pub mod display_panel;
+pub mod legend;
+pub mod mesh_ops;
+pub mod mirror;
+pub mod panels;
+pub mod select_modes;
+pub mod xray;
