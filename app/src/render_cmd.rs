@@ -58,6 +58,10 @@ pub struct RenderArgs {
     /// Curvature views: draw the colour bar with its numbers into the picture.
     #[arg(long)]
     pub legend: bool,
+    /// Section curves: where the planes AXIS = V1, V2, … cut the surface (AXIS x, y or z, in
+    /// the model's coordinates as Taut reads them), drawn with curvature combs.
+    #[arg(long, value_name = "AXIS:V1,V2,...", allow_hyphen_values = true)]
+    pub sections: Option<String>,
     /// Draw with the software rasteriser even when a GPU is present (reproducible pictures).
     #[arg(long)]
     pub software: bool,
@@ -113,6 +117,8 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
     if let Some(bad) = overlays.iter().find(|o| !["cage", "wire", "curves"].contains(o)) {
         return Err(format!("--overlay {bad}: use cage, wire or curves"));
     }
+    // Checked before any work; drawn with the other overlays.
+    args.sections.as_deref().map(parse_sections).transpose()?;
     if args.legend && !matches!(view, View::Colour(_)) {
         return Err("--legend goes with a colour view (mean, gaussian, kmin, kmax, kabs, r)".into());
     }
@@ -263,6 +269,26 @@ fn draw(
         }
     }
 
+    if let Some((normal, offsets)) = &args.sections.as_deref().map(parse_sections).transpose()? {
+        // Combs scaled so the longest tooth is 12 % of the model's size, as the curves overlay.
+        let curves: Vec<taut_core::mesh::sections::SectionCurve> =
+            taut_core::mesh::sections::sections(surface, *normal, offsets).into_iter().flatten().collect();
+        // A section crosses the surface's triangles at uneven spacing (short pieces near the
+        // vertices it passes), which a comb would show as spikes: the combs are drawn on the
+        // section resampled evenly at twice its mean spacing.
+        let points: Vec<Vec<DVec3>> = curves.iter().map(|c| resampled(&c.points, c.closed)).collect();
+        let style = comb_style(&points, surface.bounding_diagonal(), 0.12, 1);
+        for (curve, even) in curves.iter().zip(&points) {
+            data.surface_lines.extend(overlay::polyline_with_comb(even, curve.closed, &style, frame));
+        }
+        println!(
+            "sections: {} planes, {} curves ({} closed)",
+            offsets.len(),
+            curves.len(),
+            curves.iter().filter(|c| c.closed).count()
+        );
+    }
+
     let gpu = Gpu::headless(if args.software { AdapterPreference::Software } else { AdapterPreference::Hardware })
         .map_err(|e| e.to_string())?;
     let targets = TargetFormats::for_adapter(&gpu.adapter, wgpu::TextureFormat::Rgba8UnormSrgb);
@@ -281,6 +307,57 @@ fn draw(
         gpu.description()
     );
     Ok(())
+}
+
+/// The polyline's points again at even arc-length spacing, twice its mean segment (at least 8
+/// segments; the ends of an open run kept).
+fn resampled(points: &[DVec3], closed: bool) -> Vec<DVec3> {
+    let mut path = points.to_vec();
+    if closed && let Some(&first) = points.first() {
+        path.push(first);
+    }
+    let lengths: Vec<f64> = path.windows(2).map(|w| w[0].distance(w[1])).collect();
+    let total: f64 = lengths.iter().sum();
+    if path.len() < 3 || !(total > 0.0) {
+        return points.to_vec();
+    }
+    let count = (lengths.len() / 2).max(8);
+    let step = total / count as f64;
+    let mut out = Vec::with_capacity(count + 1);
+    let (mut segment, mut walked) = (0, 0.0);
+    for k in 0..count + usize::from(!closed) {
+        let at = (k as f64 * step).min(total);
+        while segment + 1 < lengths.len() && walked + lengths[segment] < at {
+            walked += lengths[segment];
+            segment += 1;
+        }
+        let t = if lengths[segment] > 0.0 { ((at - walked) / lengths[segment]).clamp(0.0, 1.0) } else { 0.0 };
+        out.push(path[segment].lerp(path[segment + 1], t));
+    }
+    out
+}
+
+/// `--sections AXIS:V1,V2,…`: the planes' normal and their offsets along it.
+fn parse_sections(spec: &str) -> Result<(DVec3, Vec<f64>), String> {
+    let bad = |why: &str| format!("--sections {spec}: {why} (write AXIS:V1,V2,… with AXIS x, y or z)");
+    let (axis, values) = spec.split_once(':').ok_or_else(|| bad("no ':' after the axis"))?;
+    let normal = match axis.trim() {
+        "x" | "X" => DVec3::X,
+        "y" | "Y" => DVec3::Y,
+        "z" | "Z" => DVec3::Z,
+        other => return Err(bad(&format!("'{other}' is not an axis"))),
+    };
+    let offsets = values
+        .split(',')
+        .map(|v| match v.trim().parse::<f64>() {
+            Ok(x) if x.is_finite() => Ok(x),
+            _ => Err(bad(&format!("'{}' is not a finite number", v.trim()))),
+        })
+        .collect::<Result<Vec<f64>, String>>()?;
+    if offsets.len() > 1000 {
+        return Err(bad("at most 1000 planes"));
+    }
+    Ok((normal, offsets))
 }
 
 /// The surface's curves along the cage edges, or the boundary loops of a plain mesh.

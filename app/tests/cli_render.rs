@@ -170,3 +170,24 @@ fn bad_arguments_fail_with_one_clear_line() {
     assert_clean_failure(&taut(&["render", &cage, "-o", &dir.join("x.jpg").to_string_lossy()]), ".png");
     assert!(!Path::new(&png).exists());
 }
+
+#[test]
+fn sections_draw_one_closed_curve_per_plane_through_a_closed_surface_with_combs() {
+    let dir = scratch("sections");
+    let cube = asset("cube.obj");
+    let (plain, cut) = (dir.join("plain.png"), dir.join("cut.png"));
+    let base = ["render", &cube, "--scheme", "catmull-clark", "--software"];
+    let out = taut(&[&base[..], &["-o", &cut.to_string_lossy(), "--sections", "z:-40,0,40,60"]].concat());
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    // The limit surface of the ±50 cube reaches past ±40 but not 60: three loops, no fourth.
+    assert!(stdout.contains("sections: 4 planes, 3 curves (3 closed)"), "{stdout}");
+    let with = image::open(&cut).unwrap().to_rgba8();
+    let without = render(&[&base[..], &["-o", &plain.to_string_lossy()]].concat());
+    assert!(coloured_fraction(&with) > coloured_fraction(&without) + 0.002, "the sections and their combs are drawn");
+    for (spec, said) in [("w:1", "'w' is not an axis"), ("z", "no ':'"), ("z:1,inf", "'inf' is not a finite number")] {
+        let png = dir.join("bad.png");
+        assert_clean_failure(&taut(&[&base[..], &["-o", &png.to_string_lossy(), "--sections", spec]].concat()), said);
+        assert!(!png.exists());
+    }
+}

@@ -15,6 +15,7 @@ mod build;
 pub mod edit;
 mod handles;
 pub mod primitives;
+pub mod sections;
 pub mod visibility;
 
 pub use handles::{EdgeId, FaceId, HalfedgeId, VertexId};
