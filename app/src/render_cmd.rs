@@ -318,7 +318,7 @@ fn resampled(points: &[DVec3], closed: bool) -> Vec<DVec3> {
     }
     let lengths: Vec<f64> = path.windows(2).map(|w| w[0].distance(w[1])).collect();
     let total: f64 = lengths.iter().sum();
-    if path.len() < 3 || !(total > 0.0) {
+    if path.len() < 3 || total.is_nan() || total <= 0.0 {
         return points.to_vec();
     }
     let count = (lengths.len() / 2).max(8);
