@@ -55,6 +55,8 @@ pub mod shortcuts;
 pub mod snapping;
 #[cfg(test)]
 mod step_export_tests;
+#[cfg(test)]
+mod tool_cancel_tests;
 mod toolbar;
 pub mod transform;
 pub mod ui;
