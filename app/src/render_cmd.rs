@@ -276,7 +276,7 @@ fn draw(
         // A section crosses the surface's triangles at uneven spacing (short pieces near the
         // vertices it passes), which a comb would show as spikes: the combs are drawn on the
         // section resampled evenly at twice its mean spacing.
-        let points: Vec<Vec<DVec3>> = curves.iter().map(|c| resampled(&c.points, c.closed)).collect();
+        let points: Vec<Vec<DVec3>> = curves.iter().map(|c| c.evenly()).collect();
         let style = comb_style(&points, surface.bounding_diagonal(), 0.12, 1);
         for (curve, even) in curves.iter().zip(&points) {
             data.surface_lines.extend(overlay::polyline_with_comb(even, curve.closed, &style, frame));
@@ -307,34 +307,6 @@ fn draw(
         gpu.description()
     );
     Ok(())
-}
-
-/// The polyline's points again at even arc-length spacing, twice its mean segment (at least 8
-/// segments; the ends of an open run kept).
-fn resampled(points: &[DVec3], closed: bool) -> Vec<DVec3> {
-    let mut path = points.to_vec();
-    if closed && let Some(&first) = points.first() {
-        path.push(first);
-    }
-    let lengths: Vec<f64> = path.windows(2).map(|w| w[0].distance(w[1])).collect();
-    let total: f64 = lengths.iter().sum();
-    if path.len() < 3 || total.is_nan() || total <= 0.0 {
-        return points.to_vec();
-    }
-    let count = (lengths.len() / 2).max(8);
-    let step = total / count as f64;
-    let mut out = Vec::with_capacity(count + 1);
-    let (mut segment, mut walked) = (0, 0.0);
-    for k in 0..count + usize::from(!closed) {
-        let at = (k as f64 * step).min(total);
-        while segment + 1 < lengths.len() && walked + lengths[segment] < at {
-            walked += lengths[segment];
-            segment += 1;
-        }
-        let t = if lengths[segment] > 0.0 { ((at - walked) / lengths[segment]).clamp(0.0, 1.0) } else { 0.0 };
-        out.push(path[segment].lerp(path[segment + 1], t));
-    }
-    out
 }
 
 /// `--sections AXIS:V1,V2,…`: the planes' normal and their offsets along it.

@@ -21,6 +21,38 @@ pub struct SectionCurve {
     pub closed: bool,
 }
 
+impl SectionCurve {
+    /// The curve's points again at even arc-length spacing, twice its mean segment (at least 8
+    /// segments; the ends of an open run kept): a section crosses the triangles at uneven spacing
+    /// (short pieces near the vertices it passes), which a curvature comb would show as spikes.
+    pub fn evenly(&self) -> Vec<DVec3> {
+        let (points, closed) = (&self.points, self.closed);
+        let mut path = points.to_vec();
+        if closed && let Some(&first) = points.first() {
+            path.push(first);
+        }
+        let lengths: Vec<f64> = path.windows(2).map(|w| w[0].distance(w[1])).collect();
+        let total: f64 = lengths.iter().sum();
+        if path.len() < 3 || total.is_nan() || total <= 0.0 {
+            return points.to_vec();
+        }
+        let count = (lengths.len() / 2).max(8);
+        let step = total / count as f64;
+        let mut out = Vec::with_capacity(count + 1);
+        let (mut segment, mut walked) = (0, 0.0);
+        for k in 0..count + usize::from(!closed) {
+            let at = (k as f64 * step).min(total);
+            while segment + 1 < lengths.len() && walked + lengths[segment] < at {
+                walked += lengths[segment];
+                segment += 1;
+            }
+            let t = if lengths[segment] > 0.0 { ((at - walked) / lengths[segment]).clamp(0.0, 1.0) } else { 0.0 };
+            out.push(path[segment].lerp(path[segment + 1], t));
+        }
+        out
+    }
+}
+
 /// The sections of `mesh` by the planes `normal · p = offset` for each offset (in order), each
 /// a list of polylines. `normal` need not be unit length; a zero or non-finite normal, or a
 /// non-finite offset, gives no curves for it.
@@ -133,6 +165,30 @@ mod tests {
         assert!((radii[0] - 1.5).abs() < 0.01 && (radii[1] - 2.5).abs() < 0.01, "{radii:?}");
         assert!(cut[0].iter().all(|c| c.closed));
         assert!(cut[1].is_empty() && cut[2].is_empty());
+    }
+
+    #[test]
+    fn a_section_resampled_evenly_stays_on_it_at_even_steps() {
+        let sphere = uv_sphere(64, 32, 1.0).unwrap();
+        let loop_ = sections(&sphere, DVec3::Z, &[0.2]).remove(0).remove(0);
+        let even = loop_.evenly();
+        assert_eq!(even.len(), loop_.points.len() / 2);
+        // On the section: every point within rounding of one of its segments.
+        let n = loop_.points.len();
+        for p in &even {
+            let near = (0..n)
+                .map(|k| {
+                    let (a, b) = (loop_.points[k], loop_.points[(k + 1) % n]);
+                    let t = ((*p - a).dot(b - a) / (b - a).length_squared()).clamp(0.0, 1.0);
+                    p.distance(a.lerp(b, t))
+                })
+                .fold(f64::INFINITY, f64::min);
+            assert!(near < 1e-12, "{near}");
+        }
+        // Even steps: the chords between neighbours differ by far less than the raw pieces do.
+        let chords: Vec<f64> = (0..even.len()).map(|k| even[k].distance(even[(k + 1) % even.len()])).collect();
+        let (lo, hi) = chords.iter().fold((f64::INFINITY, 0.0f64), |(a, b), &c| (a.min(c), b.max(c)));
+        assert!(hi / lo < 1.01, "{lo} .. {hi}");
     }
 
     #[test]

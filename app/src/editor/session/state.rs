@@ -54,6 +54,8 @@ pub struct Display {
     pub comb_length: f64,
     /// Curvature combs: a tooth at every n-th point of a curve.
     pub comb_density: usize,
+    /// Section curves with their combs, when on.
+    pub sections: Option<crate::editor::workspaces::surface::sections::SectionSettings>,
 }
 
 impl Default for Display {
@@ -72,6 +74,7 @@ impl Default for Display {
             show_curves: false,
             comb_length: 0.12,
             comb_density: 1,
+            sections: None,
         }
     }
 }
@@ -200,6 +203,8 @@ pub struct EditorState {
     pub mirror: crate::editor::mirror::MirrorEditing,
     /// What the eye saw of the cage when last asked ([`crate::editor::xray`]).
     pub(crate) visibility: std::cell::RefCell<crate::editor::xray::VisibilityCache>,
+    /// The section curves last cut ([`crate::editor::workspaces::surface::sections`]).
+    pub(crate) sections: std::cell::RefCell<crate::editor::workspaces::surface::sections::SectionCache>,
 }
 
 impl EditorState {
@@ -233,6 +238,7 @@ impl EditorState {
             selection_history: Default::default(),
             refused_edit: None,
             visibility: Default::default(),
+            sections: Default::default(),
         };
         state.load_curves_view();
         state.frame_all();
@@ -409,6 +415,7 @@ impl EditorState {
                 data.surface_lines.extend(overlay::polyline_with_comb(c, false, &style, frame));
             }
         }
+        self.section_overlays(&mut data);
         if self.curve_mesh_overlays(&mut data) {
             // The curve-mesh scheme draws its own vertices and a faint cage.
         } else if self.display.show_cage {

@@ -88,6 +88,23 @@ impl EditorState {
             ui.add(egui::Slider::new(&mut d.comb_density, 1..=8).text("every n-th point"))
                 .on_hover_text("A tooth at every n-th point of each curve");
         }
+        let mut on = d.sections.is_some();
+        ui.checkbox(&mut on, "sections with curvature combs")
+            .on_hover_text("Where parallel planes cut the surface, each section with its curvature comb");
+        match (on, &mut d.sections) {
+            (false, s) => *s = None,
+            (true, None) => d.sections = Some(Default::default()),
+            (true, Some(s)) => {
+                ui.horizontal(|ui| {
+                    for (axis, name) in ["x", "y", "z"].into_iter().enumerate() {
+                        ui.radio_value(&mut s.axis, axis, name).on_hover_text("The axis the planes are normal to");
+                    }
+                });
+                ui.add(egui::Slider::new(&mut s.count, 1..=50).text("planes")).on_hover_text("How many sections");
+                ui.add(egui::DragValue::new(&mut s.spacing).range(0.0..=f64::MAX).speed(0.1).prefix("spacing "))
+                    .on_hover_text("Model units between the planes; 0 spreads them over the surface");
+            }
+        }
         ui.separator();
         let mut compare = d.compare;
         ui.label(format!("compare with {}", other.display_name()));

@@ -8,5 +8,6 @@ pub mod legend;
 pub mod mesh_ops;
 pub mod mirror;
 pub mod panels;
+pub mod sections;
 pub mod select_modes;
 pub mod xray;
