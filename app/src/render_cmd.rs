@@ -273,10 +273,9 @@ fn draw(
         // Combs scaled so the longest tooth is 12 % of the model's size, as the curves overlay.
         let curves: Vec<taut_core::mesh::sections::SectionCurve> =
             taut_core::mesh::sections::sections(surface, *normal, offsets).into_iter().flatten().collect();
-        // A section crosses the surface's triangles at uneven spacing (short pieces near the
-        // vertices it passes), which a comb would show as spikes: the combs are drawn on the
-        // section resampled evenly at twice its mean spacing.
-        let points: Vec<Vec<DVec3>> = curves.iter().map(|c| c.evenly()).collect();
+        // Combs on the sections resampled evenly (`SectionCurve::evenly`).
+        let step = taut_core::mesh::sections::comb_step(surface);
+        let points: Vec<Vec<DVec3>> = curves.iter().map(|c| c.evenly(step)).collect();
         let style = comb_style(&points, surface.bounding_diagonal(), 0.12, 1);
         for (curve, even) in curves.iter().zip(&points) {
             data.surface_lines.extend(overlay::polyline_with_comb(even, curve.closed, &style, frame));

@@ -13,6 +13,14 @@ use super::PolyMesh;
 use crate::DVec3;
 use std::collections::HashMap;
 
+/// The step at which a section of `mesh` is resampled for its comb ([`SectionCurve::evenly`]):
+/// three times the mesh's mean edge length, so that each step spans a few facets and the comb
+/// reads the surface's bending, not the turns at the facets' edges.
+pub fn comb_step(mesh: &PolyMesh) -> f64 {
+    let count = mesh.edge_count().max(1) as f64;
+    3.0 * mesh.edges().map(|e| mesh.edge_length(e)).sum::<f64>() / count
+}
+
 /// One polyline of a section.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SectionCurve {
@@ -22,10 +30,12 @@ pub struct SectionCurve {
 }
 
 impl SectionCurve {
-    /// The curve's points again at even arc-length spacing, twice its mean segment (at least 8
-    /// segments; the ends of an open run kept): a section crosses the triangles at uneven spacing
-    /// (short pieces near the vertices it passes), which a curvature comb would show as spikes.
-    pub fn evenly(&self) -> Vec<DVec3> {
+    /// The curve's points again at even arc-length steps of about `step` (at least 8 steps; the
+    /// ends of an open run kept). A section crosses the triangles at uneven spacing and turns a
+    /// little at every edge it crosses; a curvature comb read from three neighbouring crossings
+    /// shows those turns as spikes, so combs are drawn on points a steady distance apart, a step
+    /// spanning several triangles.
+    pub fn evenly(&self, step: f64) -> Vec<DVec3> {
         let (points, closed) = (&self.points, self.closed);
         let mut path = points.to_vec();
         if closed && let Some(&first) = points.first() {
@@ -36,7 +46,7 @@ impl SectionCurve {
         if path.len() < 3 || total.is_nan() || total <= 0.0 {
             return points.to_vec();
         }
-        let count = (lengths.len() / 2).max(8);
+        let count = if step > 0.0 { ((total / step).round() as usize).clamp(8, 100_000) } else { 8 };
         let step = total / count as f64;
         let mut out = Vec::with_capacity(count + 1);
         let (mut segment, mut walked) = (0, 0.0);
@@ -171,8 +181,10 @@ mod tests {
     fn a_section_resampled_evenly_stays_on_it_at_even_steps() {
         let sphere = uv_sphere(64, 32, 1.0).unwrap();
         let loop_ = sections(&sphere, DVec3::Z, &[0.2]).remove(0).remove(0);
-        let even = loop_.evenly();
-        assert_eq!(even.len(), loop_.points.len() / 2);
+        let length: f64 =
+            (0..loop_.points.len()).map(|k| loop_.points[k].distance(loop_.points[(k + 1) % loop_.points.len()])).sum();
+        let even = loop_.evenly(length / 40.0);
+        assert_eq!(even.len(), 40);
         // On the section: every point within rounding of one of its segments.
         let n = loop_.points.len();
         for p in &even {

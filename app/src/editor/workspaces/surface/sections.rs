@@ -59,8 +59,9 @@ impl EditorState {
             let along = mesh.positions().iter().map(|p| p[settings.axis.min(2)]);
             let (lo, hi) = along.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| (a.min(x), b.max(x)));
             let offsets = if lo <= hi { settings.offsets(lo, hi) } else { Vec::new() };
+            let step = taut_core::mesh::sections::comb_step(mesh);
             cache.curves =
-                sections(mesh, normal, &offsets).into_iter().flatten().map(|c| (c.evenly(), c.closed)).collect();
+                sections(mesh, normal, &offsets).into_iter().flatten().map(|c| (c.evenly(step), c.closed)).collect();
             cache.key = Some(key);
         }
         let points: Vec<Vec<DVec3>> = cache.curves.iter().map(|(p, _)| p.clone()).collect();
