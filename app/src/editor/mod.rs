@@ -6,6 +6,7 @@
 pub mod file_menu;
 pub mod gpu;
 pub mod session;
+pub mod tools;
 pub mod workspaces;
 
 // The modules of the folders, at the editor's level as before the folders: `super::document`
@@ -14,6 +15,7 @@ pub use file_menu::{cage_from_mesh, cage_job, new_primitive, primitives, step_ex
 pub use gpu::window;
 use session::selection_history;
 pub use session::{document, files, live, state};
+pub use tools::{gizmo, inset_drag, loop_slide, pivot, snapping, transform};
 pub use workspaces::curves::workspace as curves;
 use workspaces::curves::{curves_history, curves_keys, curves_render};
 use workspaces::surface::legend;
@@ -33,13 +35,9 @@ mod defects_solver_tests;
 mod defects_xray_tests;
 #[cfg(test)]
 mod edit_script_tests;
-mod extrude_move;
-pub mod gizmo;
 #[cfg(test)]
 mod gizmo_tests;
-pub mod inset_drag;
 pub mod interaction;
-pub mod loop_slide;
 pub mod menus;
 #[cfg(test)]
 mod mesh_ops_tests;
@@ -48,16 +46,12 @@ mod modelling_gesture_tests;
 mod navigation;
 #[cfg(test)]
 mod panel_tests;
-pub mod pivot;
 #[cfg(test)]
 mod scheme_tests;
 pub mod shortcuts;
-pub mod snapping;
 #[cfg(test)]
 mod step_export_tests;
 #[cfg(test)]
 mod tool_cancel_tests;
-mod toolbar;
-pub mod transform;
 pub mod ui;
 mod viewport;

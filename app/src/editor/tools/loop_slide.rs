@@ -11,11 +11,11 @@
 //! and one edge selected, Ctrl+R cuts at once and slides. Weak where Blender does more: no
 //! count of several loops (wheel), no even/flipped slide.
 
-use super::document::Edit;
-use super::interaction::{self, ViewportRect};
-use super::shortcuts;
-use super::state::EditorState;
-use super::ui::UiState;
+use crate::editor::document::Edit;
+use crate::editor::interaction::{self, ViewportRect};
+use crate::editor::shortcuts;
+use crate::editor::state::EditorState;
+use crate::editor::ui::UiState;
 use egui::Key;
 use glam::Vec2;
 use taut_core::document::modelling::MeshEdit;
@@ -53,7 +53,7 @@ const SLIDE_MARGIN: f64 = 1e-3;
 impl EditorState {
     /// Ctrl+R: the preview over the viewport, or with the mouse elsewhere and one edge selected,
     /// the cut at once.
-    pub(super) fn start_loop_cut(&mut self, ui_state: &mut UiState) {
+    pub(crate) fn start_loop_cut(&mut self, ui_state: &mut UiState) {
         let selected = match self.selection.edges.as_slice() {
             [e] => Some(*e),
             _ => None,
@@ -116,13 +116,13 @@ impl EditorState {
         self.selection.hovered_vertex = None;
         self.selection.hovered_edge = None;
         self.selection.hovered_face = None;
-        super::select_modes::set_mode(&self.document.doc().cage, &mut self.selection, mode);
+        crate::editor::select_modes::set_mode(&self.document.doc().cage, &mut self.selection, mode);
         let topology = self.document.doc().cage.topology_generation();
         ui_state.loop_cut = Some(LoopCutTool::Slide { original, edge, new_vertices, fraction: 0.5, topology });
     }
 
     /// Moves the new loop to `fraction` along the ring (where a cut at `fraction` puts it).
-    pub(super) fn slide_loop(&mut self, fraction: f64, ui_state: &mut UiState) {
+    pub(crate) fn slide_loop(&mut self, fraction: f64, ui_state: &mut UiState) {
         let Some(LoopCutTool::Slide { original, edge, new_vertices, fraction: now, .. }) = &mut ui_state.loop_cut
         else {
             return;
@@ -154,7 +154,7 @@ impl EditorState {
     }
 
     /// Ends the tool: keeps the cut (one undo step) or puts the document back as it was.
-    pub(super) fn finish_loop_cut(&mut self, keep: bool, ui_state: &mut UiState) {
+    pub(crate) fn finish_loop_cut(&mut self, keep: bool, ui_state: &mut UiState) {
         match ui_state.loop_cut.take() {
             Some(LoopCutTool::Slide { original, .. }) => {
                 if !keep {
@@ -168,7 +168,7 @@ impl EditorState {
     }
 
     /// The keys while the tool runs: Enter cuts (previewing) or sets (sliding), Esc cancels.
-    pub(super) fn loop_cut_keys(&mut self, ctx: &egui::Context, ui_state: &mut UiState) -> bool {
+    pub(crate) fn loop_cut_keys(&mut self, ctx: &egui::Context, ui_state: &mut UiState) -> bool {
         self.drop_stale_loop_cut(ui_state);
         let Some(tool) = &ui_state.loop_cut else { return false };
         let (enter, escape) =
@@ -190,7 +190,7 @@ impl EditorState {
 
     /// The viewport while the tool runs: the preview follows the edge under the mouse and a
     /// click cuts; then the mouse slides and a click sets; a right click cancels.
-    pub(super) fn loop_cut_viewport(
+    pub(crate) fn loop_cut_viewport(
         &mut self,
         ui: &egui::Ui,
         response: &egui::Response,

@@ -8,12 +8,12 @@
 //! thickness puts it, through `Edit::MoveVertices`. A thickness the core refuses (one that
 //! would fold the ring over) keeps the last one that worked and says why in the status line.
 
-use super::document::Edit;
-use super::interaction::{self, ViewportRect};
-use super::mesh_ops::{self, MeshOp, OFFSET_FRACTION};
-use super::shortcuts;
-use super::state::EditorState;
-use super::ui::UiState;
+use crate::editor::document::Edit;
+use crate::editor::interaction::{self, ViewportRect};
+use crate::editor::mesh_ops::{self, MeshOp, OFFSET_FRACTION};
+use crate::editor::shortcuts;
+use crate::editor::state::EditorState;
+use crate::editor::ui::UiState;
 use egui::Key;
 use glam::Vec2;
 use taut_core::mesh::edit::{FaceGrouping, VertexOrigin, inset_faces};
@@ -41,7 +41,7 @@ pub struct InsetDrag {
 
 impl EditorState {
     /// I: inset the selected faces, then let the mouse set the thickness.
-    pub(super) fn inset_and_drag(&mut self, ui_state: &mut UiState) {
+    pub(crate) fn inset_and_drag(&mut self, ui_state: &mut UiState) {
         let doc = self.document.doc();
         let cage = &doc.cage;
         let faces = mesh_ops::picked(cage, self).faces;
@@ -106,7 +106,7 @@ impl EditorState {
     }
 
     /// The keys while the thickness follows the mouse: digits, Enter, Esc; nothing else runs.
-    pub(super) fn inset_keys(&mut self, ctx: &egui::Context, ui_state: &mut UiState) -> bool {
+    pub(crate) fn inset_keys(&mut self, ctx: &egui::Context, ui_state: &mut UiState) -> bool {
         self.drop_stale_inset(ui_state);
         let Some(d) = &mut ui_state.inset_drag else { return false };
         let (mut enter, mut escape) = (false, false);
@@ -137,7 +137,7 @@ impl EditorState {
     }
 
     /// The viewport while the thickness follows the mouse.
-    pub(super) fn inset_viewport(
+    pub(crate) fn inset_viewport(
         &mut self,
         ui: &egui::Ui,
         response: &egui::Response,

@@ -9,8 +9,8 @@
 //! plane facing the camera through where it was. The test is linear in the faces, fine for a
 //! click (a 20 000-face surface takes well under a frame) but not something to run every frame.
 
-use super::interaction::{self, ViewportRect};
-use super::state::EditorState;
+use crate::editor::interaction::{self, ViewportRect};
+use crate::editor::state::EditorState;
 use glam::Vec2;
 use taut_core::{DVec3, PolyMesh, VertexId};
 
@@ -147,7 +147,7 @@ impl EditorState {
     }
 
     /// Draws the 3D cursor: a red and white ring with a cross, as Blender draws it.
-    pub(super) fn draw_cursor(&self, painter: &egui::Painter, view: &ViewportRect) {
+    pub(crate) fn draw_cursor(&self, painter: &egui::Painter, view: &ViewportRect) {
         let p = self.display_frame.to_display_f64(self.gizmo.cursor);
         let Some((c, _)) = interaction::project(&self.camera, view, p) else { return };
         let c = egui::pos2(c.x, c.y);

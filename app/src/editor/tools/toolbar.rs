@@ -4,14 +4,14 @@
 //! a menu of its steps (the grid step following the zoom, shown, or set by hand; the rotation
 //! and scale increments). These are editor settings, not saved in the document.
 
-use super::gizmo::GizmoMode;
-use super::pivot::Pivot;
-use super::snapping;
-use super::state::EditorState;
+use crate::editor::gizmo::GizmoMode;
+use crate::editor::pivot::Pivot;
+use crate::editor::snapping;
+use crate::editor::state::EditorState;
 
 impl EditorState {
     /// The toolbar's controls, laid out in the menu bar's row.
-    pub(super) fn transform_toolbar(&mut self, ui: &mut egui::Ui) {
+    pub(crate) fn transform_toolbar(&mut self, ui: &mut egui::Ui) {
         ui.separator();
         ui.checkbox(&mut self.gizmo.shown, "Gizmo (W)")
             .on_hover_text("Show the transform gizmo at the pivot of the selection (W)");
@@ -77,12 +77,12 @@ impl EditorState {
     }
 
     /// W: shows or hides the gizmo (the toolbar's check box shows which).
-    pub(super) fn toggle_gizmo(&mut self) {
+    pub(crate) fn toggle_gizmo(&mut self) {
         self.gizmo.shown = !self.gizmo.shown;
     }
 
     /// Shift+S: the next pivot (the toolbar's combo shows which).
-    pub(super) fn cycle_pivot(&mut self) {
+    pub(crate) fn cycle_pivot(&mut self) {
         self.gizmo.pivot = self.gizmo.pivot.next();
     }
 }

@@ -5,7 +5,7 @@
 //! in every mode. X is red, Y green, Z blue; the handle
 //! under the mouse is drawn yellow; the gizmo keeps its size on screen ([`GIZMO_RADIUS_PX`]).
 //!
-//! A drag on a handle starts the very transform G, R or S start ([`super::transform`]) with the
+//! A drag on a handle starts the very transform G, R or S start ([`crate::editor::transform`]) with the
 //! handle's lock, so typed values, plane locks and snapping work the same, the whole drag is one
 //! undo step, and letting go of the button confirms it. The gizmo is picked before the cage: a
 //! press on a handle never selects or drags a cage point behind it, except at the centre, where
@@ -17,13 +17,13 @@
 //! a ring drag turns by the angle the cursor sweeps about the pivot on screen (no trackball),
 //! and handles seen end on (an arrow pointing at the eye) are hard to grab, as in Blender.
 
-use super::interaction::{self, Axis, ViewportRect};
-use super::pivot::Pivot;
-use super::select_modes::SelectMode;
-use super::snapping::SnapSettings;
-use super::state::EditorState;
-use super::transform::TransformKind;
-use super::ui::UiState;
+use crate::editor::interaction::{self, Axis, ViewportRect};
+use crate::editor::pivot::Pivot;
+use crate::editor::select_modes::SelectMode;
+use crate::editor::snapping::SnapSettings;
+use crate::editor::state::EditorState;
+use crate::editor::transform::TransformKind;
+use crate::editor::ui::UiState;
 use egui::{Color32, Pos2, Stroke};
 use glam::Vec2;
 use taut_core::{DVec3, PolyMesh};
@@ -296,7 +296,7 @@ impl EditorState {
     /// The gizmo's and the 3D cursor's share of the viewport's mouse, before the cage's: the
     /// hovered handle, a drag on a handle (a transform), a click on one (swallowed), and
     /// Shift+right-click (the 3D cursor). True when the mouse was the gizmo's this frame.
-    pub(super) fn gizmo_viewport(
+    pub(crate) fn gizmo_viewport(
         &mut self,
         ui: &egui::Ui,
         response: &egui::Response,
@@ -389,7 +389,7 @@ impl EditorState {
     }
 
     /// Draws the gizmo (and the 3D cursor) over the viewport.
-    pub(super) fn draw_gizmo(&mut self, painter: &egui::Painter, view: &ViewportRect, ui_state: &UiState) {
+    pub(crate) fn draw_gizmo(&mut self, painter: &egui::Painter, view: &ViewportRect, ui_state: &UiState) {
         self.draw_cursor(painter, view);
         if ui_state.transform.is_none() {
             self.gizmo.active = None;

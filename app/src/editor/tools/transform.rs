@@ -1,13 +1,13 @@
 //! G, R and S as in Blender: grab (move), rotate and scale the selected cage vertices about
-//! the pivot ([`super::pivot`]: median centre, bounding-box centre, 3D cursor or active vertex).
+//! the pivot ([`crate::editor::pivot`]: median centre, bounding-box centre, 3D cursor or active vertex).
 //! The mouse drives it (grab: in the view plane, along a locked axis as a drag does, or in a
 //! locked plane; rotate: the angle the cursor turns about the pivot on screen; scale: the ratio
 //! of the cursor's distances from the pivot on screen); X, Y or Z locks an axis, Shift+X, Y or Z
 //! the plane normal to it (move or scale in the other two; again: unlocks); Ctrl held (or the
-//! toolbar's snap toggle) snaps ([`super::snapping`]); typed numbers (digits, '.', '-',
+//! toolbar's snap toggle) snaps ([`crate::editor::snapping`]); typed numbers (digits, '.', '-',
 //! Backspace) give the exact distance, angle in degrees or factor, never snapped; Enter or a
 //! click confirms, Esc or a right click cancels. The whole transform is one undo step (one
-//! gesture). The on-screen gizmo ([`super::gizmo`]) starts the same transform with its lock set.
+//! gesture). The on-screen gizmo ([`crate::editor::gizmo`]) starts the same transform with its lock set.
 //!
 //! Typed values without an axis: grab moves along X (with a plane lock, along the first free
 //! axis), rotate turns about Z (with a lock, about the locked axis), scale scales evenly (with a
@@ -16,12 +16,12 @@
 //! or a rotation about a world axis copies them). Weak where Blender does more: no snapping to
 //! other vertices, no Tab between the axes of a typed plane move.
 
-use super::document::Edit;
-use super::interaction::{self, Axis, ViewportRect};
-use super::shortcuts;
-use super::snapping;
-use super::state::EditorState;
-use super::ui::UiState;
+use crate::editor::document::Edit;
+use crate::editor::interaction::{self, Axis, ViewportRect};
+use crate::editor::shortcuts;
+use crate::editor::snapping;
+use crate::editor::state::EditorState;
+use crate::editor::ui::UiState;
 use egui::Key;
 use glam::DMat3;
 use glam::Vec2;
@@ -216,7 +216,7 @@ fn take_shifted(input: &mut egui::InputState, key: Key) -> bool {
 
 impl EditorState {
     /// Starts G, R or S on the selection; a message when nothing is selected.
-    pub(super) fn start_transform(&mut self, kind: TransformKind, ui_state: &mut UiState) {
+    pub(crate) fn start_transform(&mut self, kind: TransformKind, ui_state: &mut UiState) {
         if let Some(t) = self.new_transform(kind, ui_state.pointer) {
             self.document.begin_gesture();
             ui_state.transform = Some(t);
@@ -224,7 +224,7 @@ impl EditorState {
     }
 
     /// A transform of the selection about the pivot, or a message when nothing is selected.
-    pub(super) fn new_transform(&mut self, kind: TransformKind, mouse: Option<Vec2>) -> Option<Transform> {
+    pub(crate) fn new_transform(&mut self, kind: TransformKind, mouse: Option<Vec2>) -> Option<Transform> {
         let cage = &self.document.doc().cage;
         let vertices = self.selected_vertices_with_edge_ends();
         let start: Vec<(VertexId, DVec3)> = vertices.iter().map(|&v| (v, cage.position(v))).collect();
@@ -241,7 +241,7 @@ impl EditorState {
 
     /// The keys while transforming: axis and plane locks, typed numbers, Enter and Esc. Nothing
     /// else runs.
-    pub(super) fn transform_keys(&mut self, ctx: &egui::Context, ui_state: &mut UiState) {
+    pub(crate) fn transform_keys(&mut self, ctx: &egui::Context, ui_state: &mut UiState) {
         if self.transform_is_stale(ui_state) {
             return;
         }
@@ -274,7 +274,7 @@ impl EditorState {
     }
 
     /// Moves the vertices where the typed value or the mouse says.
-    pub(super) fn update_transform(&mut self, view: Option<&ViewportRect>, ui_state: &mut UiState) {
+    pub(crate) fn update_transform(&mut self, view: Option<&ViewportRect>, ui_state: &mut UiState) {
         let Some(t) = &ui_state.transform else { return };
         let moved = if let Ok(value) = t.typed.parse::<f64>() {
             if !value.is_finite() {
@@ -312,8 +312,8 @@ impl EditorState {
         if trial.apply(Edit::MoveVertices(moved.to_vec())).is_err() {
             return None;
         }
-        let before = super::live::collapsed_faces(&doc.cage);
-        super::live::collapsed_faces(&trial.cage).into_iter().find(|f| !before.contains(f))
+        let before = crate::editor::live::collapsed_faces(&doc.cage);
+        crate::editor::live::collapsed_faces(&trial.cage).into_iter().find(|f| !before.contains(f))
     }
 
     fn mouse_positions(&self, t: &Transform, view: &ViewportRect, from: Vec2, to: Vec2) -> Vec<(VertexId, DVec3)> {
@@ -425,7 +425,7 @@ impl EditorState {
     }
 
     /// Ends the transform: keeps it (one undo step) or puts every vertex back.
-    pub(super) fn finish_transform(&mut self, keep: bool, ui_state: &mut UiState) {
+    pub(crate) fn finish_transform(&mut self, keep: bool, ui_state: &mut UiState) {
         let Some(t) = ui_state.transform.take() else { return };
         if !keep {
             self.edit(Edit::MoveVertices(t.start));
@@ -435,7 +435,7 @@ impl EditorState {
 
     /// The viewport while transforming: the mouse drives it, a click confirms (a gizmo drag: the
     /// release), a right click cancels, and a line of text says what is happening.
-    pub(super) fn transform_viewport(
+    pub(crate) fn transform_viewport(
         &mut self,
         ui: &egui::Ui,
         response: &egui::Response,

@@ -8,15 +8,15 @@
 //!
 //! I (inset) is not followed by a mouse-driven thickness yet: it insets by the menu's fraction.
 
-use super::mesh_ops::MeshOp;
-use super::state::EditorState;
-use super::transform::TransformKind;
-use super::ui::UiState;
+use crate::editor::mesh_ops::MeshOp;
+use crate::editor::state::EditorState;
+use crate::editor::transform::TransformKind;
+use crate::editor::ui::UiState;
 use taut_core::DVec3;
 
 impl EditorState {
     /// E: extrude the selection, then move what it lifted along the mean normal until a click.
-    pub(super) fn extrude_and_move(&mut self, ui_state: &mut UiState) {
+    pub(crate) fn extrude_and_move(&mut self, ui_state: &mut UiState) {
         let before = self.selected_vertices_with_edge_ends();
         let cage = &self.document.doc().cage;
         let old_mean = mean(before.iter().map(|&v| cage.position(v)));
