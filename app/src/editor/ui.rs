@@ -244,20 +244,7 @@ impl EditorState {
         }
         if let Some(drag) = &mut ui_state.drag {
             // While dragging, X, Y and Z lock an axis and Esc cancels; nothing else runs.
-            let (x, y, z, escape) = ctx.input_mut(|i| {
-                (
-                    shortcuts::take_plain(i, Key::X),
-                    shortcuts::take_plain(i, Key::Y),
-                    shortcuts::take_plain(i, Key::Z),
-                    shortcuts::take_plain(i, Key::Escape),
-                )
-            });
-            for (pressed, axis) in [(x, Axis::X), (y, Axis::Y), (z, Axis::Z)] {
-                if pressed {
-                    drag.axis = if drag.axis == Some(axis) { None } else { Some(axis) };
-                }
-            }
-            if escape {
+            if super::navigation::drag_keys(ctx, &mut drag.axis) {
                 let start = drag.start.clone();
                 self.edit(Edit::MoveVertices(start));
                 self.document.end_gesture();

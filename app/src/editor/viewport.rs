@@ -50,8 +50,7 @@ impl EditorState {
             min: glam::Vec2::new(rect.min.x, rect.min.y),
             size: glam::Vec2::new(rect.width(), rect.height()),
         };
-        let (shift, scroll, pointer) =
-            ui.ctx().input(|i| (i.modifiers.shift, i.smooth_scroll_delta.y, i.pointer.hover_pos()));
+        let (shift, pointer) = ui.ctx().input(|i| (i.modifiers.shift, i.pointer.hover_pos()));
         let mouse = pointer.map(|p| glam::Vec2::new(p.x, p.y));
         if mouse.is_some() {
             ui_state.pointer = mouse;
@@ -93,21 +92,8 @@ impl EditorState {
             self.hover_in_mode(&view, &cage, hovered);
         }
 
-        // Navigation.
-        if response.hovered() && scroll != 0.0 {
-            self.camera.zoom(interaction::zoom_factor(scroll / 50.0));
-        }
-        for button in [PointerButton::Secondary, PointerButton::Middle] {
-            if response.dragged_by(button) {
-                let delta = response.drag_delta();
-                if shift {
-                    self.camera.pan(delta.x, delta.y, rect.height());
-                } else {
-                    let (da, de) = interaction::orbit_from_drag(glam::Vec2::new(delta.x, delta.y));
-                    self.camera.orbit(da, de);
-                }
-            }
-        }
+        // Navigation, as in every viewport.
+        super::navigation::navigate(&mut self.camera, ui, &response, rect.height());
 
         if ui_state.loop_cut.is_some() {
             self.loop_cut_viewport(ui, &response, &view, mouse, ui_state);
