@@ -3,6 +3,8 @@
 
 pub mod files;
 pub mod golden;
+pub mod shapes;
+pub mod subdiv;
 
 use taut_core::{DVec3, Document, PolyMesh};
 
