@@ -243,15 +243,7 @@ fn draw(
                 let Drawn::Surface { doc, .. } = drawn else {
                     return Err("--overlay cage needs a cage: give a .taut file or a smoothing flag".into());
                 };
-                let controls = if doc.scheme.is_subdivision() {
-                    CageControls::Creases { sharpness: &doc.crease, corners: &doc.corner }
-                } else {
-                    CageControls::Nusd {
-                        fixed: &doc.fixed,
-                        vertex_tension: &doc.vertex_tension,
-                        edge_tension: &doc.edge_tension,
-                    }
-                };
+                let controls = CageControls::of(doc);
                 let (lines, points) = overlay::cage_overlay(&doc.cage, controls, &CageSelection::default(), frame);
                 data.on_top_lines.extend(lines);
                 data.points.extend(points);

@@ -141,6 +141,22 @@ pub enum CageControls<'a> {
     },
 }
 
+impl<'a> CageControls<'a> {
+    /// The controls of a document's scheme: creases and corners under Catmull–Clark and Loop,
+    /// fixed flags and tensions otherwise.
+    pub fn of(doc: &'a taut_core::Document) -> Self {
+        if doc.scheme.is_subdivision() {
+            CageControls::Creases { sharpness: &doc.crease, corners: &doc.corner }
+        } else {
+            CageControls::Nusd {
+                fixed: &doc.fixed,
+                vertex_tension: &doc.vertex_tension,
+                edge_tension: &doc.edge_tension,
+            }
+        }
+    }
+}
+
 /// Crease sharpness at which a crease edge stops growing wider (an infinitely sharp edge is drawn
 /// as this).
 pub const CREASE_SATURATION: f64 = 4.0;

@@ -246,7 +246,10 @@ fn a_shift_box_adds_even_when_shift_is_released_first() {
             harness.hover_at(pos2(x + 8.0 * k as f32, y + 6.0 * k as f32));
             frames(&mut harness);
         }
-        assert!(harness.state().ui.box_select.is_some(), "a box is being drawn");
+        assert!(
+            harness.state().ui.tool.get::<crate::editor::tools::box_select::BoxSelect>().is_some(),
+            "a box is being drawn"
+        );
         harness.input_mut().events.push(egui::Event::ModifiersChanged(Modifiers::NONE));
         frames(&mut harness);
         harness.input_mut().events.push(egui::Event::PointerButton {

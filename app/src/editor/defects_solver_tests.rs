@@ -146,12 +146,15 @@ fn typed_digits_of_one_frame_keep_their_order() {
     let events: Vec<Event> = [typed(Key::Num0, "0"), typed(Key::Period, "."), typed(Key::Num5, "5")].concat();
     h.input_mut().events.extend(events);
     frames(&mut h);
-    assert_eq!(h.state().ui.transform.as_ref().expect("the move goes on").typed, "0.5");
+    assert_eq!(h.state().ui.tool.get::<crate::editor::transform::Transform>().expect("the move goes on").typed, "0.5");
     assert_eq!(h.state().editor.document.doc().cage.position(v), p + 0.5 * DVec3::X);
     // The same key twice in one frame counts twice.
     h.input_mut().events.extend([typed(Key::Num5, "5"), typed(Key::Num5, "5")].concat());
     frames(&mut h);
-    assert_eq!(h.state().ui.transform.as_ref().expect("the move goes on").typed, "0.555");
+    assert_eq!(
+        h.state().ui.tool.get::<crate::editor::transform::Transform>().expect("the move goes on").typed,
+        "0.555"
+    );
     h.key_press(Key::Enter);
     frames(&mut h);
     assert_eq!(h.state().editor.document.doc().cage.position(v), p + 0.555 * DVec3::X);

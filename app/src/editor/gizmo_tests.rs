@@ -108,7 +108,7 @@ fn dragging_an_arrow_moves_the_selection_along_its_axis_only_in_one_undo_step() 
     assert!(
         doc.cage.vertices().filter(|&w| w != v).all(|w| bits(doc.cage.position(w)) == bits(before.cage.position(w)))
     );
-    assert!(h.state().ui.transform.is_none(), "letting go confirmed the move");
+    assert!(h.state().ui.tool.get::<crate::editor::transform::Transform>().is_none(), "letting go confirmed the move");
     h.key_press_modifiers(Modifiers::COMMAND, Key::Z);
     frames(&mut h);
     assert_eq!(h.state().editor.document.doc(), &before, "the whole drag is one undo step");
@@ -249,13 +249,20 @@ fn a_plane_lock_keeps_the_locked_coordinate_bit_for_bit_and_a_second_press_unloc
     frames(&mut h);
     h.key_press_modifiers(Modifiers::SHIFT, Key::Z);
     frames(&mut h);
-    assert_eq!(h.state().ui.transform.as_ref().unwrap().plane, Some(interaction::Axis::Z));
+    assert_eq!(
+        h.state().ui.tool.get::<crate::editor::transform::Transform>().unwrap().plane,
+        Some(interaction::Axis::Z)
+    );
     h.key_press_modifiers(Modifiers::SHIFT, Key::Z);
     frames(&mut h);
-    assert_eq!(h.state().ui.transform.as_ref().unwrap().plane, None, "a second Shift+Z unlocks");
+    assert_eq!(
+        h.state().ui.tool.get::<crate::editor::transform::Transform>().unwrap().plane,
+        None,
+        "a second Shift+Z unlocks"
+    );
     h.key_press_modifiers(Modifiers::SHIFT, Key::Z);
     frames(&mut h);
-    assert!(h.state().ui.transform.as_ref().unwrap().lock_text().contains("Z locked"));
+    assert!(h.state().ui.tool.get::<crate::editor::transform::Transform>().unwrap().lock_text().contains("Z locked"));
     for k in 1..=4 {
         h.hover_at(pos2(start.x + 12.0 * k as f32, start.y));
         frames(&mut h);

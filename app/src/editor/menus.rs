@@ -50,7 +50,7 @@ impl EditorState {
                 self.new_primitive_items(ui, ui_state);
             });
             if ui.button(item(Action::Open)).clicked() {
-                self.run_action(Action::Open, ui_state);
+                self.emit_action(Action::Open);
             }
             ui.menu_button("Open recent", |ui| {
                 let recent: Vec<PathBuf> = self.recent.paths().to_vec();
@@ -75,10 +75,10 @@ impl EditorState {
             }
             ui.separator();
             if ui.button(item(Action::Save)).clicked() {
-                self.run_action(Action::Save, ui_state);
+                self.emit_action(Action::Save);
             }
             if ui.button(item(Action::SaveAs)).clicked() {
-                self.run_action(Action::SaveAs, ui_state);
+                self.emit_action(Action::SaveAs);
             }
             if ui.button("Export surface as OBJ…").clicked() {
                 self.ask_path(PathPurpose::ExportObj, ui_state);
@@ -108,7 +108,7 @@ impl EditorState {
             });
             ui.separator();
             if ui.button(item(Action::Quit)).clicked() {
-                self.run_action(Action::Quit, ui_state);
+                self.emit_action(Action::Quit);
             }
         });
         let surface = self.curves.workspace == taut_core::curve::Workspace::Surface;
@@ -119,38 +119,47 @@ impl EditorState {
             };
             let undo = named(Action::Undo, self.document.undo_name());
             if ui.add_enabled(self.document.can_undo(), egui::Button::new(undo)).clicked() {
-                self.run_action(Action::Undo, ui_state);
+                self.emit_action(Action::Undo);
             }
             let redo = named(Action::Redo, self.document.redo_name());
             if ui.add_enabled(self.document.can_redo(), egui::Button::new(redo)).clicked() {
-                self.run_action(Action::Redo, ui_state);
+                self.emit_action(Action::Redo);
             }
             if surface {
                 ui.separator();
                 if ui.button(item(Action::SelectAll)).clicked() {
-                    self.run_action(Action::SelectAll, ui_state);
+                    self.emit_action(Action::SelectAll);
                 }
                 if ui.button(format!("Select none  {}", shortcuts::label(Action::SelectNone))).clicked() {
-                    self.run_action(Action::SelectNone, ui_state);
+                    self.emit_action(Action::SelectNone);
                 }
             }
         });
         // The cage is edited in the Surface workspace only.
         if surface {
-            self.mesh_menu(ui, ui_state);
+            self.mesh_menu(ui);
+            ui.menu_button("Tools", |ui| {
+                // The listing of the tools (`tools::TOOLS`): a new tool appears here by itself.
+                for tool in super::tools::TOOLS {
+                    let text = format!("{}  {}", tool.name, shortcuts::label(tool.action));
+                    if ui.button(text).on_hover_text(shortcuts::describe(tool.action)).clicked() {
+                        self.emit_action(tool.action);
+                    }
+                }
+            });
         }
         ui.menu_button("View", |ui| {
             for action in [Action::ViewFront, Action::ViewRight, Action::ViewTop, Action::ViewPerspective] {
                 if ui.button(item(action)).clicked() {
-                    self.run_action(action, ui_state);
+                    self.emit_action(action);
                 }
             }
             ui.separator();
             if ui.button(item(Action::FrameAll)).clicked() {
-                self.run_action(Action::FrameAll, ui_state);
+                self.emit_action(Action::FrameAll);
             }
             if ui.button(item(Action::FrameSelection)).clicked() {
-                self.run_action(Action::FrameSelection, ui_state);
+                self.emit_action(Action::FrameSelection);
             }
             ui.separator();
             let xray = format!("X-ray  {}", shortcuts::label(Action::ToggleXray));
@@ -159,7 +168,7 @@ impl EditorState {
                 .on_hover_text("Off: the back of the cage is drawn dimmer and cannot be picked. On: all of it is")
                 .clicked()
             {
-                self.run_action(Action::ToggleXray, ui_state);
+                self.emit_action(Action::ToggleXray);
             }
             ui.separator();
             if ui.button(format!("Messages ({})", self.messages.len())).clicked() {
@@ -168,7 +177,7 @@ impl EditorState {
         });
         ui.menu_button("Help", |ui| {
             if ui.button(item(Action::ShowShortcuts)).clicked() {
-                self.run_action(Action::ShowShortcuts, ui_state);
+                self.emit_action(Action::ShowShortcuts);
             }
         });
     }
@@ -297,19 +306,7 @@ impl EditorState {
             }
         }
         if let Some(path) = ui_state.replace.take() {
-            let mut answer = None;
-            egui::Modal::new(egui::Id::unique("replace")).show(ctx, |ui| {
-                ui.label(format!("{} exists already. Replace it?", path.display()));
-                ui.label("Replacing it writes this cage over the file; it cannot be undone.");
-                ui.horizontal(|ui| {
-                    if ui.button("Replace").clicked() {
-                        answer = Some(true);
-                    }
-                    if ui.button("Cancel").clicked() || ui.input(|i| i.key_pressed(Key::Escape)) {
-                        answer = Some(false);
-                    }
-                });
-            });
+            let answer = replace_question(ctx, "replace", &path, "Replacing it writes this cage over the file");
             match answer {
                 Some(true) => self.save_as(&path),
                 Some(false) => {}
@@ -350,4 +347,29 @@ impl EditorState {
             }
         }
     }
+}
+
+/// "PATH exists already. Replace it?": Some(true) for Replace, Some(false) for Cancel or Esc,
+/// `None` while the designer has not answered (ask again next frame). `consequence` says what
+/// replacing writes.
+pub(crate) fn replace_question(
+    ctx: &egui::Context,
+    id: &str,
+    path: &std::path::Path,
+    consequence: &str,
+) -> Option<bool> {
+    let mut answer = None;
+    egui::Modal::new(egui::Id::unique(id)).show(ctx, |ui| {
+        ui.label(format!("{} exists already. Replace it?", path.display()));
+        ui.label(format!("{consequence}; it cannot be undone."));
+        ui.horizontal(|ui| {
+            if ui.button("Replace").clicked() {
+                answer = Some(true);
+            }
+            if ui.button("Cancel").clicked() || ui.input(|i| i.key_pressed(Key::Escape)) {
+                answer = Some(false);
+            }
+        });
+    });
+    answer
 }

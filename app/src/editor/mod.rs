@@ -15,7 +15,7 @@ pub use file_menu::{cage_from_mesh, cage_job, new_primitive, primitives, step_ex
 pub use gpu::window;
 use session::selection_history;
 pub use session::{document, files, live, state};
-pub use tools::{gizmo, inset_drag, loop_slide, pivot, snapping, transform};
+pub use tools::{gizmo, pivot, snapping, transform};
 pub use workspaces::curves::workspace as curves;
 use workspaces::curves::{curves_history, curves_keys, curves_render};
 use workspaces::surface::legend;
@@ -54,4 +54,4 @@ mod step_export_tests;
 #[cfg(test)]
 mod tool_cancel_tests;
 pub mod ui;
-mod viewport;
+pub(crate) mod viewport;

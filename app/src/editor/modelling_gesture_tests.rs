@@ -94,13 +94,16 @@ fn e_then_the_mouse_moves_along_the_normal_and_esc_leaves_the_extrusion_in_place
     frames(&mut h);
     h.key_press(Key::E);
     frames(&mut h);
-    assert!(h.state().ui.transform.as_ref().is_some_and(|t| t.direction == Some(DVec3::Z)), "locked to +z");
+    assert!(
+        h.state().ui.tool.get::<crate::editor::transform::Transform>().is_some_and(|t| t.direction == Some(DVec3::Z)),
+        "locked to +z"
+    );
     for k in 1..=4 {
         h.hover_at(pos2(start.x + 5.0 * k as f32, start.y - 15.0 * k as f32));
         frames(&mut h);
     }
     click(&mut h, PointerButton::Primary, start + glam::Vec2::new(20.0, -60.0));
-    assert!(h.state().ui.transform.is_none());
+    assert!(h.state().ui.tool.get::<crate::editor::transform::Transform>().is_none());
     let doc = h.state().editor.document.doc().clone();
     let cap: Vec<_> = doc.cage.face_vertices(h.state().editor.selection.faces[0]).collect();
     for &v in &cap {
@@ -172,8 +175,8 @@ fn ctrl_r_previews_then_a_click_cuts_and_the_mouse_slides_to_the_cores_cut_in_on
     let (mut h, edge, before, [pa, pb]) = ctrl_r_over_the_front_edge();
     let middle = (pa + pb) * 0.5;
     frames(&mut h);
-    match &h.state().ui.loop_cut {
-        Some(super::loop_slide::LoopCutTool::Preview { edge: Some(e), lines, refusal: None }) => {
+    match h.state().ui.tool.get::<crate::editor::tools::loop_slide::LoopCutTool>() {
+        Some(super::tools::loop_slide::LoopCutTool::Preview { edge: Some(e), lines, refusal: None }) => {
             assert_eq!(*e, edge);
             assert_eq!(lines.len(), 4, "the ring round the cube: four new edges");
         }
@@ -192,7 +195,7 @@ fn ctrl_r_previews_then_a_click_cuts_and_the_mouse_slides_to_the_cores_cut_in_on
     let doc = h.state().editor.document.doc().clone();
     assert!(doc == reference && bits(&doc) == bits(&reference), "the slide lands on the core's cut at {fraction}");
     click(&mut h, PointerButton::Primary, to);
-    assert!(h.state().ui.loop_cut.is_none());
+    assert!(h.state().ui.tool.get::<crate::editor::tools::loop_slide::LoopCutTool>().is_none());
     h.key_press_modifiers(Modifiers::COMMAND, Key::Z);
     frames(&mut h);
     assert!(bits(h.state().editor.document.doc()) == bits(&before), "cut and slide are one undo step");
@@ -212,7 +215,7 @@ fn esc_while_sliding_cancels_the_whole_cut_and_leaves_no_undo_step() {
     let doc = h.state().editor.document.doc();
     assert!(doc == &before && bits(doc) == bits(&before));
     assert!(!h.state().editor.document.can_undo(), "nothing to undo");
-    assert!(h.state().ui.loop_cut.is_none());
+    assert!(h.state().ui.tool.get::<crate::editor::tools::loop_slide::LoopCutTool>().is_none());
 }
 
 /// What the core's region inset of the top face gives at `thickness`.
@@ -248,7 +251,13 @@ fn i_then_a_typed_or_dragged_thickness_lands_on_the_cores_inset_in_one_undo_step
     let end = centre + glam::Vec2::new(60.0, 0.0);
     h.hover_at(pos2(end.x, end.y));
     frames(&mut h);
-    let thickness = h.state().ui.inset_drag.as_ref().expect("the thickness follows the mouse").thickness;
+    let thickness = h
+        .state()
+        .ui
+        .tool
+        .get::<crate::editor::tools::inset_drag::InsetDrag>()
+        .expect("the thickness follows the mouse")
+        .thickness;
     let base = OFFSET_FRACTION * 1.0;
     let expected = base * f64::from((end - centre).length() / (start - centre).length());
     assert!((thickness - expected).abs() < 1e-12, "{thickness} vs {expected}");
@@ -258,7 +267,10 @@ fn i_then_a_typed_or_dragged_thickness_lands_on_the_cores_inset_in_one_undo_step
     h.key_press(Key::Escape);
     frames(&mut h);
     let reference = inset(&before, base);
-    assert!(bits(h.state().editor.document.doc()) == bits(&reference) && h.state().ui.inset_drag.is_none());
+    assert!(
+        bits(h.state().editor.document.doc()) == bits(&reference)
+            && h.state().ui.tool.get::<crate::editor::tools::inset_drag::InsetDrag>().is_none()
+    );
     h.key_press_modifiers(Modifiers::COMMAND, Key::Z);
     frames(&mut h);
     assert!(bits(h.state().editor.document.doc()) == bits(&before), "one undo step");
@@ -277,7 +289,7 @@ fn a_cage_replaced_under_a_gesture_ends_it_and_is_left_untouched() {
             frames(&mut h);
         }
         let ui = &h.state().ui;
-        assert!(ui.transform.is_some() || ui.loop_cut.is_some() || ui.inset_drag.is_some(), "a gesture runs");
+        assert!(ui.tool.is_running(), "a gesture runs");
         let fresh = super::primitives::cube();
         h.state_mut().editor.replace_document(super::document::EditorDocument::new(fresh.clone(), None));
         for k in 0..3 {
@@ -285,7 +297,7 @@ fn a_cage_replaced_under_a_gesture_ends_it_and_is_left_untouched() {
             frames(&mut h);
         }
         let ui = &h.state().ui;
-        assert!(ui.transform.is_none() && ui.loop_cut.is_none() && ui.inset_drag.is_none(), "the gesture ended");
+        assert!(!ui.tool.is_running(), "the gesture ended");
         let doc = h.state().editor.document.doc();
         assert!(doc == &fresh && bits(doc) == bits(&fresh), "the new cage is untouched");
     }

@@ -317,19 +317,25 @@ fn free_vertex_7() -> (Harness<'static, App>, f64) {
     (harness, gap)
 }
 
-/// Edit ▸ Undo through the menu bar, as a click on "Edit" and then on "Undo".
-fn menu_undo(harness: &mut Harness<'_, App>) {
-    harness.get_by_label("Edit").click();
-    frames(harness);
-    // The menu opens a frame after the click.
-    for _ in 0..5 {
-        if harness.query_by_label(UNDO_ITEM).is_some() {
-            break;
+/// Clicks through the menu bar: each label of `path` in turn, waiting for the menu to open
+/// (a menu opens a frame after its click), then runs the frame the command is applied in.
+pub(super) fn open_menu_item(h: &mut Harness<'static, App>, path: &[&str]) {
+    for label in path {
+        for _ in 0..5 {
+            if h.query_by_label(label).is_some() {
+                break;
+            }
+            frames(h);
         }
-        frames(harness);
+        h.get_by_label(label).click();
+        frames(h);
     }
-    harness.get_by_label(UNDO_ITEM).click();
-    frames(harness);
+    frames(h);
+}
+
+/// Edit ▸ Undo through the menu bar, as a click on "Edit" and then on "Undo".
+fn menu_undo(harness: &mut Harness<'static, App>) {
+    open_menu_item(harness, &["Edit", UNDO_ITEM]);
 }
 
 /// Unticking "fixed" on the selected vertex frees it: the document says so, the surface stops

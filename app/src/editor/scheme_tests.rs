@@ -70,7 +70,10 @@ fn creases_are_set_by_slider_and_by_shift_e_with_the_mouse() {
     frames(&mut harness);
     harness.key_press_modifiers(Modifiers::SHIFT, Key::E);
     frames(&mut harness);
-    assert!(harness.state().ui.crease_drag.is_some(), "Shift+E starts creasing");
+    assert!(
+        harness.state().ui.tool.get::<crate::editor::tools::crease_drag::CreaseDrag>().is_some(),
+        "Shift+E starts creasing"
+    );
     for k in 1..=6 {
         harness.hover_at(pos2(start.x + 25.0 * k as f32, start.y));
         frames(&mut harness);
@@ -79,7 +82,7 @@ fn creases_are_set_by_slider_and_by_shift_e_with_the_mouse() {
     frames(&mut harness);
     harness.drop_at(pos2(start.x + 150.0, start.y));
     frames(&mut harness);
-    assert!(harness.state().ui.crease_drag.is_none());
+    assert!(harness.state().ui.tool.get::<crate::editor::tools::crease_drag::CreaseDrag>().is_none());
     assert_eq!(crease(&harness), vec![1.5, 1.5]);
     assert_eq!(harness.state().editor.selection.edges, edges, "the click that sets the crease selects nothing");
     harness.key_press_modifiers(Modifiers::COMMAND, Key::Z);
@@ -104,7 +107,7 @@ fn creases_are_set_by_slider_and_by_shift_e_with_the_mouse() {
     harness.state_mut().editor.edit(Edit::SetScheme(SchemeKind::Nusd));
     harness.key_press_modifiers(Modifiers::SHIFT, Key::E);
     frames(&mut harness);
-    assert!(harness.state().ui.crease_drag.is_none());
+    assert!(harness.state().ui.tool.get::<crate::editor::tools::crease_drag::CreaseDrag>().is_none());
     assert!(harness.state().editor.notice.as_ref().unwrap().text.contains("subdivision schemes"));
 }
 
@@ -122,7 +125,10 @@ fn corners_are_set_by_shift_v_and_the_panel_and_the_surface_keeps_a_sharp_corner
     frames(&mut harness);
     harness.key_press_modifiers(Modifiers::SHIFT, Key::V);
     frames(&mut harness);
-    assert!(harness.state().ui.crease_drag.is_some(), "Shift+V starts sharpening");
+    assert!(
+        harness.state().ui.tool.get::<crate::editor::tools::crease_drag::CreaseDrag>().is_some(),
+        "Shift+V starts sharpening"
+    );
     for k in 1..=4 {
         harness.hover_at(pos2(start.x + 50.0 * k as f32, start.y));
         frames(&mut harness);
@@ -155,7 +161,7 @@ fn corners_are_set_by_shift_v_and_the_panel_and_the_surface_keeps_a_sharp_corner
     harness.state_mut().editor.edit(Edit::SetScheme(SchemeKind::Nusd));
     harness.key_press_modifiers(Modifiers::SHIFT, Key::V);
     frames(&mut harness);
-    assert!(harness.state().ui.crease_drag.is_none());
+    assert!(harness.state().ui.tool.get::<crate::editor::tools::crease_drag::CreaseDrag>().is_none());
     assert!(harness.state().editor.notice.as_ref().unwrap().text.contains("subdivision schemes"));
 }
 

@@ -6,9 +6,10 @@
 
 use super::mesh_ops::MeshOp;
 use super::mesh_ops_tests::top_face;
-use super::panel_tests::{App, cube_editor, frames};
+use super::panel_tests::{App, cube_editor, frames, open_menu_item};
 use super::select_modes::SelectMode;
 use super::shortcuts::{Action, SHORTCUTS};
+use super::tools::TOOLS;
 use super::transform::TransformKind;
 use egui::{Modifiers, pos2};
 use egui_kittest::Harness;
@@ -58,62 +59,107 @@ fn bits(doc: &Document) -> (Vec<[u64; 3]>, Vec<Vec<u32>>) {
 /// True while any modal tool runs.
 fn tool_running(h: &Harness<'static, App>) -> bool {
     let ui = &h.state().ui;
-    ui.transform.is_some() || ui.loop_cut.is_some() || ui.inset_drag.is_some() || ui.crease_drag.is_some()
+    ui.tool.is_running()
+}
+
+/// The selection a listed tool needs and what Esc leaves.
+fn needs(action: Action) -> (&'static str, AfterEsc) {
+    match action {
+        Action::Transform(TransformKind::Grab) | Action::Corner => ("vertex", AfterEsc::Unchanged),
+        Action::Transform(_) => ("face", AfterEsc::Unchanged),
+        Action::Crease | Action::Mesh(MeshOp::LoopCut) => ("edge", AfterEsc::Unchanged),
+        Action::Mesh(op @ (MeshOp::Extrude | MeshOp::Inset)) => ("face", AfterEsc::AsTheMenu(op)),
+        other => panic!("{other:?} is listed as a tool: say here what it needs"),
+    }
 }
 
 #[test]
-fn every_modal_tool_starts_from_its_listed_key_and_esc_cancels_it_cleanly() {
-    let tools: [(Action, &str, AfterEsc); 8] = [
-        (Action::Transform(TransformKind::Grab), "vertex", AfterEsc::Unchanged),
-        (Action::Transform(TransformKind::Rotate), "face", AfterEsc::Unchanged),
-        (Action::Transform(TransformKind::Scale), "face", AfterEsc::Unchanged),
-        (Action::Crease, "edge", AfterEsc::Unchanged),
-        (Action::Corner, "vertex", AfterEsc::Unchanged),
-        (Action::Mesh(MeshOp::LoopCut), "edge", AfterEsc::Unchanged),
-        (Action::Mesh(MeshOp::Extrude), "face", AfterEsc::AsTheMenu(MeshOp::Extrude)),
-        (Action::Mesh(MeshOp::Inset), "face", AfterEsc::AsTheMenu(MeshOp::Inset)),
-    ];
-    for (action, selection, after) in tools {
+fn every_listed_tool_starts_from_its_key_and_its_menu_entry_and_esc_cancels_it_cleanly() {
+    assert_eq!(TOOLS.len(), 8, "the tools a key starts");
+    for tool in TOOLS {
+        let action = tool.action;
+        let (selection, after) = needs(action);
         let subdivision = matches!(action, Action::Crease | Action::Corner);
-        // The key comes from the listing; Help shows the same table.
+        // The key comes from the shortcut table, which Help shows.
         let shortcut = SHORTCUTS.iter().find(|s| s.action == action).unwrap_or_else(|| panic!("{action:?} has a key"));
         assert!(!super::shortcuts::describe(action).is_empty(), "{action:?} is described in Help");
-        let mut h = prepared(selection, subdivision);
-        let before = h.state().editor.document.doc().clone();
-        let undo_before = h.state().editor.document.can_undo();
-        h.hover_at(pos2(640.0, 400.0));
-        frames(&mut h);
-        let modifiers =
-            Modifiers { command: shortcut.command, shift: shortcut.shift, alt: shortcut.alt, ..Default::default() };
-        h.key_press_modifiers(modifiers, shortcut.key);
-        frames(&mut h);
-        assert!(tool_running(&h), "{action:?} ({}) starts its tool", shortcut.label());
-        // The mouse moves the tool.
-        for k in 1..=3 {
-            h.hover_at(pos2(640.0 + 25.0 * k as f32, 400.0 - 15.0 * k as f32));
+        for via_menu in [false, true] {
+            let how = if via_menu { "Tools menu" } else { "key" };
+            let mut h = prepared(selection, subdivision);
+            let before = h.state().editor.document.doc().clone();
+            let undo_before = h.state().editor.document.can_undo();
+            h.hover_at(pos2(640.0, 400.0));
             frames(&mut h);
-        }
-        h.key_press(egui::Key::Escape);
-        frames(&mut h);
-        assert!(!tool_running(&h), "{action:?}: Esc ends the tool");
-        let now = h.state().editor.document.doc().clone();
-        match after {
-            AfterEsc::Unchanged => {
-                assert!(now == before && bits(&now) == bits(&before), "{action:?}: Esc puts the document back");
-                assert_eq!(h.state().editor.document.can_undo(), undo_before, "{action:?}: no empty undo step");
+            if via_menu {
+                open_menu_item(&mut h, &["Tools", &format!("{}  {}", tool.name, shortcut.label())]);
+            } else {
+                let modifiers = Modifiers {
+                    command: shortcut.command,
+                    shift: shortcut.shift,
+                    alt: shortcut.alt,
+                    ..Default::default()
+                };
+                h.key_press_modifiers(modifiers, shortcut.key);
+                frames(&mut h);
             }
-            AfterEsc::AsTheMenu(op) => {
-                let mut menu = prepared(selection, subdivision);
-                let app = menu.state_mut();
-                app.editor.run_action(Action::Mesh(op), &mut app.ui);
-                // The menu's operation with the same size, without a drag.
-                let ui = &mut menu.state_mut().ui;
-                ui.transform = None;
-                ui.inset_drag = None;
-                menu.state_mut().editor.document.end_gesture();
-                let made = menu.state().editor.document.doc().clone();
-                assert!(now == made && bits(&now) == bits(&made), "{action:?}: Esc leaves the menu's {op:?}");
+            assert!(tool_running(&h), "{action:?} ({}, {how}) starts its tool", shortcut.label());
+            // The mouse moves the tool.
+            for k in 1..=3 {
+                h.hover_at(pos2(640.0 + 25.0 * k as f32, 400.0 - 15.0 * k as f32));
+                frames(&mut h);
+            }
+            h.key_press(egui::Key::Escape);
+            frames(&mut h);
+            assert!(!tool_running(&h), "{action:?} ({how}): Esc ends the tool");
+            let now = h.state().editor.document.doc().clone();
+            match after {
+                AfterEsc::Unchanged => {
+                    assert!(
+                        now == before && bits(&now) == bits(&before),
+                        "{action:?} ({how}): Esc puts the document back"
+                    );
+                    assert_eq!(h.state().editor.document.can_undo(), undo_before, "{action:?}: no empty undo step");
+                }
+                AfterEsc::AsTheMenu(op) => {
+                    let mut menu = prepared(selection, subdivision);
+                    menu.state_mut().editor.mesh_op(op);
+                    let made = menu.state().editor.document.doc().clone();
+                    assert!(
+                        now == made && bits(&now) == bits(&made),
+                        "{action:?} ({how}): Esc leaves the menu's {op:?}"
+                    );
+                }
             }
         }
     }
+}
+
+#[test]
+fn esc_during_a_box_select_drops_the_box_and_keeps_the_selection() {
+    let mut h = prepared("vertex", false);
+    let selected = h.state().editor.selection.vertices.clone();
+    assert!(!selected.is_empty());
+    // A corner of the viewport, away from the cube.
+    let from = pos2(300.0, 60.0);
+    let press = |pos, pressed| egui::Event::PointerButton {
+        pos,
+        button: egui::PointerButton::Primary,
+        pressed,
+        modifiers: Modifiers::NONE,
+    };
+    h.hover_at(from);
+    frames(&mut h);
+    h.input_mut().events.push(press(from, true));
+    frames(&mut h);
+    for k in 1..=6 {
+        h.hover_at(pos2(300.0 + 60.0 * k as f32, 60.0 + 50.0 * k as f32));
+        frames(&mut h);
+    }
+    assert!(h.state().ui.tool.get::<super::tools::box_select::BoxSelect>().is_some(), "a box is drawn");
+    h.key_press(egui::Key::Escape);
+    frames(&mut h);
+    assert!(!tool_running(&h), "Esc drops the box");
+    h.input_mut().events.push(press(pos2(660.0, 360.0), false));
+    frames(&mut h);
+    assert_eq!(h.state().editor.selection.vertices, selected, "the selection is as it was");
 }

@@ -5,15 +5,12 @@
 //! [`super::panels`], the viewport's mouse handling in [`super::viewport`], the keys in
 //! [`super::shortcuts`].
 
-use super::document::{Edit, EditorDocument};
+use super::document::EditorDocument;
 use super::files::Recovery;
-use super::interaction::Axis;
 use super::select_modes;
 use super::shortcuts::{self, Action};
 use super::state::EditorState;
-use egui::Key;
 use std::path::PathBuf;
-use taut_core::{DVec3, VertexId};
 use taut_render::StandardView;
 
 /// What a file path is asked for.
@@ -80,24 +77,6 @@ pub enum Pending {
     Quit,
 }
 
-/// A drag of cage vertices in progress.
-#[derive(Clone, Debug)]
-pub(super) struct VertexDrag {
-    /// The dragged vertices where the drag began, in model coordinates.
-    pub(super) start: Vec<(VertexId, DVec3)>,
-    pub(super) mouse_start: glam::Vec2,
-    pub(super) axis: Option<Axis>,
-}
-
-/// A rubber band being drawn: its corners, and whether it adds to the selection (Shift was held
-/// when it began: letting go of Shift before the button does not change what it does).
-#[derive(Clone, Copy, Debug)]
-pub(super) struct BoxSelect {
-    pub(super) from: glam::Vec2,
-    pub(super) to: glam::Vec2,
-    pub(super) add: bool,
-}
-
 /// Dialog and gesture state of the UI.
 #[derive(Debug, Default)]
 pub struct UiState {
@@ -118,8 +97,8 @@ pub struct UiState {
     pub screenshot: Option<PathBuf>,
     /// The viewport's rectangle in physical pixels, for the renderer.
     pub viewport_px: Option<[u32; 4]>,
-    pub(super) drag: Option<VertexDrag>,
-    pub(super) box_select: Option<BoxSelect>,
+    /// The modal tool running, if any (it has the keyboard and the viewport's primary button).
+    pub tool: super::tools::tool::ActiveTool,
     /// Tension slider values while a slider is held (one undo step a movement).
     pub(super) slider_active: bool,
     /// Use the in-app path field even when a system dialog might exist (tests, Xvfb).
@@ -132,45 +111,30 @@ pub struct UiState {
     pub(super) focus_path_field: bool,
     /// The actions run by shortcuts and menus, newest last (the last 64; for tests and support).
     pub action_log: Vec<Action>,
-    /// Shift+E: the crease sharpness follows the mouse until a click or Enter.
-    pub(super) crease_drag: Option<CreaseDrag>,
     /// The pointer's last position over the viewport, in points.
     pub(super) pointer: Option<glam::Vec2>,
     /// Drags and questions of the curve-mesh scheme.
     pub curve_mesh: super::curve_mesh_edit::CurveMeshUi,
     /// File ▸ New with counts: the open dialog.
     pub(super) new_primitive: Option<super::new_primitive::NewPrimitive>,
-    /// G, R or S under way.
-    pub(super) transform: Option<super::transform::Transform>,
-    /// Ctrl+R: the loop cut's preview or slide.
-    pub(super) loop_cut: Option<super::loop_slide::LoopCutTool>,
-    /// I: the inset's thickness following the mouse.
-    pub(super) inset_drag: Option<super::inset_drag::InsetDrag>,
     /// File ▸ Export surface as STEP…: its options and "Replace it?".
     pub step_export: super::step_export::StepExportUi,
 }
 
-/// A crease being set with the mouse (Shift+E, as in Blender), or a corner (Shift+V: the
-/// sharpness of vertices, when `vertices` is not empty).
-#[derive(Clone, Debug)]
-pub(super) struct CreaseDrag {
-    pub(super) edges: Vec<taut_core::EdgeId>,
-    pub(super) vertices: Vec<taut_core::VertexId>,
-    /// The sharpness of each edge when it began (Esc puts them back).
-    pub(super) start: Vec<f64>,
-    /// Where the mouse was when it began (x, in points); `None` until the pointer is seen.
-    pub(super) mouse_start: Option<f32>,
-    /// The sharpness now.
-    pub(super) value: f64,
-}
-
-fn ctx_pointer_x(ui_state: &UiState) -> Option<f32> {
-    ui_state.pointer.map(|p| p.x)
-}
-
 impl EditorState {
-    /// Draws the whole UI for one frame and handles its input.
+    /// One frame of the UI: lays it out, taking the input (panels, menus and keys emit
+    /// commands; a running tool moves), then applies the frame's commands
+    /// ([`super::session::commands`]).
     pub fn ui(&mut self, ui_root: &mut egui::Ui, ui_state: &mut UiState) {
+        self.lay_out(ui_root, ui_state);
+        if self.apply_commands(ui_state) {
+            // What the commands changed is shown by the next frame, at once.
+            ui_root.ctx().request_repaint();
+        }
+    }
+
+    /// Draws the whole UI for one frame and handles its input.
+    fn lay_out(&mut self, ui_root: &mut egui::Ui, ui_state: &mut UiState) {
         let ctx = ui_root.ctx().clone();
         // The selection this state began with, for undo and redo to put back.
         self.note_selection();
@@ -221,35 +185,7 @@ impl EditorState {
         {
             return;
         }
-        if ui_state.transform.is_some() {
-            self.transform_keys(ctx, ui_state);
-            return;
-        }
-        if ui_state.crease_drag.is_some() {
-            // While creasing, Enter sets and Esc cancels; nothing else runs.
-            let (enter, escape) =
-                ctx.input_mut(|i| (shortcuts::take_plain(i, Key::Enter), shortcuts::take_plain(i, Key::Escape)));
-            if enter {
-                self.finish_crease_drag(ui_state, true);
-            } else if escape {
-                self.finish_crease_drag(ui_state, false);
-            }
-            return;
-        }
-        if self.loop_cut_keys(ctx, ui_state) || self.inset_keys(ctx, ui_state) {
-            return;
-        }
-        if self.curve_mesh_drag_keys(ctx, ui_state) {
-            return;
-        }
-        if let Some(drag) = &mut ui_state.drag {
-            // While dragging, X, Y and Z lock an axis and Esc cancels; nothing else runs.
-            if super::navigation::drag_keys(ctx, &mut drag.axis) {
-                let start = drag.start.clone();
-                self.edit(Edit::MoveVertices(start));
-                self.document.end_gesture();
-                ui_state.drag = None;
-            }
+        if ui_state.tool.keys(self, ctx) {
             return;
         }
         if self.curves.workspace == taut_core::curve::Workspace::Curves {
@@ -258,12 +194,12 @@ impl EditorState {
             }
         }
         for action in ctx.input_mut(shortcuts::pressed) {
-            self.run_action(action, ui_state);
+            self.emit_action(action);
         }
     }
 
     /// Runs what a shortcut or a menu entry asks for.
-    pub(super) fn run_action(&mut self, action: Action, ui_state: &mut UiState) {
+    pub(crate) fn run_action(&mut self, action: Action, ui_state: &mut UiState) {
         if ui_state.action_log.len() == 64 {
             ui_state.action_log.remove(0);
         }
@@ -291,10 +227,7 @@ impl EditorState {
                 let mode = self.selection.mode;
                 select_modes::set_mode(&self.document.doc().cage, &mut self.selection, mode);
             }
-            Action::SelectNone => {
-                self.selection.clear();
-                ui_state.box_select = None;
-            }
+            Action::SelectNone => self.selection.clear(),
             Action::FrameAll => self.frame_all(),
             Action::FrameSelection if self.curves.workspace == taut_core::curve::Workspace::Curves => {
                 self.frame_curves_selection()
@@ -305,8 +238,7 @@ impl EditorState {
             Action::ViewTop => self.camera.set_view(StandardView::Top),
             Action::ViewPerspective => self.camera.set_view(StandardView::Perspective),
             Action::ShowShortcuts => ui_state.show_shortcuts = true,
-            Action::Crease => self.start_crease_drag(ctx_pointer_x(ui_state), ui_state),
-            Action::Corner => self.start_corner_drag(ctx_pointer_x(ui_state), ui_state),
+            Action::Crease | Action::Corner | Action::Transform(_) => self.start_listed_tool(action, ui_state),
             Action::CycleSelectMode => {
                 let mode = self.selection.mode.next();
                 select_modes::set_mode(&self.document.doc().cage, &mut self.selection, mode);
@@ -315,15 +247,21 @@ impl EditorState {
             Action::SelectLinked => select_modes::select_linked(&self.document.doc().cage, &mut self.selection),
             Action::SelectMore => select_modes::select_more(&self.document.doc().cage, &mut self.selection),
             Action::SelectLess => select_modes::select_less(&self.document.doc().cage, &mut self.selection),
-            Action::Mesh(super::mesh_ops::MeshOp::Extrude) => self.extrude_and_move(ui_state),
-            Action::Mesh(super::mesh_ops::MeshOp::LoopCut) => self.start_loop_cut(ui_state),
-            Action::Mesh(super::mesh_ops::MeshOp::Inset) => self.inset_and_drag(ui_state),
-            Action::Mesh(op) => self.mesh_op(op),
-            Action::Transform(kind) => self.start_transform(kind, ui_state),
+            Action::Mesh(op) if super::tools::listed(action).is_none() => self.mesh_op(op),
+            Action::Mesh(_) => self.start_listed_tool(action, ui_state),
             Action::ToggleGizmo => self.toggle_gizmo(),
             Action::CyclePivot => self.cycle_pivot(),
             Action::ToggleMirror => self.toggle_mirror(),
             Action::ToggleXray => self.toggle_xray(),
+        }
+    }
+
+    /// Starts the tool [`super::tools::TOOLS`] lists for `action`.
+    fn start_listed_tool(&mut self, action: Action, ui_state: &mut UiState) {
+        let Some(entry) = super::tools::listed(action) else { return };
+        ui_state.tool.end(self, super::tools::tool::End::Keep);
+        if let Some(tool) = (entry.start)(self, ui_state.pointer) {
+            ui_state.tool.start(self, tool);
         }
     }
 

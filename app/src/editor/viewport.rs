@@ -8,27 +8,48 @@
 //! into them for picking, and a drag's result is taken back to model coordinates, so any finite
 //! cage can be picked and dragged.
 
-use super::document::Edit;
-use super::interaction::{self, ViewportRect};
+use super::interaction::ViewportRect;
 use super::select_modes::SelectMode;
 use super::state::EditorState;
-use super::ui::{BoxSelect, UiState, VertexDrag};
+use super::tools::tool::Pointer;
+use super::tools::vertex_drag::VertexDrag;
+use super::transform::Transform;
+use super::ui::UiState;
 
 use super::legend::{draw_legend, legend_strip};
 use egui::{PointerButton, Sense};
-use taut_core::{DVec3, PolyMesh, VertexId};
+use taut_core::PolyMesh;
+
+/// Lays out a workspace's viewport over the space left: its response, its rectangle in points
+/// (the units interaction works in; the renderer is told it in physical pixels), and the
+/// pointer over it (kept in `ui_state` for the tools a key starts).
+pub(crate) fn allocate(
+    ui: &mut egui::Ui,
+    ui_state: &mut UiState,
+) -> (egui::Response, ViewportRect, Option<glam::Vec2>) {
+    let (rect, response) = ui.allocate_exact_size(ui.available_size(), Sense::click_and_drag());
+    let ppp = ui.ctx().pixels_per_point();
+    ui_state.viewport_px = Some([
+        (rect.min.x * ppp).round().max(0.0) as u32,
+        (rect.min.y * ppp).round().max(0.0) as u32,
+        (rect.width() * ppp).round().max(1.0) as u32,
+        (rect.height() * ppp).round().max(1.0) as u32,
+    ]);
+    let view = ViewportRect {
+        min: glam::Vec2::new(rect.min.x, rect.min.y),
+        size: glam::Vec2::new(rect.width(), rect.height()),
+    };
+    let mouse = ui.ctx().input(|i| i.pointer.hover_pos()).map(|p| glam::Vec2::new(p.x, p.y));
+    if mouse.is_some() {
+        ui_state.pointer = mouse;
+    }
+    (response, view, mouse)
+}
 
 impl EditorState {
     pub(super) fn viewport(&mut self, ui: &mut egui::Ui, ui_state: &mut UiState) {
-        let (rect, response) = ui.allocate_exact_size(ui.available_size(), Sense::click_and_drag());
-        let ppp = ui.ctx().pixels_per_point();
-        let [px, py, pw, ph] = [
-            (rect.min.x * ppp).round().max(0.0) as u32,
-            (rect.min.y * ppp).round().max(0.0) as u32,
-            (rect.width() * ppp).round().max(1.0) as u32,
-            (rect.height() * ppp).round().max(1.0) as u32,
-        ];
-        ui_state.viewport_px = Some([px, py, pw, ph]);
+        let (response, view, mouse) = allocate(ui, ui_state);
+        let rect = response.rect;
         // A legend takes a strip at the right, drawn here with the UI's font; the model is
         // framed in the rest.
         let margin = match self.curve_mesh_legend().or_else(|| self.legend()) {
@@ -41,49 +62,17 @@ impl EditorState {
         };
         self.viewport_shape = (rect.width() / rect.height().max(1.0), margin);
         self.keep_new_document_framed();
-        // Interaction works in points; the viewport rectangle in the same units.
-        let view = ViewportRect {
-            min: glam::Vec2::new(rect.min.x, rect.min.y),
-            size: glam::Vec2::new(rect.width(), rect.height()),
-        };
-        let (shift, pointer) = ui.ctx().input(|i| (i.modifiers.shift, i.pointer.hover_pos()));
-        let mouse = pointer.map(|p| glam::Vec2::new(p.x, p.y));
-        if mouse.is_some() {
-            ui_state.pointer = mouse;
-        }
-        if ui_state.transform.is_some() {
-            self.transform_viewport(ui, &response, &view, mouse, ui_state);
-            return;
-        }
+        let pointer = Pointer { ui, response: &response, view, mouse };
         let cage = self.display_cage();
-        if ui_state.crease_drag.is_some() {
-            // Shift+E: the mouse sets the crease; a click sets it, a right click cancels.
-            if let Some(m) = mouse {
-                self.move_crease_drag(m.x, ui_state);
-            }
-            if response.clicked_by(PointerButton::Primary) {
-                self.finish_crease_drag(ui_state, true);
-            } else if response.clicked_by(PointerButton::Secondary) {
-                self.finish_crease_drag(ui_state, false);
-            }
-            if let Some(cd) = &ui_state.crease_drag {
-                let value = if cd.value == f64::INFINITY { "sharp".to_string() } else { format!("{:.2}", cd.value) };
-                ui.painter_at(rect).text(
-                    rect.left_top() + egui::vec2(8.0, 8.0),
-                    egui::Align2::LEFT_TOP,
-                    format!(
-                        "{} s = {value}: move the mouse, click or Enter to set, Esc cancels",
-                        if cd.vertices.is_empty() { "crease" } else { "corner" }
-                    ),
-                    egui::FontId::proportional(14.0),
-                    egui::Color32::WHITE,
-                );
-            }
+        if !ui_state.tool.navigates() {
+            // G, R, S and the crease drags follow the bare mouse: nothing else has it.
+            ui_state.tool.pointer(self, &pointer);
+            self.gizmo_overlay(ui, rect, &view, ui_state);
             return;
         }
 
-        // Hover.
-        if ui_state.drag.is_none() {
+        // Hover, unless vertices are being dragged.
+        if ui_state.tool.get::<VertexDrag>().is_none() {
             let hovered = response.hovered().then_some(mouse).flatten();
             self.hover_in_mode(&view, &cage, hovered);
         }
@@ -91,70 +80,47 @@ impl EditorState {
         // Navigation, as in every viewport.
         super::navigation::navigate(&mut self.camera, ui, &response, rect.height());
 
-        if ui_state.loop_cut.is_some() {
-            self.loop_cut_viewport(ui, &response, &view, mouse, ui_state);
-            return;
-        }
-        if ui_state.inset_drag.is_some() {
-            self.inset_viewport(ui, &response, &view, mouse, ui_state);
-            return;
-        }
-        if self.curve_mesh_viewport(ui, &response, &view, mouse, ui_state) {
-            if self.busy() {
-                ui.ctx().request_repaint();
+        if ui_state.tool.pointer(self, &pointer) {
+            self.gizmo_overlay(ui, rect, &view, ui_state);
+        } else if self.curve_mesh_viewport(&pointer, &mut ui_state.tool) {
+        } else if self.gizmo_viewport(ui, &response, &view, &cage, mouse, &mut ui_state.tool) {
+            if ui_state.tool.is_running() {
+                ui_state.tool.pointer(self, &pointer);
             }
-            return;
+        } else {
+            self.select_and_drag(&pointer, &cage, ui_state);
+            self.gizmo_overlay(ui, rect, &view, ui_state);
         }
-
-        if self.gizmo_viewport(ui, &response, &view, &cage, mouse, ui_state) {
-            return;
+        if self.busy() {
+            ui.ctx().request_repaint();
         }
+    }
 
-        // Selection and dragging with the primary button.
+    /// The gizmo over the viewport, when the running tool (if any) shows it.
+    fn gizmo_overlay(&mut self, ui: &egui::Ui, rect: egui::Rect, view: &ViewportRect, ui_state: &UiState) {
+        if ui_state.tool.shows_gizmo() {
+            self.draw_gizmo(&ui.painter_at(rect), view, ui_state.tool.get::<Transform>().is_some());
+        }
+    }
+
+    /// The primary button with no tool running: a click selects (Shift adds), a press on a cage
+    /// vertex starts dragging the selection, a press elsewhere a box.
+    fn select_and_drag(&mut self, pointer: &Pointer, cage: &PolyMesh, ui_state: &mut UiState) {
+        let (ui, response, view, mouse) = (pointer.ui, pointer.response, pointer.view, pointer.mouse);
+        let shift = ui.ctx().input(|i| i.modifiers.shift);
+        // A press starts a drag of the selection from a cage vertex, or a box elsewhere.
         if response.drag_started_by(PointerButton::Primary) {
             let origin = ui.ctx().input(|i| i.pointer.press_origin()).map(|p| glam::Vec2::new(p.x, p.y)).or(mouse);
             if let Some(origin) = origin {
-                match self.drag_handle(&view, &cage, origin, shift) {
-                    Some(()) => {
-                        let model = &self.document.doc().cage;
-                        let start: Vec<(VertexId, DVec3)> = self
-                            .selected_vertices_with_edge_ends()
-                            .into_iter()
-                            .map(|v| (v, model.position(v)))
-                            .collect();
-                        self.document.begin_gesture();
-                        ui_state.drag = Some(VertexDrag { start, mouse_start: origin, axis: None });
-                    }
+                let tool = match self.drag_handle(&view, cage, origin, shift) {
+                    Some(()) => super::tools::vertex_drag::start(self, origin),
                     None => {
-                        self.say_missed_pick(&view, &cage, origin);
-                        ui_state.box_select = Some(BoxSelect { from: origin, to: origin, add: shift });
+                        self.say_missed_pick(&view, cage, origin);
+                        super::tools::box_select::start(origin, shift)
                     }
-                }
-            }
-        }
-        if response.dragged_by(PointerButton::Primary)
-            && let Some(m) = mouse
-        {
-            if let Some(drag) = &ui_state.drag {
-                let frame = self.display_frame;
-                let start: Vec<(VertexId, DVec3)> =
-                    drag.start.iter().map(|&(v, p)| (v, frame.to_display_f64(p))).collect();
-                let moved = interaction::drag_positions(&self.camera, &view, &start, drag.mouse_start, m, drag.axis);
-                self.edit(Edit::MoveVertices(moved.into_iter().map(|(v, p)| (v, frame.to_model(p))).collect()));
-            } else if let Some(band) = &mut ui_state.box_select {
-                band.to = m;
-            }
-        }
-        if response.drag_stopped_by(PointerButton::Primary) {
-            if ui_state.drag.take().is_some() {
-                self.document.end_gesture();
-            }
-            if let Some(band) = ui_state.box_select.take() {
-                if !band.add {
-                    self.selection.clear();
-                }
-                let boxed = self.box_cage(&view, &cage, band.from, band.to);
-                self.box_select_in_mode(boxed);
+                };
+                ui_state.tool.start(self, tool);
+                ui_state.tool.pointer(self, pointer);
             }
         }
         if response.clicked_by(PointerButton::Primary)
@@ -168,7 +134,7 @@ impl EditorState {
                 SelectMode::Face => s.hovered_face.is_none(),
             };
             if missed {
-                self.say_missed_pick(&view, &cage, m);
+                self.say_missed_pick(&view, cage, m);
             }
         }
         if response.clicked_by(PointerButton::Primary)
@@ -180,35 +146,6 @@ impl EditorState {
                 (None, None) if !shift => self.selection.clear(),
                 _ => {}
             }
-        }
-
-        // What is drawn in the viewport by egui itself: the box and the drag axis.
-        let painter = ui.painter_at(rect);
-        if let Some(band) = ui_state.box_select {
-            let r = egui::Rect::from_two_pos(egui::pos2(band.from.x, band.from.y), egui::pos2(band.to.x, band.to.y));
-            painter.rect_stroke(
-                r,
-                0.0,
-                egui::Stroke::new(1.0, egui::Color32::from_rgb(255, 170, 60)),
-                egui::StrokeKind::Inside,
-            );
-        }
-        if let Some(drag) = &ui_state.drag {
-            let text = match drag.axis {
-                Some(axis) => format!("moving along {axis:?} (X, Y, Z to change, Esc to cancel)"),
-                None => "moving in the view plane (X, Y or Z locks an axis, Esc cancels)".to_string(),
-            };
-            painter.text(
-                rect.left_top() + egui::vec2(8.0, 8.0),
-                egui::Align2::LEFT_TOP,
-                text,
-                egui::FontId::proportional(14.0),
-                egui::Color32::WHITE,
-            );
-        }
-        self.draw_gizmo(&painter, &view, ui_state);
-        if self.busy() {
-            ui.ctx().request_repaint();
         }
     }
 

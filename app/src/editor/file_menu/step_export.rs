@@ -207,19 +207,12 @@ impl EditorState {
             }
         }
         if let Some(path) = ui_state.step_export.replace.take() {
-            let mut answer = None;
-            egui::Modal::new(egui::Id::unique("step replace")).show(ctx, |ui| {
-                ui.label(format!("{} exists already. Replace it?", path.display()));
-                ui.label("Replacing it writes the STEP file over it; it cannot be undone.");
-                ui.horizontal(|ui| {
-                    if ui.button("Replace").clicked() {
-                        answer = Some(true);
-                    }
-                    if ui.button("Cancel").clicked() || ui.input(|i| i.key_pressed(Key::Escape)) {
-                        answer = Some(false);
-                    }
-                });
-            });
+            let answer = crate::editor::menus::replace_question(
+                ctx,
+                "step replace",
+                &path,
+                "Replacing it writes the STEP file over it",
+            );
             match answer {
                 Some(true) => {
                     let options = ui_state.step_export.options.unwrap_or_else(|| self.default_step_options(ui_state));

@@ -5,18 +5,22 @@
 //! click or Enter confirms; Esc or a right click leaves the extrusion where the extrusion put it.
 //! Extrusion and move are one gesture, so one undo step. X, Y, Z or a plane lock replace the
 //! normal lock as in any grab.
-//!
-//! I (inset) is not followed by a mouse-driven thickness yet: it insets by the menu's fraction.
 
 use crate::editor::mesh_ops::MeshOp;
 use crate::editor::state::EditorState;
-use crate::editor::transform::TransformKind;
-use crate::editor::ui::UiState;
+use crate::editor::tools::tool::Tool;
+use crate::editor::transform::{Transform, TransformKind};
+use glam::Vec2;
 use taut_core::DVec3;
 
+/// E: extrude the selection, then move what it lifted along the mean normal until a click.
+pub(crate) fn start(editor: &mut EditorState, mouse: Option<Vec2>) -> Option<Box<dyn Tool>> {
+    editor.extrude_and_move(mouse).map(|t| Box::new(t) as Box<dyn Tool>)
+}
+
 impl EditorState {
-    /// E: extrude the selection, then move what it lifted along the mean normal until a click.
-    pub(crate) fn extrude_and_move(&mut self, ui_state: &mut UiState) {
+    /// Extrudes the selection and starts the grab of what it lifted (one gesture).
+    fn extrude_and_move(&mut self, mouse: Option<Vec2>) -> Option<Transform> {
         let before = self.selected_vertices_with_edge_ends();
         let cage = &self.document.doc().cage;
         let old_mean = mean(before.iter().map(|&v| cage.position(v)));
@@ -26,7 +30,7 @@ impl EditorState {
         if self.document.revision() == revision {
             // Refused (the message is shown): nothing to move.
             self.document.end_gesture();
-            return;
+            return None;
         }
         let cage = &self.document.doc().cage;
         let area: DVec3 = self.selection.faces.iter().map(|&f| cage.face_area_vector(f)).sum();
@@ -35,12 +39,15 @@ impl EditorState {
             .into_iter()
             .map(|d| d.normalize_or_zero())
             .find(|d| d.is_finite() && *d != DVec3::ZERO);
-        match self.new_transform(TransformKind::Grab, ui_state.pointer) {
+        match self.new_transform(TransformKind::Grab, mouse) {
             Some(mut t) => {
                 t.direction = normal;
-                ui_state.transform = Some(t);
+                Some(t)
             }
-            None => self.document.end_gesture(),
+            None => {
+                self.document.end_gesture();
+                None
+            }
         }
     }
 }

@@ -22,8 +22,8 @@ use crate::editor::pivot::Pivot;
 use crate::editor::select_modes::SelectMode;
 use crate::editor::snapping::SnapSettings;
 use crate::editor::state::EditorState;
-use crate::editor::transform::TransformKind;
-use crate::editor::ui::UiState;
+use crate::editor::tools::tool::ActiveTool;
+use crate::editor::transform::{Transform, TransformKind};
 use egui::{Color32, Pos2, Stroke};
 use glam::Vec2;
 use taut_core::{DVec3, PolyMesh};
@@ -303,7 +303,7 @@ impl EditorState {
         view: &ViewportRect,
         cage: &PolyMesh,
         mouse: Option<Vec2>,
-        ui_state: &mut UiState,
+        tool: &mut ActiveTool,
     ) -> bool {
         let shift = ui.ctx().input(|i| i.modifiers.shift);
         if shift && response.clicked_by(egui::PointerButton::Secondary) {
@@ -312,7 +312,6 @@ impl EditorState {
             }
             return true;
         }
-        let busy = ui_state.drag.is_some() || ui_state.box_select.is_some();
         let layout = self.gizmo_layout(view);
         // A cage vertex under the centre handle wins over it, as in Blender: the press drags the
         // vertex (the centre handle would move the same selection in the view plane anyway, but
@@ -329,13 +328,13 @@ impl EditorState {
                 .and_then(|l| pick_handle(&camera, view, &l, gizmo_mode, m))
                 .filter(|&h| h != Handle::Centre || !vertex_under(m))
         };
-        if !busy {
-            self.gizmo.hovered = response.hovered().then_some(mouse).flatten().and_then(over);
-        }
-        if response.drag_started_by(egui::PointerButton::Primary) && !busy {
+        self.gizmo.hovered = response.hovered().then_some(mouse).flatten().and_then(over);
+        if response.drag_started_by(egui::PointerButton::Primary) {
             let origin = ui.ctx().input(|i| i.pointer.press_origin()).map(|p| Vec2::new(p.x, p.y)).or(mouse);
             if let Some(handle) = origin.and_then(over) {
-                self.start_gizmo_drag(handle, origin, mouse, view, ui_state);
+                if let Some(t) = self.start_gizmo_drag(handle, origin, mouse, view) {
+                    tool.start(self, Box::new(t));
+                }
                 return true;
             }
         }
@@ -356,8 +355,7 @@ impl EditorState {
         origin: Option<Vec2>,
         mouse: Option<Vec2>,
         view: &ViewportRect,
-        ui_state: &mut UiState,
-    ) {
+    ) -> Option<Transform> {
         let mode = self.gizmo.mode;
         let kind = match handle {
             Handle::Arrow(_) => TransformKind::Grab,
@@ -369,7 +367,7 @@ impl EditorState {
             // plane squares scale.
             Handle::Centre => TransformKind::Grab,
         };
-        let Some(mut t) = self.new_transform(kind, origin) else { return };
+        let mut t = self.new_transform(kind, origin)?;
         match handle {
             Handle::Arrow(a) | Handle::Ring(a) | Handle::Cube(a) => t.axis = Some(a),
             Handle::Plane(a) => t.plane = Some(a),
@@ -384,14 +382,15 @@ impl EditorState {
         t.snap = self.gizmo.snap.active(false);
         self.gizmo.active = Some(handle);
         self.document.begin_gesture();
-        ui_state.transform = Some(t);
-        self.update_transform(Some(view), ui_state);
+        self.update_transform(&t, Some(view));
+        Some(t)
     }
 
     /// Draws the gizmo (and the 3D cursor) over the viewport.
-    pub(crate) fn draw_gizmo(&mut self, painter: &egui::Painter, view: &ViewportRect, ui_state: &UiState) {
+    /// `transforming`: a transform runs (the handle it started from stays lit).
+    pub(crate) fn draw_gizmo(&mut self, painter: &egui::Painter, view: &ViewportRect, transforming: bool) {
         self.draw_cursor(painter, view);
-        if ui_state.transform.is_none() {
+        if !transforming {
             self.gizmo.active = None;
         }
         let Some(layout) = self.gizmo_layout(view) else { return };

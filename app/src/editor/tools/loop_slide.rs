@@ -15,7 +15,7 @@ use crate::editor::document::Edit;
 use crate::editor::interaction::{self, ViewportRect};
 use crate::editor::shortcuts;
 use crate::editor::state::EditorState;
-use crate::editor::ui::UiState;
+use crate::editor::tools::tool::{CageStamp, End, Flow, Pointer, Tool};
 use egui::Key;
 use glam::Vec2;
 use taut_core::document::modelling::MeshEdit;
@@ -43,90 +43,91 @@ pub enum LoopCutTool {
         new_vertices: Vec<VertexId>,
         fraction: f64,
         /// The cut cage's topology: another one (a file opened meanwhile) ends the slide.
-        topology: u64,
+        topology: CageStamp,
     },
 }
 
 /// The fraction a slide never passes (the core needs it strictly inside the edge).
 const SLIDE_MARGIN: f64 = 1e-3;
 
-impl EditorState {
-    /// Ctrl+R: the preview over the viewport, or with the mouse elsewhere and one edge selected,
-    /// the cut at once.
-    pub(crate) fn start_loop_cut(&mut self, ui_state: &mut UiState) {
-        let selected = match self.selection.edges.as_slice() {
-            [e] => Some(*e),
-            _ => None,
+/// Ctrl+R: the preview over the viewport, or with the mouse elsewhere and one edge selected,
+/// the cut at once.
+pub(crate) fn start(editor: &mut EditorState, mouse: Option<Vec2>) -> Option<Box<dyn Tool>> {
+    let selected = match editor.selection.edges.as_slice() {
+        [e] => Some(*e),
+        _ => None,
+    };
+    let target = editor.selection.hovered_edge.or(selected);
+    if mouse.is_none() {
+        let Some(edge) = target else {
+            editor.notify("point at an edge (or select one edge) to cut the ring across it", true);
+            return None;
         };
-        if ui_state.pointer.is_none() {
-            match self.selection.hovered_edge.or(selected) {
-                Some(edge) => self.cut_and_slide(edge, ui_state),
-                None => self.notify("point at an edge (or select one edge) to cut the ring across it", true),
-            }
-            return;
+        return cut_and_slide(editor, edge).map(|t| Box::new(t) as Box<dyn Tool>);
+    }
+    let mut tool = LoopCutTool::Preview { edge: None, lines: Vec::new(), refusal: None };
+    if let Some(edge) = target {
+        tool = preview(editor, edge);
+    }
+    Some(Box::new(tool))
+}
+
+/// The loop a cut across the ring through `edge` would insert, or why it cannot.
+fn preview(editor: &EditorState, edge: EdgeId) -> LoopCutTool {
+    let cage = &editor.document.doc().cage;
+    let (lines, refusal) = match loop_cut(cage, edge, 0.5) {
+        Ok(edited) => {
+            let m = &edited.mesh;
+            let lines = m
+                .edges()
+                .filter(|e| matches!(edited.provenance.edges[e.index()], EdgeOrigin::InFace(_)))
+                .map(|e| {
+                    let (a, b) = m.edge_vertices(e);
+                    [m.position(a), m.position(b)]
+                })
+                .collect();
+            (lines, None)
         }
-        ui_state.loop_cut = Some(LoopCutTool::Preview { edge: None, lines: Vec::new(), refusal: None });
-        if let Some(edge) = self.selection.hovered_edge.or(selected) {
-            self.preview_loop(edge, ui_state);
+        Err(e) => (Vec::new(), Some(e.to_string())),
+    };
+    LoopCutTool::Preview { edge: Some(edge), lines, refusal }
+}
+
+/// Cuts the ring through `edge` at its middle and starts sliding it (one gesture); `None`, with
+/// the message shown, when the cut is refused.
+fn cut_and_slide(editor: &mut EditorState, edge: EdgeId) -> Option<LoopCutTool> {
+    let original = Box::new(editor.document.doc().clone());
+    editor.document.begin_gesture();
+    let cut = editor.document.apply_mesh(MeshEdit::LoopCut { edge: edge.0, fraction: 0.5 });
+    let new_vertices: Vec<VertexId> = match cut {
+        Ok(Some((Some(provenance), _))) => (0..provenance.vertices.len() as u32)
+            .map(VertexId)
+            .filter(|v| matches!(provenance.vertices[v.index()], VertexOrigin::OnEdge { .. }))
+            .collect(),
+        Ok(_) => Vec::new(),
+        Err(message) => {
+            editor.document.end_gesture();
+            editor.notify(message, true);
+            return None;
         }
-    }
+    };
+    // The new loop is the selection, in the current mode's elements.
+    let selection = &mut editor.selection;
+    let mode = selection.mode;
+    selection.clear();
+    selection.vertices = new_vertices.clone();
+    selection.hovered_vertex = None;
+    selection.hovered_edge = None;
+    selection.hovered_face = None;
+    crate::editor::select_modes::set_mode(&editor.document.doc().cage, &mut editor.selection, mode);
+    let topology = CageStamp::now(editor);
+    Some(LoopCutTool::Slide { original, edge, new_vertices, fraction: 0.5, topology })
+}
 
-    fn preview_loop(&mut self, edge: EdgeId, ui_state: &mut UiState) {
-        let cage = &self.document.doc().cage;
-        let (lines, refusal) = match loop_cut(cage, edge, 0.5) {
-            Ok(edited) => {
-                let m = &edited.mesh;
-                let lines = m
-                    .edges()
-                    .filter(|e| matches!(edited.provenance.edges[e.index()], EdgeOrigin::InFace(_)))
-                    .map(|e| {
-                        let (a, b) = m.edge_vertices(e);
-                        [m.position(a), m.position(b)]
-                    })
-                    .collect();
-                (lines, None)
-            }
-            Err(e) => (Vec::new(), Some(e.to_string())),
-        };
-        ui_state.loop_cut = Some(LoopCutTool::Preview { edge: Some(edge), lines, refusal });
-    }
-
-    /// Cuts the ring through `edge` at its middle and starts sliding it (one gesture).
-    fn cut_and_slide(&mut self, edge: EdgeId, ui_state: &mut UiState) {
-        let original = Box::new(self.document.doc().clone());
-        self.document.begin_gesture();
-        let cut = self.document.apply_mesh(MeshEdit::LoopCut { edge: edge.0, fraction: 0.5 });
-        let new_vertices: Vec<VertexId> = match cut {
-            Ok(Some((Some(provenance), _))) => (0..provenance.vertices.len() as u32)
-                .map(VertexId)
-                .filter(|v| matches!(provenance.vertices[v.index()], VertexOrigin::OnEdge { .. }))
-                .collect(),
-            Ok(_) => Vec::new(),
-            Err(message) => {
-                self.document.end_gesture();
-                ui_state.loop_cut = None;
-                self.notify(message, true);
-                return;
-            }
-        };
-        // The new loop is the selection, in the current mode's elements.
-        let mode = self.selection.mode;
-        self.selection.clear();
-        self.selection.vertices = new_vertices.clone();
-        self.selection.hovered_vertex = None;
-        self.selection.hovered_edge = None;
-        self.selection.hovered_face = None;
-        crate::editor::select_modes::set_mode(&self.document.doc().cage, &mut self.selection, mode);
-        let topology = self.document.doc().cage.topology_generation();
-        ui_state.loop_cut = Some(LoopCutTool::Slide { original, edge, new_vertices, fraction: 0.5, topology });
-    }
-
+impl LoopCutTool {
     /// Moves the new loop to `fraction` along the ring (where a cut at `fraction` puts it).
-    pub(crate) fn slide_loop(&mut self, fraction: f64, ui_state: &mut UiState) {
-        let Some(LoopCutTool::Slide { original, edge, new_vertices, fraction: now, .. }) = &mut ui_state.loop_cut
-        else {
-            return;
-        };
+    pub(crate) fn slide(&mut self, editor: &mut EditorState, fraction: f64) {
+        let LoopCutTool::Slide { original, edge, new_vertices, fraction: now, .. } = self else { return };
         let fraction = fraction.clamp(SLIDE_MARGIN, 1.0 - SLIDE_MARGIN);
         if !fraction.is_finite() || fraction == *now {
             return;
@@ -134,137 +135,133 @@ impl EditorState {
         let Ok(edited) = loop_cut(&original.cage, *edge, fraction) else { return };
         *now = fraction;
         let moves = new_vertices.iter().map(|&v| (v, edited.mesh.position(v))).collect();
-        self.edit(Edit::MoveVertices(moves));
+        editor.edit(Edit::MoveVertices(moves));
     }
 
-    /// Drops the tool when the cage it works on was replaced (a file opened from the menu):
-    /// a preview is made again from the new cage, a slide ends without touching it.
-    fn drop_stale_loop_cut(&mut self, ui_state: &mut UiState) {
-        let topology = self.document.doc().cage.topology_generation();
-        match &ui_state.loop_cut {
-            Some(LoopCutTool::Slide { topology: t, .. }) if *t != topology => {
-                ui_state.loop_cut = None;
-                self.document.end_gesture();
-            }
-            Some(LoopCutTool::Preview { edge: Some(e), .. }) if e.index() >= self.document.doc().cage.edge_count() => {
-                ui_state.loop_cut = Some(LoopCutTool::Preview { edge: None, lines: Vec::new(), refusal: None });
-            }
-            _ => {}
-        }
-    }
-
-    /// Ends the tool: keeps the cut (one undo step) or puts the document back as it was.
-    pub(crate) fn finish_loop_cut(&mut self, keep: bool, ui_state: &mut UiState) {
-        match ui_state.loop_cut.take() {
-            Some(LoopCutTool::Slide { original, .. }) => {
-                if !keep {
-                    self.edit(Edit::Replace(original));
-                    self.prune_selection();
+    /// Cuts across the previewed edge, or sets the slide: the tool's next stage, or its end.
+    fn advance(&mut self, editor: &mut EditorState, edge: Option<EdgeId>) -> Flow {
+        match (&*self, edge) {
+            (LoopCutTool::Slide { .. }, _) => Flow::Keep,
+            (LoopCutTool::Preview { refusal: None, .. }, Some(edge)) => match cut_and_slide(editor, edge) {
+                Some(slide) => {
+                    *self = slide;
+                    Flow::Continue
                 }
-                self.document.end_gesture();
-            }
-            Some(LoopCutTool::Preview { .. }) | None => {}
+                None => Flow::Cancel,
+            },
+            (LoopCutTool::Preview { .. }, _) => Flow::Cancel,
         }
     }
+}
 
-    /// The keys while the tool runs: Enter cuts (previewing) or sets (sliding), Esc cancels.
-    pub(crate) fn loop_cut_keys(&mut self, ctx: &egui::Context, ui_state: &mut UiState) -> bool {
-        self.drop_stale_loop_cut(ui_state);
-        let Some(tool) = &ui_state.loop_cut else { return false };
+impl Tool for LoopCutTool {
+    /// Enter cuts (previewing) or sets (sliding), Esc cancels.
+    fn keys(&mut self, editor: &mut EditorState, ctx: &egui::Context) -> Flow {
         let (enter, escape) =
             ctx.input_mut(|i| (shortcuts::take_plain(i, Key::Enter), shortcuts::take_plain(i, Key::Escape)));
         if escape {
-            self.finish_loop_cut(false, ui_state);
+            Flow::Cancel
         } else if enter {
-            match tool {
+            match self {
                 LoopCutTool::Preview { edge: Some(edge), refusal: None, .. } => {
                     let edge = *edge;
-                    self.cut_and_slide(edge, ui_state);
+                    self.advance(editor, Some(edge))
                 }
-                LoopCutTool::Preview { .. } => {}
-                LoopCutTool::Slide { .. } => self.finish_loop_cut(true, ui_state),
+                LoopCutTool::Preview { .. } => Flow::Continue,
+                LoopCutTool::Slide { .. } => Flow::Keep,
             }
+        } else {
+            Flow::Continue
         }
-        true
     }
 
-    /// The viewport while the tool runs: the preview follows the edge under the mouse and a
-    /// click cuts; then the mouse slides and a click sets; a right click cancels.
-    pub(crate) fn loop_cut_viewport(
-        &mut self,
-        ui: &egui::Ui,
-        response: &egui::Response,
-        view: &ViewportRect,
-        mouse: Option<Vec2>,
-        ui_state: &mut UiState,
-    ) {
-        self.drop_stale_loop_cut(ui_state);
-        let frame = self.display_frame;
-        match &ui_state.loop_cut {
-            Some(LoopCutTool::Preview { edge, refusal, .. }) => {
-                let (edge, refused) = (*edge, refusal.is_some());
-                let display = self.display_cage();
-                let hovered = mouse.and_then(|m| self.pick_cage_edge(view, &display, m, 8.0));
+    /// The preview follows the edge under the mouse and a click cuts; then the mouse slides and
+    /// a click sets; a right click cancels.
+    fn pointer(&mut self, editor: &mut EditorState, pointer: &Pointer) -> Flow {
+        let frame = editor.display_frame;
+        let view = &pointer.view;
+        if let LoopCutTool::Preview { edge: Some(e), .. } = self
+            && e.index() >= editor.document.doc().cage.edge_count()
+        {
+            // The cage was replaced under the preview (a file opened from the menu).
+            *self = LoopCutTool::Preview { edge: None, lines: Vec::new(), refusal: None };
+        }
+        match self {
+            LoopCutTool::Preview { edge, .. } => {
+                let edge = *edge;
+                let display = editor.display_cage();
+                let hovered = pointer.mouse.and_then(|m| editor.pick_cage_edge(view, &display, m, 8.0));
                 if let Some(h) = hovered
                     && Some(h) != edge
                 {
-                    self.preview_loop(h, ui_state);
+                    *self = preview(editor, h);
                 }
-                if response.clicked_by(egui::PointerButton::Primary) {
-                    match (hovered.or(edge), refused) {
-                        (Some(e), false) if hovered.is_some() => self.cut_and_slide(e, ui_state),
-                        _ => ui_state.loop_cut = None,
-                    }
-                } else if response.clicked_by(egui::PointerButton::Secondary) {
-                    ui_state.loop_cut = None;
+                if pointer.clicked() {
+                    return if hovered.is_some() { self.advance(editor, hovered) } else { Flow::Cancel };
                 }
             }
-            Some(LoopCutTool::Slide { original, edge, .. }) => {
+            LoopCutTool::Slide { original, edge, .. } => {
                 let (a, b) = original.cage.edge_vertices(*edge);
-                let project = |p: DVec3| interaction::project(&self.camera, view, frame.to_display_f64(p));
+                let project = |p: DVec3| interaction::project(&editor.camera, view, frame.to_display_f64(p));
                 let ends = project(original.cage.position(a)).zip(project(original.cage.position(b)));
-                if let (Some(((pa, _), (pb, _))), Some(m)) = (ends, mouse) {
+                if let (Some(((pa, _), (pb, _))), Some(m)) = (ends, pointer.mouse) {
                     let ab = pb - pa;
                     if ab.length_squared() > 1.0 {
                         let f = f64::from((m - pa).dot(ab) / ab.length_squared());
-                        self.slide_loop(f, ui_state);
+                        self.slide(editor, f);
                     }
                 }
-                if response.clicked_by(egui::PointerButton::Primary) {
-                    self.finish_loop_cut(true, ui_state);
-                } else if response.clicked_by(egui::PointerButton::Secondary) {
-                    self.finish_loop_cut(false, ui_state);
+                if pointer.clicked() {
+                    return Flow::Keep;
                 }
             }
-            None => return,
         }
-        let painter = ui.painter_at(response.rect);
-        let text = match &ui_state.loop_cut {
-            Some(LoopCutTool::Preview { lines, refusal, .. }) => {
-                let colour = egui::Color32::from_rgb(255, 220, 50);
-                for [p, q] in lines {
-                    let project = |p: DVec3| interaction::project(&self.camera, view, frame.to_display_f64(p));
-                    if let (Some((p, _)), Some((q, _))) = (project(*p), project(*q)) {
-                        painter
-                            .line_segment([egui::pos2(p.x, p.y), egui::pos2(q.x, q.y)], egui::Stroke::new(2.0, colour));
-                    }
-                }
-                match refusal {
-                    Some(why) => format!("loop cut: {why}"),
-                    None => "loop cut: point at an edge, click to cut across its ring, Esc leaves".to_string(),
-                }
+        if pointer.right_clicked() { Flow::Cancel } else { Flow::Continue }
+    }
+
+    /// The loop the cut would insert.
+    fn overlay(&self, editor: &EditorState, painter: &egui::Painter, view: &ViewportRect) {
+        let LoopCutTool::Preview { lines, .. } = self else { return };
+        let colour = egui::Color32::from_rgb(255, 220, 50);
+        let project = |p: DVec3| interaction::project(&editor.camera, view, editor.display_frame.to_display_f64(p));
+        for [p, q] in lines {
+            if let (Some((p, _)), Some((q, _))) = (project(*p), project(*q)) {
+                painter.line_segment([egui::pos2(p.x, p.y), egui::pos2(q.x, q.y)], egui::Stroke::new(2.0, colour));
             }
-            Some(LoopCutTool::Slide { fraction, .. }) => {
+        }
+    }
+
+    fn status(&self, _editor: &EditorState) -> String {
+        match self {
+            // The core's refusals name the operation already.
+            LoopCutTool::Preview { refusal: Some(why), .. } if why.starts_with("loop cut") => why.clone(),
+            LoopCutTool::Preview { refusal: Some(why), .. } => format!("loop cut: {why}"),
+            LoopCutTool::Preview { .. } => {
+                "loop cut: point at an edge, click to cut across its ring, Esc leaves".into()
+            }
+            LoopCutTool::Slide { fraction, .. } => {
                 format!("slide the new loop: {fraction:.3} along the edge; click or Enter sets, Esc cancels the cut")
             }
-            None => return,
-        };
-        painter.text(
-            response.rect.left_top() + egui::vec2(8.0, 8.0),
-            egui::Align2::LEFT_TOP,
-            text,
-            egui::FontId::proportional(14.0),
-            egui::Color32::WHITE,
-        );
+        }
+    }
+
+    /// Keeps the cut (one undo step) or puts the document back as it was; a preview ends.
+    fn end(self: Box<Self>, editor: &mut EditorState, end: End) {
+        if let LoopCutTool::Slide { original, .. } = *self {
+            if end == End::Cancel {
+                editor.edit(Edit::Replace(original));
+                editor.prune_selection();
+            }
+            editor.document.end_gesture();
+        }
+    }
+
+    /// A slide whose cage was replaced ends without touching the new one.
+    fn is_stale(&self, editor: &EditorState) -> bool {
+        matches!(self, LoopCutTool::Slide { topology, .. } if topology.is_stale(editor))
+    }
+
+    fn navigates(&self) -> bool {
+        true
     }
 }

@@ -1,15 +1,75 @@
-//! The modal tools and what they share: G, R and S (`transform`) with the on-screen gizmo
-//! (`gizmo`), snapping (`snapping`) and the pivot (`pivot`); E (`extrude_move`), I
-//! (`inset_drag`), Ctrl+R (`loop_slide`); the transform toolbar (`toolbar`); the crease and
-//! corner drags, Shift+E and Shift+V (`crease_drag`). Each starts from its key in the shortcut
-//! table (`crate::editor::shortcuts`).
+//! The modal tools and what they share. Every tool is a [`tool::Tool`] run by the one
+//! [`tool::ActiveTool`]: G, R and S (`transform`) with the on-screen gizmo (`gizmo`), snapping
+//! (`snapping`) and the pivot (`pivot`); E (`extrude_move`), I (`inset_drag`), Ctrl+R
+//! (`loop_slide`); the crease and corner drags, Shift+E and Shift+V (`crease_drag`); the drags a
+//! press starts in the viewport (`vertex_drag`, `box_select`, `curve_mesh_drag`, and the Curves workspace's
+//! `curve_stroke`); the transform toolbar
+//! (`toolbar`).
+//!
+//! A new tool is one file plus one line in [`TOOLS`]: its key comes from the shortcut table
+//! (the one source of Help) by its action, its menu entry (Tools) from this listing.
 
+pub mod box_select;
 pub mod crease_drag;
+pub mod curve_mesh_drag;
+pub mod curve_stroke;
 pub mod extrude_move;
 pub mod gizmo;
 pub mod inset_drag;
 pub mod loop_slide;
 pub mod pivot;
 pub mod snapping;
+pub mod tool;
 pub mod toolbar;
 pub mod transform;
+pub mod vertex_drag;
+
+use crate::editor::mesh_ops::MeshOp;
+use crate::editor::shortcuts::Action;
+use crate::editor::state::EditorState;
+use glam::Vec2;
+use tool::Tool;
+use transform::TransformKind;
+
+/// Starts a tool from the pointer's last position over the viewport (`None`: the mouse is
+/// elsewhere, a menu); `None` back, with a message shown, when it cannot start.
+pub type StartTool = fn(&mut EditorState, Option<Vec2>) -> Option<Box<dyn Tool>>;
+
+/// A tool the designer starts from its key or the Tools menu.
+pub struct ToolEntry {
+    /// The action its key runs (the key itself is in the shortcut table).
+    pub action: Action,
+    /// Its name in the Tools menu.
+    pub name: &'static str,
+    /// Starts it.
+    pub start: StartTool,
+}
+
+/// The tools started from a key or a menu.
+pub const TOOLS: &[ToolEntry] = &[
+    ToolEntry {
+        action: Action::Transform(TransformKind::Grab),
+        name: "Move",
+        start: |e, m| transform::start(e, TransformKind::Grab, m),
+    },
+    ToolEntry {
+        action: Action::Transform(TransformKind::Rotate),
+        name: "Rotate",
+        start: |e, m| transform::start(e, TransformKind::Rotate, m),
+    },
+    ToolEntry {
+        action: Action::Transform(TransformKind::Scale),
+        name: "Scale",
+        start: |e, m| transform::start(e, TransformKind::Scale, m),
+    },
+    ToolEntry { action: Action::Mesh(MeshOp::Extrude), name: "Extrude and move", start: extrude_move::start },
+    ToolEntry { action: Action::Mesh(MeshOp::Inset), name: "Inset and set thickness", start: inset_drag::start },
+    ToolEntry { action: Action::Mesh(MeshOp::LoopCut), name: "Loop cut and slide", start: loop_slide::start },
+    ToolEntry { action: Action::Crease, name: "Crease edges", start: crease_drag::start_crease },
+    ToolEntry { action: Action::Corner, name: "Sharpen corners", start: crease_drag::start_corner },
+];
+
+/// The listed tool an action starts, if any.
+pub fn listed(action: Action) -> Option<&'static ToolEntry> {
+    TOOLS.iter().find(|t| t.action == action)
+}

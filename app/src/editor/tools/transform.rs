@@ -21,7 +21,7 @@ use crate::editor::interaction::{self, Axis, ViewportRect};
 use crate::editor::shortcuts;
 use crate::editor::snapping;
 use crate::editor::state::EditorState;
-use crate::editor::ui::UiState;
+use crate::editor::tools::tool::{CageStamp, End, Flow, Pointer, Tool, end_vertex_move};
 use egui::Key;
 use glam::DMat3;
 use glam::Vec2;
@@ -64,7 +64,7 @@ pub struct Transform {
     /// A gizmo drag: letting go of the button confirms.
     pub release_confirms: bool,
     /// The cage's topology when it began: another one (a file opened meanwhile) ends it.
-    pub topology: u64,
+    pub topology: CageStamp,
 }
 
 impl Transform {
@@ -83,7 +83,7 @@ impl Transform {
             snap: false,
             grid_step: 1.0,
             release_confirms: false,
-            topology: 0,
+            topology: CageStamp::default(),
         }
     }
 
@@ -214,39 +214,18 @@ fn take_shifted(input: &mut egui::InputState, key: Key) -> bool {
     found
 }
 
-impl EditorState {
-    /// Starts G, R or S on the selection; a message when nothing is selected.
-    pub(crate) fn start_transform(&mut self, kind: TransformKind, ui_state: &mut UiState) {
-        if let Some(t) = self.new_transform(kind, ui_state.pointer) {
-            self.document.begin_gesture();
-            ui_state.transform = Some(t);
-        }
-    }
+/// Starts G, R or S on the selection (one gesture); a message when nothing is selected.
+pub(crate) fn start(editor: &mut EditorState, kind: TransformKind, mouse: Option<Vec2>) -> Option<Box<dyn Tool>> {
+    let t = editor.new_transform(kind, mouse)?;
+    editor.document.begin_gesture();
+    Some(Box::new(t))
+}
 
-    /// A transform of the selection about the pivot, or a message when nothing is selected.
-    pub(crate) fn new_transform(&mut self, kind: TransformKind, mouse: Option<Vec2>) -> Option<Transform> {
-        let cage = &self.document.doc().cage;
-        let vertices = self.selected_vertices_with_edge_ends();
-        let start: Vec<(VertexId, DVec3)> = vertices.iter().map(|&v| (v, cage.position(v))).collect();
-        if start.is_empty() {
-            self.notify("select the cage vertices, edges or faces to transform first", true);
-            return None;
-        }
-        let centre = self.pivot_of(&vertices);
-        let mut t = Transform::new(kind, start, centre, mouse);
-        t.grid_step = self.gizmo.snap.grid_step(&self.camera, &self.display_frame);
-        t.topology = cage.topology_generation();
-        Some(t)
-    }
-
-    /// The keys while transforming: axis and plane locks, typed numbers, Enter and Esc. Nothing
-    /// else runs.
-    pub(crate) fn transform_keys(&mut self, ctx: &egui::Context, ui_state: &mut UiState) {
-        if self.transform_is_stale(ui_state) {
-            return;
-        }
-        let Some(t) = &mut ui_state.transform else { return };
-        let mut finish = None;
+impl Tool for Transform {
+    /// Axis and plane locks, typed numbers, Enter and Esc.
+    fn keys(&mut self, editor: &mut EditorState, ctx: &egui::Context) -> Flow {
+        let t = self;
+        let mut flow = Flow::Continue;
         ctx.input_mut(|i| {
             for (key, axis) in [(Key::X, Axis::X), (Key::Y, Axis::Y), (Key::Z, Axis::Z)] {
                 if shortcuts::take_plain(i, key) {
@@ -260,22 +239,91 @@ impl EditorState {
             }
             shortcuts::take_typed_number(i, &mut t.typed, true);
             if shortcuts::take_plain(i, Key::Enter) {
-                finish = Some(true);
+                flow = Flow::Keep;
             } else if shortcuts::take_plain(i, Key::Escape) {
-                finish = Some(false);
+                flow = Flow::Cancel;
             }
             // Typed characters arrive as text too: drop them so no widget sees them.
             i.events.retain(|e| !matches!(e, egui::Event::Text(_)));
         });
-        self.update_transform(None, ui_state);
-        if let Some(keep) = finish {
-            self.finish_transform(keep, ui_state);
+        editor.update_transform(t, None);
+        flow
+    }
+
+    /// The mouse drives it; a click confirms (a gizmo drag: the release), a right click cancels.
+    fn pointer(&mut self, editor: &mut EditorState, pointer: &Pointer) -> Flow {
+        let snap = editor.gizmo.snap.active(pointer.modifiers().command);
+        if let Some(m) = pointer.mouse {
+            self.mouse_start.get_or_insert(m);
+            if self.mouse_now != Some(m) || self.snap != snap {
+                self.mouse_now = Some(m);
+                self.snap = snap;
+                editor.update_transform(self, Some(&pointer.view));
+            }
+        }
+        let released = self.release_confirms && pointer.ui.ctx().input(|i| i.pointer.primary_released());
+        if released || pointer.clicked() {
+            Flow::Keep
+        } else if pointer.right_clicked() {
+            Flow::Cancel
+        } else {
+            Flow::Continue
         }
     }
 
+    fn status(&self, editor: &EditorState) -> String {
+        let what = match self.kind {
+            TransformKind::Grab => "move",
+            TransformKind::Rotate => "rotate (degrees)",
+            TransformKind::Scale => "scale",
+        };
+        let lock = self.lock_text();
+        let typed = if self.typed.is_empty() { String::new() } else { format!(" {}", self.typed) };
+        let snapping = match (self.snap, self.kind) {
+            (false, _) => String::new(),
+            (true, TransformKind::Grab) => format!(", snap {}", self.grid_step),
+            (true, TransformKind::Rotate) => format!(", snap {}°", editor.gizmo.snap.degrees),
+            (true, TransformKind::Scale) => format!(", snap {}", editor.gizmo.snap.scale),
+        };
+        format!(
+            "{what} {lock}{typed}{snapping}: X, Y, Z lock an axis, Shift+X, Y, Z a plane, Ctrl snaps, \
+             type a value, Enter or click sets, Esc cancels"
+        )
+    }
+
+    /// Keeps the transform (one undo step) or puts every vertex back.
+    fn end(self: Box<Self>, editor: &mut EditorState, end: End) {
+        end_vertex_move(editor, self.start, end);
+    }
+
+    fn is_stale(&self, editor: &EditorState) -> bool {
+        self.topology.is_stale(editor)
+    }
+
+    fn shows_gizmo(&self) -> bool {
+        true
+    }
+}
+
+impl EditorState {
+    /// A transform of the selection about the pivot, or a message when nothing is selected.
+    pub(crate) fn new_transform(&mut self, kind: TransformKind, mouse: Option<Vec2>) -> Option<Transform> {
+        let cage = &self.document.doc().cage;
+        let vertices = self.selected_vertices_with_edge_ends();
+        let start: Vec<(VertexId, DVec3)> = vertices.iter().map(|&v| (v, cage.position(v))).collect();
+        if start.is_empty() {
+            self.notify("select the cage vertices, edges or faces to transform first", true);
+            return None;
+        }
+        let centre = self.pivot_of(&vertices);
+        let mut t = Transform::new(kind, start, centre, mouse);
+        t.grid_step = self.gizmo.snap.grid_step(&self.camera, &self.display_frame);
+        t.topology = CageStamp::now(self);
+        Some(t)
+    }
+
     /// Moves the vertices where the typed value or the mouse says.
-    pub(crate) fn update_transform(&mut self, view: Option<&ViewportRect>, ui_state: &mut UiState) {
-        let Some(t) = &ui_state.transform else { return };
+    pub(crate) fn update_transform(&mut self, t: &Transform, view: Option<&ViewportRect>) {
         let moved = if let Ok(value) = t.typed.parse::<f64>() {
             if !value.is_finite() {
                 return;
@@ -409,85 +457,6 @@ impl EditorState {
             snapping::snap_to_grid(centre, offset, t.grid_step)
         } else {
             snapping::snap_offset(offset, t.grid_step)
-        }
-    }
-
-    /// Drops a transform whose cage was replaced under it (a file opened from the menu while it
-    /// ran), moving nothing; true when it did.
-    fn transform_is_stale(&mut self, ui_state: &mut UiState) -> bool {
-        let topology = self.document.doc().cage.topology_generation();
-        if ui_state.transform.as_ref().is_some_and(|t| t.topology != topology) {
-            ui_state.transform = None;
-            self.document.end_gesture();
-            return true;
-        }
-        false
-    }
-
-    /// Ends the transform: keeps it (one undo step) or puts every vertex back.
-    pub(crate) fn finish_transform(&mut self, keep: bool, ui_state: &mut UiState) {
-        let Some(t) = ui_state.transform.take() else { return };
-        if !keep {
-            self.edit(Edit::MoveVertices(t.start));
-        }
-        self.document.end_gesture();
-    }
-
-    /// The viewport while transforming: the mouse drives it, a click confirms (a gizmo drag: the
-    /// release), a right click cancels, and a line of text says what is happening.
-    pub(crate) fn transform_viewport(
-        &mut self,
-        ui: &egui::Ui,
-        response: &egui::Response,
-        view: &ViewportRect,
-        mouse: Option<Vec2>,
-        ui_state: &mut UiState,
-    ) {
-        if self.transform_is_stale(ui_state) {
-            return;
-        }
-        let snap = self.gizmo.snap.active(ui.ctx().input(|i| i.modifiers.command));
-        if let (Some(t), Some(m)) = (&mut ui_state.transform, mouse) {
-            t.mouse_start.get_or_insert(m);
-            if t.mouse_now != Some(m) || t.snap != snap {
-                t.mouse_now = Some(m);
-                t.snap = snap;
-                self.update_transform(Some(view), ui_state);
-            }
-        }
-        let release = ui_state.transform.as_ref().is_some_and(|t| t.release_confirms);
-        let released = release && ui.ctx().input(|i| i.pointer.primary_released());
-        if released || response.clicked_by(egui::PointerButton::Primary) {
-            self.finish_transform(true, ui_state);
-        } else if response.clicked_by(egui::PointerButton::Secondary) {
-            self.finish_transform(false, ui_state);
-        }
-        let painter = ui.painter();
-        self.draw_gizmo(painter, view, ui_state);
-        if let Some(t) = &ui_state.transform {
-            let what = match t.kind {
-                TransformKind::Grab => "move",
-                TransformKind::Rotate => "rotate (degrees)",
-                TransformKind::Scale => "scale",
-            };
-            let lock = t.lock_text();
-            let typed = if t.typed.is_empty() { String::new() } else { format!(" {}", t.typed) };
-            let snapping = match (t.snap, t.kind) {
-                (false, _) => String::new(),
-                (true, TransformKind::Grab) => format!(", snap {}", t.grid_step),
-                (true, TransformKind::Rotate) => format!(", snap {}°", self.gizmo.snap.degrees),
-                (true, TransformKind::Scale) => format!(", snap {}", self.gizmo.snap.scale),
-            };
-            painter.text(
-                response.rect.left_top() + egui::vec2(8.0, 8.0),
-                egui::Align2::LEFT_TOP,
-                format!(
-                    "{what} {lock}{typed}{snapping}: X, Y, Z lock an axis, Shift+X, Y, Z a plane, Ctrl snaps, \
-                     type a value, Enter or click sets, Esc cancels"
-                ),
-                egui::FontId::proportional(14.0),
-                egui::Color32::WHITE,
-            );
         }
     }
 }

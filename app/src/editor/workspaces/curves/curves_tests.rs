@@ -150,6 +150,36 @@ fn stroke(harness: &mut Harness<'_, App>, from: Pos2, path: &[Pos2]) {
 }
 
 #[test]
+fn esc_during_a_stroke_drops_it_and_adds_no_curve() {
+    let mut harness = curves_editor(Vec::new());
+    harness.get_by_label("Draw").click();
+    harness.run_steps(1);
+    let centre = Pos2::new(270.0 + (1280.0 - 630.0) / 2.0, 400.0);
+    let press = |pressed| Event::PointerButton {
+        pos: centre,
+        button: PointerButton::Primary,
+        pressed,
+        modifiers: Modifiers::NONE,
+    };
+    harness.input_mut().events.push(Event::PointerMoved(centre));
+    harness.run_steps(1);
+    harness.input_mut().events.push(press(true));
+    harness.run_steps(1);
+    for k in 1..=10 {
+        harness.input_mut().events.push(Event::PointerMoved(centre + egui::vec2(12.0 * k as f32, 5.0 * k as f32)));
+        harness.run_steps(1);
+    }
+    assert!(harness.state().ui.tool.is_running(), "the stroke is being drawn");
+    harness.key_press(egui::Key::Escape);
+    harness.run_steps(1);
+    assert!(!harness.state().ui.tool.is_running(), "Esc ends the stroke");
+    harness.input_mut().events.push(press(false));
+    harness.run_steps(2);
+    assert!(harness.state().editor.curve_set().curves.is_empty(), "no curve from a dropped stroke");
+    assert!(!harness.state().editor.document.can_undo(), "and no undo step");
+}
+
+#[test]
 fn a_drawn_curve_lies_on_the_chosen_plane() {
     let mut harness = curves_editor(Vec::new());
     harness.get_by_label("Draw").click();

@@ -4,29 +4,27 @@
 //! panning and zooming as in the surface workspace; and what it draws over the Coons patches:
 //! the curves, the selected one's curvature comb, the segments' control polygons.
 //!
-//! A stroke is the mouse ray's intersection with the plane through the origin, sampled whenever
-//! the pointer has moved 3 points on screen. A control point moves in the plane of its segment
-//! (so the segment stays planar), or in the plane facing the camera when that plane is seen
-//! edge-on. The whole drag is one undo step.
+//! The stroke and the control point's drag are tools ([`crate::editor::tools::curve_stroke`]).
 
 use crate::editor::curves::CurveTool;
 use crate::editor::interaction::{self, ViewportRect};
 use crate::editor::select_modes;
 use crate::editor::state::EditorState;
+use crate::editor::tools::curve_stroke;
+use crate::editor::tools::tool::Pointer;
 use crate::editor::ui::UiState;
-use egui::{PointerButton, Sense};
+use egui::PointerButton;
 use taut_core::DVec3;
-use taut_core::curve::DocCurve;
 use taut_render::overlay::{LineSegment, OverlayData, PointMark, PointStyle, polyline_with_comb};
 
 /// Screen distance between samples of a stroke, in points.
-const STROKE_STEP: f32 = 3.0;
+pub(crate) const STROKE_STEP: f32 = 3.0;
 /// How near the pointer must come to a curve or control point to pick it, in points.
 const PICK_RADIUS: f32 = 8.0;
 
 const CURVE_COLOR: [f32; 4] = [0.62, 0.64, 0.68, 1.0];
 const SELECTED_COLOR: [f32; 4] = [0.95, 0.95, 0.97, 1.0];
-const PICKED_COLOR: [f32; 4] = [1.0, 0.62, 0.15, 1.0];
+pub(crate) const PICKED_COLOR: [f32; 4] = [1.0, 0.62, 0.15, 1.0];
 const CONTROL_COLOR: [f32; 4] = [0.35, 0.85, 0.45, 1.0];
 const MISSING_COLOR: [f32; 4] = [1.0, 0.3, 0.3, 1.0];
 
@@ -43,7 +41,13 @@ fn ray_plane(origin: DVec3, dir: DVec3, n: DVec3, c: f64) -> Option<DVec3> {
 
 impl EditorState {
     /// The model point under `mouse` on the plane through `point` with normal `n`.
-    fn mouse_on_plane(&self, view: &ViewportRect, mouse: glam::Vec2, n: DVec3, point: DVec3) -> Option<DVec3> {
+    pub(crate) fn mouse_on_plane(
+        &self,
+        view: &ViewportRect,
+        mouse: glam::Vec2,
+        n: DVec3,
+        point: DVec3,
+    ) -> Option<DVec3> {
         let (o, d) = interaction::unproject_ray(&self.camera, view, mouse);
         let frame = self.display_frame;
         let (o, d) = (frame.to_model(o), (frame.to_model(o + d) - frame.to_model(o)).normalize());
@@ -131,59 +135,34 @@ impl EditorState {
     }
 
     pub(crate) fn curves_viewport(&mut self, ui: &mut egui::Ui, ui_state: &mut UiState) {
-        let (rect, response) = ui.allocate_exact_size(ui.available_size(), Sense::click_and_drag());
-        let ppp = ui.ctx().pixels_per_point();
-        ui_state.viewport_px = Some([
-            (rect.min.x * ppp).round().max(0.0) as u32,
-            (rect.min.y * ppp).round().max(0.0) as u32,
-            (rect.width() * ppp).round().max(1.0) as u32,
-            (rect.height() * ppp).round().max(1.0) as u32,
-        ]);
+        let (response, view, mouse) = crate::editor::viewport::allocate(ui, ui_state);
+        let rect = response.rect;
         self.viewport_shape = (rect.width() / rect.height().max(1.0), 0.0);
-        let view = ViewportRect {
-            min: glam::Vec2::new(rect.min.x, rect.min.y),
-            size: glam::Vec2::new(rect.width(), rect.height()),
-        };
-        let (shift, pointer) = ui.ctx().input(|i| (i.modifiers.shift, i.pointer.hover_pos()));
-        let mouse = pointer.map(|p| glam::Vec2::new(p.x, p.y));
-        if mouse.is_some() {
-            ui_state.pointer = mouse;
-        }
+        let shift = ui.ctx().input(|i| i.modifiers.shift);
 
         // Navigation, as in the surface workspace.
         crate::editor::navigation::navigate(&mut self.camera, ui, &response, rect.height());
 
+        let pointer = Pointer { ui, response: &response, view, mouse };
+        let running = ui_state.tool.pointer(self, &pointer);
         let origin = ui.ctx().input(|i| i.pointer.press_origin()).map(|p| glam::Vec2::new(p.x, p.y)).or(mouse);
-        if response.drag_started_by(PointerButton::Primary)
+        if !running
+            && response.drag_started_by(PointerButton::Primary)
             && let Some(origin) = origin
         {
-            match self.curves.tool {
-                CurveTool::Draw => {
-                    let n = self.curves.plane.normal(self.view_backward());
-                    match self.mouse_on_plane(&view, origin, n, DVec3::ZERO) {
-                        Some(p) => self.curves.stroke = Some((vec![p], origin)),
-                        None => self
-                            .notify("the drawing plane is seen edge-on: turn the view or choose another plane", true),
-                    }
-                }
+            let tool = match self.curves.tool {
+                CurveTool::Draw => curve_stroke::start_stroke(self, &view, origin),
                 CurveTool::Select => {
-                    if let Some(hit) = self.pick_control(&view, origin) {
-                        self.select_curve(Some(hit.0));
-                        self.document.begin_gesture();
-                        self.curves.control_drag = Some(hit);
-                    }
+                    self.pick_control(&view, origin).and_then(|(i, k)| curve_stroke::start_control_drag(self, i, k))
                 }
+            };
+            if let Some(tool) = tool {
+                ui_state.tool.start(self, tool);
+                ui_state.tool.pointer(self, &pointer);
             }
         }
-        if response.dragged_by(PointerButton::Primary)
-            && let Some(m) = mouse
-        {
-            self.continue_curve_drag(&view, m);
-        }
-        if response.drag_stopped_by(PointerButton::Primary) {
-            self.finish_curve_drag();
-        }
-        if response.clicked_by(PointerButton::Primary)
+        if !running
+            && response.clicked_by(PointerButton::Primary)
             && self.curves.tool == CurveTool::Select
             && let Some(m) = mouse
         {
@@ -191,21 +170,16 @@ impl EditorState {
         }
 
         let painter = ui.painter_at(rect);
-        let hint = match (self.curves.tool, &self.curves.stroke) {
-            (CurveTool::Draw, Some(_)) => "drawing: let go to finish the curve".to_string(),
-            (CurveTool::Draw, None) => format!("Draw: drag on the {} to draw a curve", self.curves.plane.label()),
-            (CurveTool::Select, _) => {
+        let hint = match self.curves.tool {
+            CurveTool::Draw => format!("Draw: drag on the {} to draw a curve", self.curves.plane.label()),
+            CurveTool::Select => {
                 "Select: click a curve or patch; Shift+click picks curves for a patch; drag a segment's green control points"
                     .to_string()
             }
         };
-        painter.text(
-            rect.left_top() + egui::vec2(8.0, 8.0),
-            egui::Align2::LEFT_TOP,
-            hint,
-            egui::FontId::proportional(14.0),
-            egui::Color32::WHITE,
-        );
+        if !ui_state.tool.is_running() {
+            pointer.say(&hint);
+        }
         if let Some(i) = self.curves.selected
             && self.curve_set().curves.get(i).is_some_and(|c| c.segment.is_some() && c.points.is_empty())
         {
@@ -216,49 +190,6 @@ impl EditorState {
                 egui::FontId::proportional(16.0),
                 egui::Color32::from_rgb(255, 90, 90),
             );
-        }
-    }
-
-    /// The pointer moved to `m` with the primary button down.
-    pub(crate) fn continue_curve_drag(&mut self, view: &ViewportRect, m: glam::Vec2) {
-        if let Some((points, last)) = &self.curves.stroke {
-            if m.distance(*last) >= STROKE_STEP {
-                let n = self.curves.plane.normal(self.view_backward());
-                if let Some(p) = self.mouse_on_plane(view, m, n, DVec3::ZERO) {
-                    let mut points = points.clone();
-                    if points.last().is_none_or(|q| q.distance(p) > 0.0) {
-                        points.push(p);
-                    }
-                    self.curves.stroke = Some((points, m));
-                }
-            }
-        } else if let Some((i, k)) = self.curves.control_drag
-            && let Some(controls) = self.curve_set().curves.get(i).and_then(|c| c.segment)
-        {
-            let pts = controls.points();
-            let normal = (pts[1] - pts[0]).cross(pts[2] - pts[1]).normalize_or_zero();
-            let backward = self.view_backward();
-            let n = if normal.dot(backward).abs() > 0.2 { normal } else { backward };
-            if let Some(p) = self.mouse_on_plane(view, m, n, pts[k]) {
-                let mut moved = controls;
-                moved.controls[k] = p.to_array();
-                self.set_segment(i, moved);
-            }
-        }
-    }
-
-    /// The primary button let go: a stroke becomes a curve, a control drag one undo step.
-    pub(crate) fn finish_curve_drag(&mut self) {
-        if let Some((points, _)) = self.curves.stroke.take() {
-            if points.len() >= 3 {
-                let n = self.curve_set().curves.len();
-                self.add_curve(DocCurve::new(format!("sketch {}", n + 1), points, false));
-            } else {
-                self.notify("the stroke was too short for a curve: drag farther", true);
-            }
-        }
-        if self.curves.control_drag.take().is_some() {
-            self.document.end_gesture();
         }
     }
 
@@ -315,9 +246,6 @@ impl EditorState {
                     style: PointStyle::Filled,
                 }));
             }
-        }
-        if let Some((points, _)) = &self.curves.stroke {
-            data.on_top_lines.extend(points.windows(2).map(|w| line(w[0], w[1], PICKED_COLOR, 2.0)));
         }
         data
     }

@@ -166,10 +166,6 @@ pub struct CurvesWorkspace {
     pub filter_budget: Duration,
     /// α of a new segment.
     pub segment_alpha: f64,
-    /// The stroke being drawn, in model coordinates, and the last mouse position sampled.
-    pub(crate) stroke: Option<(Vec<DVec3>, glam::Vec2)>,
-    /// A segment control point being dragged: curve, control index.
-    pub(crate) control_drag: Option<(usize, usize)>,
     plots: Option<CurvePlots>,
 }
 
@@ -190,8 +186,6 @@ impl Default for CurvesWorkspace {
             patch_samples: 24,
             filter_budget: FILTER_BUDGET,
             segment_alpha: 1.0,
-            stroke: None,
-            control_drag: None,
             plots: None,
         }
     }

@@ -27,13 +27,12 @@
 //! fields turn the tangent plane by the smallest rotation from the current normal, so the inner
 //! points' twist about the normal depends on the path the typed values took.
 
-use crate::editor::document::Edit;
-use crate::editor::interaction::{self, Axis, ViewportRect};
+use crate::editor::interaction::{self, ViewportRect};
 
 use crate::editor::state::EditorState;
-use crate::editor::ui::UiState;
+use crate::editor::tools::curve_mesh_drag;
+use crate::editor::tools::tool::{ActiveTool, Pointer};
 use egui::PointerButton;
-use taut_core::gregory::CurveMeshEdits;
 use taut_core::gregory::continuity::{ContinuityReport, DEFAULT_BOUNDARY_SAMPLES};
 use taut_core::surface::SchemeKind;
 use taut_core::surface::curve_mesh::CurveMeshSurface;
@@ -96,23 +95,9 @@ pub struct MeasuredContinuity {
     pub report: ContinuityReport,
 }
 
-/// A drag in the curve-mesh scheme.
-#[derive(Clone, Debug)]
-pub(crate) struct CurveMeshDrag {
-    handle: Handle,
-    /// What moves, where the drag began (model coordinates): the selected vertices, or the one
-    /// handle point (keyed by its vertex).
-    start: Vec<(VertexId, DVec3)>,
-    /// The edit state before the drag (Esc puts it back).
-    before: CurveMeshEdits,
-    mouse_start: glam::Vec2,
-    pub(crate) axis: Option<Axis>,
-}
-
 /// The curve-mesh part of the UI state.
 #[derive(Debug, Default)]
 pub struct CurveMeshUi {
-    pub(crate) drag: Option<CurveMeshDrag>,
     /// "Rebuild from cage" is asking whether to discard the edits.
     pub confirm_rebuild: bool,
 }
@@ -136,7 +121,7 @@ impl EditorState {
     }
 
     /// The length of the normal handle in model units.
-    fn handle_length(&self) -> f64 {
+    pub(crate) fn handle_length(&self) -> f64 {
         HANDLE_FRACTION * self.document.doc().cage.bounding_diagonal()
     }
 
@@ -238,45 +223,42 @@ impl EditorState {
         })
     }
 
-    /// The viewport's mouse in the curve-mesh scheme: hover, click to select (Shift adds), drag a
-    /// vertex, an inner point or the normal's tip. Returns false (doing nothing) in other schemes.
-    pub(crate) fn curve_mesh_viewport(
-        &mut self,
-        ui: &egui::Ui,
-        response: &egui::Response,
-        view: &ViewportRect,
-        mouse: Option<glam::Vec2>,
-        ui_state: &mut UiState,
-    ) -> bool {
+    /// What the curve-mesh scheme keeps up to date every frame, with or without a drag: the
+    /// cage's hover is off (the curve mesh is picked instead), the selection holds only vertices
+    /// that exist, the continuity overlay is measured on the surface shown. False in other schemes.
+    pub(crate) fn curve_mesh_upkeep(&mut self) -> bool {
         if self.document.doc().scheme != SchemeKind::CurveMesh {
-            ui_state.curve_mesh.drag = None;
             return false;
         }
-        let shift = ui.ctx().input(|i| i.modifiers.shift);
         self.selection.hovered_vertex = None;
         self.selection.hovered_edge = None;
         self.prune_curve_mesh_selection();
         self.refresh_curve_mesh_continuity();
-        if ui_state.curve_mesh.drag.is_none() {
-            self.curve_mesh.hovered =
-                response.hovered().then_some(mouse).flatten().and_then(|m| self.pick_curve_mesh_handle(view, m));
+        true
+    }
+
+    /// The viewport's mouse in the curve-mesh scheme with no drag running: hover, click to
+    /// select (Shift adds), a press on a vertex, an inner point or the normal's tip starts its
+    /// drag ([`crate::editor::tools::curve_mesh_drag`]). Returns false (doing nothing) in other
+    /// schemes.
+    pub(crate) fn curve_mesh_viewport(&mut self, pointer: &Pointer, tool: &mut ActiveTool) -> bool {
+        if !self.curve_mesh_upkeep() {
+            return false;
         }
+        let (ui, response, view, mouse) = (pointer.ui, pointer.response, &pointer.view, pointer.mouse);
+        let shift = ui.ctx().input(|i| i.modifiers.shift);
+        self.curve_mesh.hovered =
+            response.hovered().then_some(mouse).flatten().and_then(|m| self.pick_curve_mesh_handle(view, m));
         if response.drag_started_by(PointerButton::Primary) {
             let origin = ui.ctx().input(|i| i.pointer.press_origin()).map(|p| glam::Vec2::new(p.x, p.y)).or(mouse);
             if let Some(origin) = origin
                 && let Some(handle) = self.pick_curve_mesh_handle(view, origin)
+                && let Some(drag) = curve_mesh_drag::start(self, handle, origin, shift)
             {
-                self.start_curve_mesh_drag(handle, origin, shift, ui_state);
+                tool.start(self, drag);
+                tool.pointer(self, pointer);
+                return true;
             }
-        }
-        if response.dragged_by(PointerButton::Primary)
-            && let Some(m) = mouse
-            && let Some(drag) = ui_state.curve_mesh.drag.clone()
-        {
-            self.move_curve_mesh_drag(&drag, view, m);
-        }
-        if response.drag_stopped_by(PointerButton::Primary) && ui_state.curve_mesh.drag.take().is_some() {
-            self.document.end_gesture();
         }
         if response.clicked_by(PointerButton::Primary) {
             match self.curve_mesh.hovered {
@@ -286,101 +268,7 @@ impl EditorState {
                 None => {}
             }
         }
-        let text = match &ui_state.curve_mesh.drag {
-            Some(d) => match (d.handle, d.axis) {
-                (Handle::Normal(_), _) => {
-                    "turning the tangent plane: the normal follows the cursor (Esc cancels)".into()
-                }
-                (_, Some(axis)) => format!("moving along {axis:?} (X, Y, Z to change, Esc to cancel)"),
-                (_, None) => "moving in the view plane (X, Y or Z locks an axis, Esc cancels)".into(),
-            },
-            None => "Drag a curve-mesh vertex, its legs' ends or its normal's tip".into(),
-        };
-        ui.painter_at(response.rect).text(
-            response.rect.left_top() + egui::vec2(8.0, 8.0),
-            egui::Align2::LEFT_TOP,
-            text,
-            egui::FontId::proportional(14.0),
-            egui::Color32::WHITE,
-        );
-        true
-    }
-
-    /// Begins a drag of `handle` (one undo step until it ends).
-    pub(crate) fn start_curve_mesh_drag(
-        &mut self,
-        handle: Handle,
-        origin: glam::Vec2,
-        shift: bool,
-        ui_state: &mut UiState,
-    ) {
-        if let Handle::Vertex(v) = handle
-            && !self.curve_mesh.selected.contains(&v)
-        {
-            self.click_curve_mesh_vertex(v, shift);
-        }
-        let length = self.handle_length();
-        let Some(s) = self.curve_mesh_surface() else { return };
-        let cm = s.curve_mesh();
-        let start: Vec<(VertexId, DVec3)> = match handle {
-            Handle::Vertex(_) => self
-                .curve_mesh
-                .selected
-                .iter()
-                .filter(|w| w.index() < cm.vertex_count())
-                .map(|&w| (w, cm.vertex_position(w)))
-                .collect(),
-            Handle::Inner { curve, end } => cm.inner_point(curve, end).map(|q| (end, q)).into_iter().collect(),
-            Handle::Normal(v) => vec![(v, cm.vertex_position(v) + cm.vertex_normal(v) * length)],
-        };
-        if start.is_empty() {
-            return;
-        }
-        let before = self.document.doc().curve_mesh.clone();
-        self.document.begin_gesture();
-        ui_state.curve_mesh.drag = Some(CurveMeshDrag { handle, start, before, mouse_start: origin, axis: None });
-    }
-
-    /// The drag with the mouse at `mouse`: one edit from where the drag began.
-    pub(crate) fn move_curve_mesh_drag(&mut self, drag: &CurveMeshDrag, view: &ViewportRect, mouse: glam::Vec2) {
-        let frame = self.display_frame;
-        let start: Vec<(VertexId, DVec3)> = drag.start.iter().map(|&(v, p)| (v, frame.to_display_f64(p))).collect();
-        let moved: Vec<(VertexId, DVec3)> =
-            interaction::drag_positions(&self.camera, view, &start, drag.mouse_start, mouse, drag.axis)
-                .into_iter()
-                .map(|(v, p)| (v, frame.to_model(p)))
-                .collect();
-        match drag.handle {
-            Handle::Vertex(_) => self.edit(Edit::MoveCurveMeshVertices(moved)),
-            Handle::Inner { curve, end } => {
-                self.edit(Edit::MoveCurveMeshInnerPoint { curve, end, position: moved[0].1 })
-            }
-            Handle::Normal(v) => {
-                let Some(s) = self.curve_mesh_surface() else { return };
-                let p = s.curve_mesh().vertex_position(v);
-                let start_normal = (drag.start[0].1 - p).normalize_or_zero();
-                let n = (moved[0].1 - p).normalize_or_zero();
-                // A normal turned (almost) upside down would fold the patches: wait for a better one.
-                if n == DVec3::ZERO || n.dot(start_normal) < -0.99 {
-                    return;
-                }
-                // From the plane the drag began with, so the drag does not depend on its path.
-                self.edit(Edit::SetCurveMeshEdits(drag.before.clone()));
-                self.edit(Edit::SetCurveMeshNormal(v, n));
-            }
-        }
-    }
-
-    /// While a curve-mesh drag runs, X, Y and Z lock an axis and Esc cancels; true when it ran
-    /// (the keys are taken, nothing else runs).
-    pub(crate) fn curve_mesh_drag_keys(&mut self, ctx: &egui::Context, ui_state: &mut UiState) -> bool {
-        let Some(drag) = &mut ui_state.curve_mesh.drag else { return false };
-        if crate::editor::navigation::drag_keys(ctx, &mut drag.axis) {
-            let before = drag.before.clone();
-            ui_state.curve_mesh.drag = None;
-            self.edit(Edit::SetCurveMeshEdits(before));
-            self.document.end_gesture();
-        }
+        pointer.say("Drag a curve-mesh vertex, its legs' ends or its normal's tip");
         true
     }
 

@@ -71,7 +71,7 @@ impl EditorState {
                 keep = ui.button("Keep edits").clicked();
             });
             if discard {
-                self.edit(Edit::RebuildCurveMesh);
+                self.emit(Edit::RebuildCurveMesh);
             }
             if discard || keep || !has_edits {
                 ui_state.curve_mesh.confirm_rebuild = false;
@@ -124,11 +124,11 @@ impl EditorState {
             self.gesture_start(r, ui_state);
         }
         if moved {
-            self.edit(Edit::MoveCurveMeshVertices(vec![(v, q)]));
+            self.emit(Edit::MoveCurveMeshVertices(vec![(v, q)]));
         }
         if turned {
             let (t, a) = (tilt.to_radians(), azimuth.to_radians());
-            self.edit(Edit::SetCurveMeshNormal(v, DVec3::new(t.sin() * a.cos(), t.sin() * a.sin(), t.cos())));
+            self.emit(Edit::SetCurveMeshNormal(v, DVec3::new(t.sin() * a.cos(), t.sin() * a.sin(), t.cos())));
         }
         for r in &responses {
             self.gesture_end(r, ui_state);

@@ -196,7 +196,10 @@ fn the_continuity_overlay_measures_g1_and_follows_an_edit() {
 fn rebuild_from_cage_asks_before_it_discards_the_edits() {
     let mut harness = curve_mesh_editor();
     let (v, p) = front_vertex(&harness);
-    harness.state_mut().editor.edit(super::Edit::MoveCurveMeshVertices(vec![(v, p + DVec3::new(0.1, 0.2, -0.1))]));
+    harness
+        .state_mut()
+        .editor
+        .edit(crate::editor::document::Edit::MoveCurveMeshVertices(vec![(v, p + DVec3::new(0.1, 0.2, -0.1))]));
     frames(&mut harness);
     harness.run_steps(1);
     let edited = harness.state().editor.document.doc().curve_mesh.clone();

@@ -312,7 +312,7 @@ impl EditorState {
 
 impl EditorState {
     /// The Mesh menu: the select modes, selection helpers and every operation, with their keys.
-    pub(crate) fn mesh_menu(&mut self, ui: &mut egui::Ui, ui_state: &mut crate::editor::ui::UiState) {
+    pub(crate) fn mesh_menu(&mut self, ui: &mut egui::Ui) {
         use crate::editor::shortcuts::{self, Action};
         let item = |action: Action| {
             let key = shortcuts::label(action);
@@ -333,7 +333,7 @@ impl EditorState {
             });
             for action in [Action::SelectLinked, Action::SelectMore, Action::SelectLess] {
                 if ui.button(item(action)).clicked() {
-                    self.run_action(action, ui_state);
+                    self.emit_action(action);
                 }
             }
             ui.separator();
@@ -342,7 +342,7 @@ impl EditorState {
                     ui.separator();
                 }
                 if ui.button(item(Action::Mesh(op))).clicked() {
-                    self.run_action(Action::Mesh(op), ui_state);
+                    self.emit_action(Action::Mesh(op));
                 }
             }
             ui.separator();

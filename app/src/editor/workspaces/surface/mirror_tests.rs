@@ -4,7 +4,7 @@
 //! the virtual half as ghost lines; Apply mirror is one undo step restored bit for bit; a refused
 //! apply leaves the document untouched.
 
-use crate::editor::panel_tests::{App, cube_editor, editor_on, frames, settle};
+use crate::editor::panel_tests::{App, cube_editor, editor_on, frames, open_menu_item, settle};
 use crate::editor::shortcuts::{self, Action};
 use egui::{Key, Modifiers};
 use egui_kittest::Harness;
@@ -24,19 +24,6 @@ fn half_box() -> Document {
 
 fn bits(d: &Document) -> Vec<u64> {
     d.cage.positions().iter().flat_map(|p| p.to_array().map(f64::to_bits)).collect()
-}
-
-fn open_menu_item(h: &mut Harness<'static, App>, path: &[&str]) {
-    for label in path {
-        for _ in 0..5 {
-            if h.query_by_label(label).is_some() {
-                break;
-            }
-            frames(h);
-        }
-        h.get_by_label(label).click();
-        frames(h);
-    }
 }
 
 fn mirror(h: &Harness<'static, App>) -> Option<MirrorPlane> {

@@ -192,7 +192,7 @@ impl EditorState {
                 self.gesture_start(r, ui_state);
             }
             if changed {
-                self.edit(Edit::MoveVertices(vec![(v, p)]));
+                self.emit(Edit::MoveVertices(vec![(v, p)]));
             }
             for r in &responses {
                 self.gesture_end(r, ui_state);
@@ -223,7 +223,7 @@ impl EditorState {
                  a click sets them all.",
             );
         if response.changed() {
-            self.edit(Edit::SetFixed(vertices.to_vec(), fixed));
+            self.emit(Edit::SetFixed(vertices.to_vec(), fixed));
         }
         ui.separator();
         if !self.selection.vertices.is_empty() {
@@ -243,7 +243,7 @@ impl EditorState {
             });
         }
         if ui.button("Reset tension").on_hover_text("Set the tension of the selection back to 0").clicked() {
-            self.edit(Edit::ResetTension {
+            self.emit(Edit::ResetTension {
                 vertices: self.selection.vertices.clone(),
                 edges: self.selection.edges.clone(),
             });
@@ -324,15 +324,15 @@ impl EditorState {
         }
         self.gesture_start(&response, ui_state);
         if response.changed() {
-            self.edit(edit(s.max(0.0)));
+            self.emit(edit(s.max(0.0)));
         }
         self.gesture_end(&response, ui_state);
         let mut infinite = sharp;
         if ui.checkbox(&mut infinite, texts.sharp.0).on_hover_text(texts.sharp.1).changed() {
-            self.edit(edit(if infinite { f64::INFINITY } else { 0.0 }));
+            self.emit(edit(if infinite { f64::INFINITY } else { 0.0 }));
         }
         if ui.button(texts.clear.0).on_hover_text(texts.clear.1).clicked() {
-            self.edit(edit(0.0));
+            self.emit(edit(0.0));
         }
     }
 
@@ -395,7 +395,7 @@ impl EditorState {
         }
         self.gesture_start(&response, ui_state);
         if response.changed() {
-            self.edit(make(tau.max(0.0)));
+            self.emit(make(tau.max(0.0)));
         }
         self.gesture_end(&response, ui_state);
     }
@@ -412,7 +412,7 @@ impl EditorState {
     pub(crate) fn gesture_end(&mut self, response: &egui::Response, ui_state: &mut UiState) {
         if response.drag_stopped() && ui_state.slider_active {
             ui_state.slider_active = false;
-            self.document.end_gesture();
+            self.emit_end_gesture();
         }
     }
 
@@ -443,7 +443,7 @@ impl EditorState {
             .response
             .on_hover_text("How the surface is made from the cage (undoable, saved with the document)");
         if scheme != doc.scheme {
-            self.edit(Edit::SetScheme(scheme));
+            self.emit(Edit::SetScheme(scheme));
         }
         if self.document.doc().scheme == SchemeKind::CurveMesh {
             self.curve_mesh_panel(ui, ui_state);
@@ -468,7 +468,7 @@ impl EditorState {
             .inner;
         self.gesture_start(&response, ui_state);
         if settings != before {
-            self.edit(Edit::SetSubdivSettings(settings));
+            self.emit(Edit::SetSubdivSettings(settings));
         }
         self.gesture_end(&response, ui_state);
     }
@@ -522,7 +522,7 @@ impl EditorState {
             .response
             .on_hover_text("How the parameter interval of each edge is measured");
         if settings != before {
-            self.edit(Edit::SetSettings(settings));
+            self.emit(Edit::SetSettings(settings));
         }
         for r in &responses {
             self.gesture_end(r, ui_state);
