@@ -10,9 +10,13 @@ use crate::editor::interaction::{self, ViewportRect};
 use crate::editor::shortcuts;
 use crate::editor::state::EditorState;
 use crate::editor::tools::tool::{End, Flow, Pointer, Tool};
-use crate::editor::workspaces::curves::curves_viewport::{PICKED_COLOR, STROKE_STEP};
 use taut_core::DVec3;
 use taut_core::curve::{DocCurve, SegmentControls};
+
+/// Screen distance between samples of a stroke, in points.
+const STROKE_STEP: f32 = 3.0;
+/// The colour of a stroke, and of the curves picked for a patch (linear RGBA).
+pub(crate) const PICKED_COLOR: [f32; 4] = [1.0, 0.62, 0.15, 1.0];
 
 /// A stroke being drawn, in model coordinates, and the last mouse position sampled.
 #[derive(Clone, Debug)]

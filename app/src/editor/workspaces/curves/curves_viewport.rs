@@ -10,21 +10,18 @@ use crate::editor::curves::CurveTool;
 use crate::editor::interaction::{self, ViewportRect};
 use crate::editor::select_modes;
 use crate::editor::state::EditorState;
-use crate::editor::tools::curve_stroke;
+use crate::editor::tools::curve_stroke::{self, PICKED_COLOR};
 use crate::editor::tools::tool::Pointer;
 use crate::editor::ui::UiState;
 use egui::PointerButton;
 use taut_core::DVec3;
 use taut_render::overlay::{LineSegment, OverlayData, PointMark, PointStyle, polyline_with_comb};
 
-/// Screen distance between samples of a stroke, in points.
-pub(crate) const STROKE_STEP: f32 = 3.0;
 /// How near the pointer must come to a curve or control point to pick it, in points.
 const PICK_RADIUS: f32 = 8.0;
 
 const CURVE_COLOR: [f32; 4] = [0.62, 0.64, 0.68, 1.0];
 const SELECTED_COLOR: [f32; 4] = [0.95, 0.95, 0.97, 1.0];
-pub(crate) const PICKED_COLOR: [f32; 4] = [1.0, 0.62, 0.15, 1.0];
 const CONTROL_COLOR: [f32; 4] = [0.35, 0.85, 0.45, 1.0];
 const MISSING_COLOR: [f32; 4] = [1.0, 0.3, 0.3, 1.0];
 
