@@ -3,7 +3,7 @@
 //! a click that selects nothing in this mode, where an element of another mode lies, says so.
 
 use super::gizmo_tests::{pixel_of, viewport};
-use super::panel_tests::{App, cube_editor, frames};
+use super::panel_tests::{App, cube_editor, frames, settle};
 use super::select_modes::SelectMode;
 use egui::{Key, Modifiers, PointerButton, pos2};
 use egui_kittest::Harness;
@@ -53,6 +53,8 @@ fn a_click_beside_a_corner_in_face_mode_says_that_a_vertex_is_there() {
     h.state_mut().editor.selection.clear();
     frames(&mut h);
     h.state_mut().editor.selection.mode = SelectMode::Face;
+    // The view is framed again while the surface settles: the pixels are read once it has.
+    settle(&mut h);
     frames(&mut h);
     // The corner drawn farthest from the cube's centre is on its outline: 5 px further out no
     // face lies under the mouse, but the corner is within the 8 px a vertex is picked at.

@@ -163,3 +163,31 @@ fn esc_during_a_box_select_drops_the_box_and_keeps_the_selection() {
     frames(&mut h);
     assert_eq!(h.state().editor.selection.vertices, selected, "the selection is as it was");
 }
+
+#[test]
+fn the_cage_panel_moves_the_median_of_a_face_to_a_typed_value_in_one_undo_step() {
+    use egui::accesskit::Role;
+    use egui_kittest::kittest::{By, Queryable};
+    let mut h = prepared("face", false);
+    let before = h.state().editor.document.doc().clone();
+    let top: Vec<taut_core::VertexId> = before.cage.vertices().filter(|&v| before.cage.position(v).z > 0.0).collect();
+    h.get_by_label("median of 4 vertices");
+    // The Z field: the drag value labelled Z; a click opens it for typing.
+    h.get(By::new().role(Role::SpinButton).label("Z")).focus();
+    frames(&mut h);
+    frames(&mut h);
+    // Focused, the field is edited as text with its value selected: typing replaces it.
+    h.get(By::new().role(Role::SpinButton).label("Z")).type_text("1.5");
+    frames(&mut h);
+    h.key_press(egui::Key::Enter);
+    frames(&mut h);
+    frames(&mut h);
+    let cage = &h.state().editor.document.doc().cage;
+    for &v in &top {
+        let (p, q) = (before.cage.position(v), cage.position(v));
+        assert_eq!((q.x, q.y), (p.x, p.y), "x and y stay");
+        assert!((q.z - 1.5).abs() < 1e-12, "the top face lands at z = 1.5: {q}");
+    }
+    h.state_mut().editor.undo();
+    assert!(h.state().editor.document.doc() == &before, "one undo step");
+}

@@ -146,6 +146,11 @@ impl EditorState {
                 if self.curves.workspace == taut_core::curve::Workspace::Surface {
                     self.transform_toolbar(ui);
                 }
+                // The running tool's numbers, in the header as Blender shows them.
+                if let Some(numbers) = ui_state.tool.readout(self) {
+                    ui.separator();
+                    ui.label(egui::RichText::new(numbers).strong().monospace());
+                }
             });
         });
         if self.curves.workspace == taut_core::curve::Workspace::Curves {

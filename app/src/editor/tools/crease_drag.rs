@@ -106,6 +106,11 @@ impl Tool for CreaseDrag {
         pointer.clicks()
     }
 
+    fn readout(&self, _editor: &EditorState) -> Option<String> {
+        let what = if self.vertices.is_empty() { "crease" } else { "corner" };
+        Some(if self.value == f64::INFINITY { format!("{what} sharp") } else { format!("{what} {:.2}", self.value) })
+    }
+
     fn status(&self, _editor: &EditorState) -> String {
         let value = if self.value == f64::INFINITY { "sharp".to_string() } else { format!("{:.2}", self.value) };
         let what = if self.vertices.is_empty() { "crease" } else { "corner" };

@@ -382,7 +382,7 @@ impl EditorState {
         t.snap = self.gizmo.snap.active(false);
         self.gizmo.active = Some(handle);
         self.document.begin_gesture();
-        self.update_transform(&t, Some(view));
+        self.update_transform(&mut t, Some(view));
         Some(t)
     }
 

@@ -122,6 +122,10 @@ impl Tool for InsetDrag {
         pointer.clicks()
     }
 
+    fn readout(&self, _editor: &EditorState) -> Option<String> {
+        Some(format!("inset thickness {:.4}", self.thickness))
+    }
+
     fn status(&self, _editor: &EditorState) -> String {
         let why = self.refusal.as_ref().map_or(String::new(), |r| format!(" ({r})"));
         format!(

@@ -231,6 +231,13 @@ impl Tool for LoopCutTool {
         }
     }
 
+    fn readout(&self, _editor: &EditorState) -> Option<String> {
+        match self {
+            LoopCutTool::Slide { fraction, .. } => Some(format!("slide {fraction:.3} along the edge")),
+            LoopCutTool::Preview { .. } => None,
+        }
+    }
+
     fn status(&self, _editor: &EditorState) -> String {
         match self {
             // The core's refusals name the operation already.

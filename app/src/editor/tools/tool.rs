@@ -162,6 +162,12 @@ pub trait Tool: AsAny + Debug {
     /// The line that says what is happening and which keys do what.
     fn status(&self, editor: &EditorState) -> String;
 
+    /// The numbers of the running change for the header (a move's ΔX ΔY ΔZ and distance, an
+    /// angle, a factor, a thickness), when it has any.
+    fn readout(&self, _editor: &EditorState) -> Option<String> {
+        None
+    }
+
     /// Ends it: keeps its undo step, or puts back what it changed first.
     fn end(self: Box<Self>, editor: &mut EditorState, end: End);
 
@@ -194,6 +200,11 @@ impl ActiveTool {
     /// The running tool, when it is a `T` (for tests and for what is drawn around it).
     pub fn get<T: Tool>(&self) -> Option<&T> {
         self.0.as_deref().and_then(|t| AsAny::as_any(t).downcast_ref())
+    }
+
+    /// The running tool's numbers for the header.
+    pub fn readout(&self, editor: &EditorState) -> Option<String> {
+        self.0.as_ref().and_then(|t| t.readout(editor))
     }
 
     /// Whether the running tool lets the camera navigate.

@@ -65,6 +65,19 @@ pub struct Transform {
     pub release_confirms: bool,
     /// The cage's topology when it began: another one (a file opened meanwhile) ends it.
     pub topology: CageStamp,
+    /// The value the cage shows now, for the header's readout.
+    pub applied: Applied,
+}
+
+/// A transform's value as applied: what the header reads out while it runs.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Applied {
+    /// A move by this offset, in model units.
+    Offset(DVec3),
+    /// A turn by this many degrees.
+    Degrees(f64),
+    /// A scale by this factor.
+    Factor(f64),
 }
 
 impl Transform {
@@ -84,6 +97,28 @@ impl Transform {
             grid_step: 1.0,
             release_confirms: false,
             topology: CageStamp::default(),
+            applied: match kind {
+                TransformKind::Grab => Applied::Offset(DVec3::ZERO),
+                TransformKind::Rotate => Applied::Degrees(0.0),
+                TransformKind::Scale => Applied::Factor(1.0),
+            },
+        }
+    }
+
+    /// The header's readout, as Blender shows it: ΔX ΔY ΔZ and the distance of a move (the
+    /// offset along the normal of an extrusion), the angle of a turn, the factor of a scale.
+    pub fn numbers(&self) -> String {
+        let n = |x: f64| format!("{:.4}", if x == 0.0 { 0.0 } else { x });
+        match self.applied {
+            Applied::Offset(d) if self.direction.is_some() => {
+                let along = self.direction.map_or(0.0, |u| d.dot(u));
+                format!("offset {} along the normal (Δ {} {} {})", n(along), n(d.x), n(d.y), n(d.z))
+            }
+            Applied::Offset(d) => {
+                format!("ΔX {}  ΔY {}  ΔZ {}  distance {}", n(d.x), n(d.y), n(d.z), n(d.length()))
+            }
+            Applied::Degrees(a) => format!("angle {:.2}°", if a == 0.0 { 0.0 } else { a }),
+            Applied::Factor(f) => format!("factor {f:.4}"),
         }
     }
 
@@ -125,8 +160,8 @@ fn component(axis: Axis) -> usize {
     }
 }
 
-/// Where the vertices go for a typed `value` (a distance, degrees or a factor).
-pub fn typed_positions(t: &Transform, value: f64) -> Vec<(VertexId, DVec3)> {
+/// Where the vertices go for a typed `value`, and the value as applied.
+fn typed(t: &Transform, value: f64) -> (Vec<(VertexId, DVec3)>, Applied) {
     match t.kind {
         TransformKind::Grab => {
             let direction = match (t.direction, t.axis, t.plane) {
@@ -135,10 +170,10 @@ pub fn typed_positions(t: &Transform, value: f64) -> Vec<(VertexId, DVec3)> {
                 (None, None, Some(p)) => free_axes(p)[0].direction(),
                 (None, None, None) => DVec3::X,
             };
-            moved(t, direction * value)
+            (moved(t, direction * value), Applied::Offset(direction * value))
         }
-        TransformKind::Rotate => rotated(t, t.rotation_axis().unwrap_or(DVec3::Z), value),
-        TransformKind::Scale => scaled(t, value),
+        TransformKind::Rotate => (rotated(t, t.rotation_axis().unwrap_or(DVec3::Z), value), Applied::Degrees(value)),
+        TransformKind::Scale => (scaled(t, value), Applied::Factor(value)),
     }
 }
 
@@ -271,6 +306,10 @@ impl Tool for Transform {
         }
     }
 
+    fn readout(&self, _editor: &EditorState) -> Option<String> {
+        Some(self.numbers())
+    }
+
     fn status(&self, editor: &EditorState) -> String {
         let what = match self.kind {
             TransformKind::Grab => "move",
@@ -322,13 +361,13 @@ impl EditorState {
         Some(t)
     }
 
-    /// Moves the vertices where the typed value or the mouse says.
-    pub(crate) fn update_transform(&mut self, t: &Transform, view: Option<&ViewportRect>) {
-        let moved = if let Ok(value) = t.typed.parse::<f64>() {
+    /// Moves the vertices where the typed value or the mouse says, and notes the value applied.
+    pub(crate) fn update_transform(&mut self, t: &mut Transform, view: Option<&ViewportRect>) {
+        let (moved, applied) = if let Ok(value) = t.typed.parse::<f64>() {
             if !value.is_finite() {
                 return;
             }
-            typed_positions(t, value)
+            typed(t, value)
         } else {
             let (Some(view), Some(from), Some(to)) = (view, t.mouse_start, t.mouse_now) else { return };
             self.mouse_positions(t, view, from, to)
@@ -344,6 +383,7 @@ impl EditorState {
                 self.notify(text, true);
             }
             self.edit(Edit::MoveVertices(start));
+            t.applied = Transform::new(t.kind, Vec::new(), t.centre, None).applied;
             return;
         }
         // A value that keeps every face open: the refusal of an earlier one no longer holds.
@@ -351,6 +391,7 @@ impl EditorState {
             self.notice = None;
         }
         self.edit(Edit::MoveVertices(moved));
+        t.applied = applied;
     }
 
     /// A face that `moved` would collapse and that is open now, if any.
@@ -364,30 +405,37 @@ impl EditorState {
         crate::editor::live::collapsed_faces(&trial.cage).into_iter().find(|f| !before.contains(f))
     }
 
-    fn mouse_positions(&self, t: &Transform, view: &ViewportRect, from: Vec2, to: Vec2) -> Vec<(VertexId, DVec3)> {
+    fn mouse_positions(
+        &self,
+        t: &Transform,
+        view: &ViewportRect,
+        from: Vec2,
+        to: Vec2,
+    ) -> (Vec<(VertexId, DVec3)>, Applied) {
         let frame = self.display_frame;
         let snap = &self.gizmo.snap;
+        let unmoved = (t.start.clone(), Transform::new(t.kind, Vec::new(), t.centre, None).applied);
         match t.kind {
             TransformKind::Grab => {
                 let offset = self.grab_offset(t, view, from, to);
                 if !offset.is_finite() {
-                    return t.start.clone();
+                    return unmoved;
                 }
-                moved(t, offset)
+                (moved(t, offset), Applied::Offset(offset))
             }
             TransformKind::Rotate | TransformKind::Scale => {
                 let centre = frame.to_display_f64(t.centre);
                 let Some((c, _)) = interaction::project(&self.camera, view, centre) else {
-                    return t.start.clone();
+                    return unmoved;
                 };
                 let (a, b) = (from - c, to - c);
                 if a.length() < 1.0 || b.length() < 1.0 {
-                    return t.start.clone();
+                    return unmoved;
                 }
                 if t.kind == TransformKind::Scale {
                     let factor = f64::from(b.length() / a.length());
                     let factor = if t.snap { snapping::to_multiple(factor, snap.scale) } else { factor };
-                    scaled(t, factor)
+                    (scaled(t, factor), Applied::Factor(factor))
                 } else {
                     // Screen y runs down: a counter-clockwise turn on screen is a negative perp,
                     // and counter-clockwise about an axis that points at the viewer.
@@ -396,7 +444,7 @@ impl EditorState {
                     let axis = t.rotation_axis().unwrap_or(towards_viewer);
                     let degrees = if axis.dot(towards_viewer) < 0.0 { -screen } else { screen };
                     let degrees = if t.snap { snapping::to_multiple(degrees, snap.degrees) } else { degrees };
-                    rotated(t, axis, degrees)
+                    (rotated(t, axis, degrees), Applied::Degrees(degrees))
                 }
             }
         }
@@ -483,6 +531,48 @@ mod tests {
         h.key_press_modifiers(Modifiers::COMMAND, Key::Z);
         frames(&mut h);
         assert_eq!(h.state().editor.document.doc(), &before, "one undo step");
+    }
+
+    /// The header's readout, read as a designer reads it (the label in the menu bar).
+    fn header(h: &egui_kittest::Harness<'static, crate::editor::panel_tests::App>) -> String {
+        use egui_kittest::kittest::Queryable;
+        let readout = h.state().ui.tool.readout(&h.state().editor).expect("a tool runs");
+        h.get_by_label(&readout);
+        readout
+    }
+
+    #[test]
+    fn the_header_reads_out_the_typed_move_angle_and_factor() {
+        let mut h = cube_editor();
+        for key in [Key::G, Key::X, Key::Num1, Key::Period, Key::Num5] {
+            h.key_press(key);
+            frames(&mut h);
+        }
+        frames(&mut h);
+        assert_eq!(header(&h), "ΔX 1.5000  ΔY 0.0000  ΔZ 0.0000  distance 1.5000");
+        h.key_press(Key::Y);
+        frames(&mut h);
+        frames(&mut h);
+        assert_eq!(header(&h), "ΔX 0.0000  ΔY 1.5000  ΔZ 0.0000  distance 1.5000", "the lock moves the value");
+        h.key_press(Key::Escape);
+        frames(&mut h);
+        for key in [Key::R, Key::Z, Key::Minus, Key::Num3, Key::Num0] {
+            h.key_press(key);
+            frames(&mut h);
+        }
+        frames(&mut h);
+        assert_eq!(header(&h), "angle -30.00°");
+        h.key_press(Key::Escape);
+        frames(&mut h);
+        for key in [Key::S, Key::Num2] {
+            h.key_press(key);
+            frames(&mut h);
+        }
+        frames(&mut h);
+        assert_eq!(header(&h), "factor 2.0000");
+        h.key_press(Key::Enter);
+        frames(&mut h);
+        assert!(h.state().ui.tool.readout(&h.state().editor).is_none(), "the readout goes with the tool");
     }
 
     #[test]

@@ -49,6 +49,15 @@ impl Tool for VertexDrag {
         pointer.release()
     }
 
+    /// ΔX ΔY ΔZ and the distance the dragged vertices moved (their mean).
+    fn readout(&self, editor: &EditorState) -> Option<String> {
+        let cage = &editor.document.doc().cage;
+        let n = self.start.len().max(1) as f64;
+        let d: DVec3 = self.start.iter().map(|&(v, p)| cage.position(v) - p).sum::<DVec3>() / n;
+        let f = |x: f64| format!("{:.4}", if x == 0.0 { 0.0 } else { x });
+        Some(format!("ΔX {}  ΔY {}  ΔZ {}  distance {}", f(d.x), f(d.y), f(d.z), f(d.length())))
+    }
+
     fn status(&self, _editor: &EditorState) -> String {
         match self.axis {
             Some(axis) => format!("moving along {axis:?} (X, Y, Z to change, Esc to cancel)"),

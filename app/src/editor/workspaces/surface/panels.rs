@@ -165,12 +165,16 @@ impl EditorState {
         }
         let doc = self.document.doc();
         let diagonal = doc.cage.bounding_diagonal();
-        if let [v] = self.selection.vertices.as_slice()
-            && self.selection.edges.is_empty()
-        {
-            let v = *v;
-            ui.label(format!("vertex {}", v.0));
-            let mut p = doc.cage.position(v);
+        let moving = crate::editor::select_modes::selected_vertex_set(&doc.cage, &self.selection);
+        if !moving.is_empty() {
+            // One vertex: its coordinates. More (or an edge, a face): their median (mean), and a
+            // typed or dragged value moves them all by the same offset, as Blender's N panel.
+            let median = moving.iter().map(|&v| doc.cage.position(v)).sum::<taut_core::DVec3>() / moving.len() as f64;
+            match moving.as_slice() {
+                [v] => ui.label(format!("vertex {}", v.0)),
+                _ => ui.label(format!("median of {} vertices", moving.len())),
+            };
+            let mut p = median;
             let mut changed = false;
             let mut responses = Vec::new();
             egui::Grid::new("coordinates").num_columns(2).show(ui, |ui| {
@@ -182,7 +186,7 @@ impl EditorState {
                             egui::DragValue::new(value).speed(0.002 * diagonal).max_decimals(6),
                         )
                         .labelled_by(name.id)
-                        .on_hover_text(format!("The vertex's {label} coordinate: drag or type a value"));
+                        .on_hover_text(format!("The {label} coordinate (model units): drag or type a value"));
                     changed |= response.changed();
                     responses.push(response);
                     ui.end_row();
@@ -192,10 +196,21 @@ impl EditorState {
                 self.gesture_start(r, ui_state);
             }
             if changed {
-                self.emit(Edit::MoveVertices(vec![(v, p)]));
+                let moves = match moving.as_slice() {
+                    // A typed value lands exactly.
+                    [v] => vec![(*v, p)],
+                    _ => {
+                        let cage = &self.document.doc().cage;
+                        moving.iter().map(|&v| (v, cage.position(v) + (p - median))).collect()
+                    }
+                };
+                self.emit(Edit::MoveVertices(moves));
             }
             for r in &responses {
                 self.gesture_end(r, ui_state);
+            }
+            if moving.len() > 1 {
+                ui.label(self.selection_summary());
             }
         } else {
             ui.label(self.selection_summary());
