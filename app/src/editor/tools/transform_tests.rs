@@ -1,0 +1,107 @@
+//! G, R and S driven by keys, as a designer types them: exact moves, turns and scales, Esc, and
+//! the header's readout.
+
+use super::*;
+use crate::editor::panel_tests::{cube_editor, frames};
+use egui::Modifiers;
+
+#[test]
+fn g_x_one_enter_moves_the_selection_by_exactly_one_along_x_in_one_undo_step() {
+    let mut h = cube_editor();
+    let before = h.state().editor.document.doc().clone();
+    let v = taut_core::VertexId(7);
+    let p = before.cage.position(v);
+    for key in [Key::G, Key::X, Key::Num1, Key::Enter] {
+        h.key_press(key);
+        frames(&mut h);
+    }
+    let doc = h.state().editor.document.doc().clone();
+    assert_eq!(doc.cage.position(v), p + DVec3::X, "exactly 1 along x");
+    assert!(doc.cage.vertices().filter(|&w| w != v).all(|w| doc.cage.position(w) == before.cage.position(w)));
+    h.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+    frames(&mut h);
+    assert_eq!(h.state().editor.document.doc(), &before, "one undo step");
+}
+
+/// The header's readout, read as a designer reads it (the label in the menu bar).
+fn header(h: &egui_kittest::Harness<'static, crate::editor::panel_tests::App>) -> String {
+    use egui_kittest::kittest::Queryable;
+    let readout = h.state().ui.tool.readout(&h.state().editor).expect("a tool runs");
+    h.get_by_label(&readout);
+    readout
+}
+
+#[test]
+fn the_header_reads_out_the_typed_move_angle_and_factor() {
+    let mut h = cube_editor();
+    for key in [Key::G, Key::X, Key::Num1, Key::Period, Key::Num5] {
+        h.key_press(key);
+        frames(&mut h);
+    }
+    frames(&mut h);
+    assert_eq!(header(&h), "ΔX 1.5000  ΔY 0.0000  ΔZ 0.0000  distance 1.5000");
+    h.key_press(Key::Y);
+    frames(&mut h);
+    frames(&mut h);
+    assert_eq!(header(&h), "ΔX 0.0000  ΔY 1.5000  ΔZ 0.0000  distance 1.5000", "the lock moves the value");
+    h.key_press(Key::Escape);
+    frames(&mut h);
+    for key in [Key::R, Key::Z, Key::Minus, Key::Num3, Key::Num0] {
+        h.key_press(key);
+        frames(&mut h);
+    }
+    frames(&mut h);
+    assert_eq!(header(&h), "angle -30.00°");
+    h.key_press(Key::Escape);
+    frames(&mut h);
+    for key in [Key::S, Key::Num2] {
+        h.key_press(key);
+        frames(&mut h);
+    }
+    frames(&mut h);
+    assert_eq!(header(&h), "factor 2.0000");
+    h.key_press(Key::Enter);
+    frames(&mut h);
+    assert!(h.state().ui.tool.readout(&h.state().editor).is_none(), "the readout goes with the tool");
+}
+
+#[test]
+fn typed_rotations_and_scales_match_their_closed_forms_and_esc_cancels() {
+    let mut h = cube_editor();
+    // The top face: centre (0, 0, 0.5).
+    let top: Vec<VertexId> =
+        (0..8).map(VertexId).filter(|&v| h.state().editor.document.doc().cage.position(v).z > 0.0).collect();
+    h.state_mut().editor.selection.vertices = top.clone();
+    let before = h.state().editor.document.doc().clone();
+    for key in [Key::R, Key::Z, Key::Num9, Key::Num0, Key::Enter] {
+        h.key_press(key);
+        frames(&mut h);
+    }
+    let cage = &h.state().editor.document.doc().cage;
+    for &v in &top {
+        let (p, q) = (before.cage.position(v), cage.position(v));
+        // A quarter turn about z through the centre: (x, y) -> (-y, x).
+        assert!((q - DVec3::new(-p.y, p.x, p.z)).length() < 1e-12, "{p} -> {q}");
+    }
+    for key in [Key::S, Key::Num2, Key::Escape] {
+        h.key_press(key);
+        frames(&mut h);
+    }
+    let after_rotation = h.state().editor.document.doc().clone();
+    h.key_press(Key::S);
+    frames(&mut h);
+    for key in [Key::Num2, Key::Enter] {
+        h.key_press(key);
+        frames(&mut h);
+    }
+    let cage = &h.state().editor.document.doc().cage;
+    for &v in &top {
+        let (p, q) = (after_rotation.cage.position(v), cage.position(v));
+        let c = DVec3::new(0.0, 0.0, 0.5);
+        assert!((q - (c + 2.0 * (p - c))).length() < 1e-12, "scaled twice about the centre");
+    }
+    // Esc put everything back before the second S: the undo history holds R and S only.
+    h.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+    frames(&mut h);
+    assert_eq!(h.state().editor.document.doc(), &after_rotation);
+}
