@@ -24,6 +24,7 @@ const MOUSE_AND_DRAG_KEYS: &[(&str, &str)] = &[
     ("Shift+X, Y or Z while transforming", "Lock to the plane normal to that axis (again: unlock)"),
     ("Ctrl held while transforming", "Snap to the grid step, 5° or 0.1 (the toolbar sets the steps)"),
     ("Shift + right click", "Place the 3D cursor on the surface under the mouse"),
+    ("Click an axis of the triad (bottom left)", "Look along that axis; a drag on the triad orbits"),
 ];
 
 /// A menu entry's text: its name and its first shortcut.

@@ -12,6 +12,7 @@ use super::interaction::ViewportRect;
 use super::select_modes::SelectMode;
 use super::state::EditorState;
 use super::tools::tool::Pointer;
+use super::tools::triad;
 use super::tools::vertex_drag::VertexDrag;
 use super::transform::Transform;
 use super::ui::UiState;
@@ -91,6 +92,13 @@ impl EditorState {
             self.select_and_drag(&pointer, &cage, ui_state);
             self.gizmo_overlay(ui, rect, &view, ui_state);
         }
+        let over_triad = mouse.is_some_and(|m| triad::contains(&view, m));
+        triad::draw(
+            &ui.painter_at(rect),
+            &self.camera,
+            &view,
+            over_triad || ui_state.tool.get::<triad::TriadOrbit>().is_some(),
+        );
         if self.busy() {
             ui.ctx().request_repaint();
         }
@@ -108,6 +116,22 @@ impl EditorState {
     fn select_and_drag(&mut self, pointer: &Pointer, cage: &PolyMesh, ui_state: &mut UiState) {
         let (ui, response, view, mouse) = (pointer.ui, pointer.response, pointer.view, pointer.mouse);
         let shift = ui.ctx().input(|i| i.modifiers.shift);
+        // The triad in the corner: a click looks along an axis, a drag orbits.
+        let origin = ui.ctx().input(|i| i.pointer.press_origin()).map(|p| glam::Vec2::new(p.x, p.y));
+        if response.drag_started_by(PointerButton::Primary) && origin.is_some_and(|o| triad::contains(&view, o)) {
+            ui_state.tool.start(self, triad::start_orbit(self));
+            ui_state.tool.pointer(self, pointer);
+            return;
+        }
+        if response.clicked_by(PointerButton::Primary)
+            && let Some(m) = mouse
+            && triad::contains(&view, m)
+        {
+            if let Some(standard) = triad::pick(&self.camera, &view, m) {
+                self.camera.set_view(standard);
+            }
+            return;
+        }
         // A press starts a drag of the selection from a cage vertex, or a box elsewhere.
         if response.drag_started_by(PointerButton::Primary) {
             let origin = ui.ctx().input(|i| i.pointer.press_origin()).map(|p| glam::Vec2::new(p.x, p.y)).or(mouse);

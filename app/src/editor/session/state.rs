@@ -294,6 +294,9 @@ impl EditorState {
         if let Some(path) = self.document.path().map(Path::to_path_buf) {
             let _ = self.recent.add(&path);
         }
+        // A new or opened document is seen from the front, right and above (Blender's and
+        // Rhino's three-quarter view), framed, whatever view the last one was left in.
+        self.camera.set_view(taut_render::StandardView::Perspective);
         self.frame_all();
         self.auto_frame = Some((self.camera, self.document.revision()));
     }

@@ -5,7 +5,7 @@
 
 use crate::editor::interaction::ViewportRect;
 use crate::editor::state::EditorState;
-use crate::editor::tools::tool::{End, Flow, Pointer, Tool};
+use crate::editor::tools::tool::{End, Flow, Pointer, Tool, escape};
 use glam::Vec2;
 
 /// A rubber band being drawn: its corners, and whether it adds to the selection.
@@ -25,8 +25,7 @@ pub(crate) fn start(origin: Vec2, add: bool) -> Box<dyn Tool> {
 
 impl Tool for BoxSelect {
     fn keys(&mut self, _editor: &mut EditorState, ctx: &egui::Context) -> Flow {
-        let escape = ctx.input_mut(|i| crate::editor::shortcuts::take_plain(i, egui::Key::Escape));
-        if escape { Flow::Cancel } else { Flow::Continue }
+        escape(ctx)
     }
 
     fn pointer(&mut self, _editor: &mut EditorState, pointer: &Pointer) -> Flow {

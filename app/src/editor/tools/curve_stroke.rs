@@ -7,9 +7,8 @@
 //! ([`crate::editor::workspaces::curves::curves_viewport`]).
 
 use crate::editor::interaction::{self, ViewportRect};
-use crate::editor::shortcuts;
 use crate::editor::state::EditorState;
-use crate::editor::tools::tool::{End, Flow, Pointer, Tool};
+use crate::editor::tools::tool::{End, Flow, Pointer, Tool, escape};
 use taut_core::DVec3;
 use taut_core::curve::{DocCurve, SegmentControls};
 
@@ -35,10 +34,6 @@ pub(crate) fn start_stroke(editor: &mut EditorState, view: &ViewportRect, origin
             None
         }
     }
-}
-
-fn escape(ctx: &egui::Context) -> Flow {
-    if ctx.input_mut(|i| shortcuts::take_plain(i, egui::Key::Escape)) { Flow::Cancel } else { Flow::Continue }
 }
 
 impl Tool for CurveStroke {

@@ -3,7 +3,7 @@
 //! (`snapping`) and the pivot (`pivot`); E (`extrude_move`), I (`inset_drag`), Ctrl+R
 //! (`loop_slide`); the crease and corner drags, Shift+E and Shift+V (`crease_drag`); the drags a
 //! press starts in the viewport (`vertex_drag`, `box_select`, `curve_mesh_drag`, and the Curves workspace's
-//! `curve_stroke`); the transform toolbar
+//! `curve_stroke`), the navigation triad's orbit (`triad`); the transform toolbar
 //! (`toolbar`).
 //!
 //! A new tool is one file plus one line in [`TOOLS`]: its key comes from the shortcut table
@@ -22,6 +22,7 @@ pub mod snapping;
 pub mod tool;
 pub mod toolbar;
 pub mod transform;
+pub mod triad;
 pub mod vertex_drag;
 
 use crate::editor::mesh_ops::MeshOp;

@@ -112,6 +112,11 @@ pub fn enter_or_escape(ctx: &egui::Context) -> Flow {
     }
 }
 
+/// Esc cancels; nothing else is taken (the drags that end when the button is let go).
+pub fn escape(ctx: &egui::Context) -> Flow {
+    if ctx.input_mut(|i| take_plain(i, Key::Escape)) { Flow::Cancel } else { Flow::Continue }
+}
+
 /// The cage's topology when a tool began: another one (a file opened from the menu while the
 /// tool ran, an undo past its start) makes the tool stale.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
