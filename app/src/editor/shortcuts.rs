@@ -50,6 +50,8 @@ pub enum Action {
     ToggleMirror,
     /// X-ray: the back of the cage drawn and picked too, or dimmed and left alone.
     ToggleXray,
+    /// D: measure distances, angles and radii of curvature.
+    Measure,
 }
 
 impl Action {
@@ -72,6 +74,7 @@ impl Action {
                 | Action::ToggleGizmo
                 | Action::CyclePivot
                 | Action::ToggleMirror
+                | Action::Measure
         )
     }
 }
@@ -147,6 +150,7 @@ pub const SHORTCUTS: &[Shortcut] = &[
     shift(Key::S, Action::CyclePivot),
     shift(Key::M, Action::ToggleMirror),
     alt(Key::Z, Action::ToggleXray),
+    plain(Key::D, Action::Measure),
 ];
 
 impl Shortcut {
@@ -238,6 +242,7 @@ pub fn describe(action: Action) -> &'static str {
         Action::CyclePivot => "Pivot: median, bounding box, 3D cursor, active vertex in turn",
         Action::ToggleMirror => "Mirror modelling on or off (the plane last chosen in the Mesh menu's Mirror entry)",
         Action::ToggleXray => "X-ray on or off: off, the back of the cage is dimmed and cannot be picked",
+        Action::Measure => "Measure: click two points for a distance, three for an angle, the surface for its radii",
     }
 }
 

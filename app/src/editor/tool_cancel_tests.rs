@@ -65,7 +65,7 @@ fn tool_running(h: &Harness<'static, App>) -> bool {
 /// The selection a listed tool needs and what Esc leaves.
 fn needs(action: Action) -> (&'static str, AfterEsc) {
     match action {
-        Action::Transform(TransformKind::Grab) | Action::Corner => ("vertex", AfterEsc::Unchanged),
+        Action::Transform(TransformKind::Grab) | Action::Corner | Action::Measure => ("vertex", AfterEsc::Unchanged),
         Action::Transform(_) => ("face", AfterEsc::Unchanged),
         Action::Crease | Action::Mesh(MeshOp::LoopCut) => ("edge", AfterEsc::Unchanged),
         Action::Mesh(op @ (MeshOp::Extrude | MeshOp::Inset)) => ("face", AfterEsc::AsTheMenu(op)),
@@ -75,7 +75,7 @@ fn needs(action: Action) -> (&'static str, AfterEsc) {
 
 #[test]
 fn every_listed_tool_starts_from_its_key_and_its_menu_entry_and_esc_cancels_it_cleanly() {
-    assert_eq!(TOOLS.len(), 8, "the tools a key starts");
+    assert_eq!(TOOLS.len(), 9, "the tools a key starts");
     for tool in TOOLS {
         let action = tool.action;
         let (selection, after) = needs(action);

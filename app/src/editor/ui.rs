@@ -146,11 +146,6 @@ impl EditorState {
                 if self.curves.workspace == taut_core::curve::Workspace::Surface {
                     self.transform_toolbar(ui);
                 }
-                // The running tool's numbers, in the header as Blender shows them.
-                if let Some(numbers) = ui_state.tool.readout(self) {
-                    ui.separator();
-                    ui.label(egui::RichText::new(numbers).strong().monospace());
-                }
             });
         });
         if self.curves.workspace == taut_core::curve::Workspace::Curves {
@@ -243,7 +238,9 @@ impl EditorState {
             Action::ViewTop => self.camera.set_view(StandardView::Top),
             Action::ViewPerspective => self.camera.set_view(StandardView::Perspective),
             Action::ShowShortcuts => ui_state.show_shortcuts = true,
-            Action::Crease | Action::Corner | Action::Transform(_) => self.start_listed_tool(action, ui_state),
+            Action::Crease | Action::Corner | Action::Transform(_) | Action::Measure => {
+                self.start_listed_tool(action, ui_state)
+            }
             Action::CycleSelectMode => {
                 let mode = self.selection.mode.next();
                 select_modes::set_mode(&self.document.doc().cage, &mut self.selection, mode);

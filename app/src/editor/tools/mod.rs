@@ -17,6 +17,7 @@ pub mod extrude_move;
 pub mod gizmo;
 pub mod inset_drag;
 pub mod loop_slide;
+pub mod measure;
 pub mod pivot;
 pub mod snapping;
 pub mod tool;
@@ -68,6 +69,7 @@ pub const TOOLS: &[ToolEntry] = &[
     ToolEntry { action: Action::Mesh(MeshOp::LoopCut), name: "Loop cut and slide", start: loop_slide::start },
     ToolEntry { action: Action::Crease, name: "Crease edges", start: crease_drag::start_crease },
     ToolEntry { action: Action::Corner, name: "Sharpen corners", start: crease_drag::start_corner },
+    ToolEntry { action: Action::Measure, name: "Measure", start: measure::start },
 ];
 
 /// The listed tool an action starts, if any.

@@ -23,7 +23,7 @@ fn g_x_one_enter_moves_the_selection_by_exactly_one_along_x_in_one_undo_step() {
     assert_eq!(h.state().editor.document.doc(), &before, "one undo step");
 }
 
-/// The header's readout, read as a designer reads it (the label in the menu bar).
+/// The readout, read as a designer reads it (the first label of the status bar).
 fn header(h: &egui_kittest::Harness<'static, crate::editor::panel_tests::App>) -> String {
     use egui_kittest::kittest::Queryable;
     let readout = h.state().ui.tool.readout(&h.state().editor).expect("a tool runs");

@@ -58,6 +58,14 @@ impl EditorState {
 
     pub(crate) fn status_bar(&mut self, ui: &mut egui::Ui, ui_state: &mut UiState) {
         ui.horizontal(|ui| {
+            // The running tool's numbers first, where the eye goes (Blender shows them in its
+            // header): a move's ΔX ΔY ΔZ, an angle, a factor, a measurement.
+            if let Some(numbers) = ui_state.tool.readout(self) {
+                ui.label(
+                    egui::RichText::new(numbers).strong().monospace().color(egui::Color32::from_rgb(255, 220, 60)),
+                );
+                ui.separator();
+            }
             ui.label(self.document.title());
             ui.separator();
             match (&self.progress, &self.surface_error) {
