@@ -19,6 +19,7 @@ pub mod inset_drag;
 pub mod loop_slide;
 pub mod measure;
 pub mod pivot;
+pub mod snap_targets;
 pub mod snapping;
 pub mod tool;
 pub mod toolbar;

@@ -29,11 +29,20 @@ pub struct SnapSettings {
     pub scale: f64,
     /// Moves put the selection's centre on the grid instead of moving by whole steps.
     pub absolute: bool,
+    /// What a snapped move lands on: grid steps, or geometry ([`crate::editor::tools::snap_targets`]).
+    pub target: crate::editor::tools::snap_targets::SnapTarget,
 }
 
 impl Default for SnapSettings {
     fn default() -> Self {
-        SnapSettings { always: false, fixed_step: None, degrees: 5.0, scale: 0.1, absolute: false }
+        SnapSettings {
+            always: false,
+            fixed_step: None,
+            degrees: 5.0,
+            scale: 0.1,
+            absolute: false,
+            target: Default::default(),
+        }
     }
 }
 

@@ -60,6 +60,15 @@ impl EditorState {
                     ui.label(format!("grid step {view_step} (follows the zoom)"));
                 }
             }
+            egui::ComboBox::from_label("snap to")
+                .selected_text(snap.target.name())
+                .show_ui(ui, |ui| {
+                    for target in crate::editor::tools::snap_targets::SnapTarget::ALL {
+                        ui.selectable_value(&mut snap.target, target, target.name());
+                    }
+                })
+                .response
+                .on_hover_text("What a snapped move lands on: whole grid steps, or the vertex, edge midpoint, face centre or surface under the cursor");
             ui.checkbox(&mut snap.absolute, "absolute grid").on_hover_text(
                 "A snapped move puts the selection's centre on the grid instead of moving it by whole steps",
             );

@@ -21,6 +21,7 @@ use crate::editor::interaction::{self, Axis, ViewportRect};
 use crate::editor::shortcuts;
 use crate::editor::snapping;
 use crate::editor::state::EditorState;
+use crate::editor::tools::snap_targets::{self, SnapTarget};
 use crate::editor::tools::tool::{CageStamp, End, Flow, Pointer, Tool, end_vertex_move};
 use egui::Key;
 use glam::DMat3;
@@ -67,6 +68,8 @@ pub struct Transform {
     pub topology: CageStamp,
     /// The value the cage shows now, for the header's readout.
     pub applied: Applied,
+    /// The geometry a snapped move landed on (ringed on screen), model coordinates.
+    pub snapped_to: Option<DVec3>,
 }
 
 /// A transform's value as applied: what the header reads out while it runs.
@@ -97,6 +100,7 @@ impl Transform {
             grid_step: 1.0,
             release_confirms: false,
             topology: CageStamp::default(),
+            snapped_to: None,
             applied: match kind {
                 TransformKind::Grab => Applied::Offset(DVec3::ZERO),
                 TransformKind::Rotate => Applied::Degrees(0.0),
@@ -310,6 +314,17 @@ impl Tool for Transform {
         Some(self.numbers())
     }
 
+    /// The geometry a snapped move landed on, ringed.
+    fn overlay(&self, editor: &EditorState, painter: &egui::Painter, view: &ViewportRect) {
+        let Some(target) = self.snapped_to else { return };
+        let at = editor.display_frame.to_display_f64(target);
+        if let Some((p, _)) = interaction::project(&editor.camera, view, at) {
+            let colour = egui::Color32::from_rgb(255, 160, 40);
+            painter.circle_stroke(egui::pos2(p.x, p.y), 9.0, egui::Stroke::new(2.0, colour));
+            painter.circle_filled(egui::pos2(p.x, p.y), 2.5, colour);
+        }
+    }
+
     fn status(&self, editor: &EditorState) -> String {
         let what = match self.kind {
             TransformKind::Grab => "move",
@@ -367,9 +382,11 @@ impl EditorState {
             if !value.is_finite() {
                 return;
             }
+            t.snapped_to = None;
             typed(t, value)
         } else {
             let (Some(view), Some(from), Some(to)) = (view, t.mouse_start, t.mouse_now) else { return };
+            t.snapped_to = self.geometry_snap(t, view, to).map(|(_, target)| target);
             self.mouse_positions(t, view, from, to)
         };
         if let Some(face) = self.newly_collapsed_face(&moved) {
@@ -417,7 +434,17 @@ impl EditorState {
         let unmoved = (t.start.clone(), Transform::new(t.kind, Vec::new(), t.centre, None).applied);
         match t.kind {
             TransformKind::Grab => {
-                let offset = self.grab_offset(t, view, from, to);
+                let offset = match self.geometry_snap(t, view, to) {
+                    // Unlocked, the centre lands on the target exactly (a lone vertex is the
+                    // target, bit for bit).
+                    Some((offset, target)) if t.direction.is_none() && t.axis.is_none() && t.plane.is_none() => {
+                        let centre = t.start.iter().map(|&(_, p)| p).sum::<DVec3>() / t.start.len() as f64;
+                        let moves = t.start.iter().map(|&(v, p)| (v, target + (p - centre))).collect();
+                        return (moves, Applied::Offset(offset));
+                    }
+                    Some((offset, _)) => offset,
+                    None => self.grab_offset(t, view, from, to),
+                };
                 if !offset.is_finite() {
                     return unmoved;
                 }
@@ -448,6 +475,20 @@ impl EditorState {
                 }
             }
         }
+    }
+
+    /// A snapped grab onto geometry: the offset that puts the selection's centre on the target
+    /// under the cursor, and the target.
+    fn geometry_snap(&self, t: &Transform, view: &ViewportRect, mouse: Vec2) -> Option<(DVec3, DVec3)> {
+        if !t.snap || self.gizmo.snap.target == SnapTarget::Grid {
+            return None;
+        }
+        let moving: Vec<VertexId> = t.start.iter().map(|&(v, _)| v).collect();
+        let target = self.snap_target(self.gizmo.snap.target, view, mouse, &moving)?;
+        let centre = t.start.iter().map(|&(_, p)| p).sum::<DVec3>() / t.start.len() as f64;
+        let axis = t.direction.or(t.axis.map(Axis::direction));
+        let normal = t.plane.map(Axis::direction);
+        Some((snap_targets::offset_to(centre, target, axis, normal), target))
     }
 
     /// A grab's offset in model coordinates for the mouse going from `from` to `to`, locked and

@@ -105,3 +105,61 @@ fn typed_rotations_and_scales_match_their_closed_forms_and_esc_cancels() {
     frames(&mut h);
     assert_eq!(h.state().editor.document.doc(), &after_rotation);
 }
+
+#[test]
+fn a_snapped_move_lands_exactly_on_the_vertex_edge_midpoint_or_face_centre_under_the_cursor() {
+    use crate::editor::gizmo_tests::pixel_of;
+    use crate::editor::panel_tests::settle;
+    use crate::editor::tools::snap_targets::SnapTarget;
+    for target in [SnapTarget::Vertex, SnapTarget::EdgeMidpoint, SnapTarget::FaceCentre] {
+        let mut h = cube_editor();
+        settle(&mut h);
+        let cage = h.state().editor.document.doc().cage.clone();
+        let v = taut_core::VertexId(7);
+        let p = cage.position(v);
+        // Targets that share no face with vertex 7 (landing on one that does would collapse
+        // the face, and the preview waits): the opposite corner, a bottom edge, the bottom face.
+        let opposite = -p;
+        let goal = match target {
+            SnapTarget::Vertex => opposite,
+            SnapTarget::EdgeMidpoint => {
+                let e = cage
+                    .edges()
+                    .find(|&e| {
+                        let (a, b) = cage.edge_vertices(e);
+                        cage.position(a) == opposite && cage.position(b).z < 0.0
+                            || cage.position(b) == opposite && cage.position(a).z < 0.0
+                    })
+                    .unwrap();
+                let (a, b) = cage.edge_vertices(e);
+                (cage.position(a) + cage.position(b)) * 0.5
+            }
+            _ => {
+                // The bottom face's centre (no corner of it is vertex 7).
+                let f = cage.faces().find(|&f| cage.face_vertices(f).all(|w| cage.position(w).z < 0.0)).unwrap();
+                cage.face_vertices(f).map(|w| cage.position(w)).sum::<DVec3>() / 4.0
+            }
+        };
+        {
+            let snap = &mut h.state_mut().editor.gizmo.snap;
+            snap.always = true;
+            snap.target = target;
+        }
+        let near = pixel_of(&h, goal) + glam::Vec2::new(4.0, -3.0);
+        let start = pixel_of(&h, p);
+        h.hover_at(egui::pos2(start.x, start.y));
+        frames(&mut h);
+        h.key_press(Key::G);
+        frames(&mut h);
+        h.hover_at(egui::pos2(near.x, near.y));
+        frames(&mut h);
+        frames(&mut h);
+        let at = h.state().editor.document.doc().cage.position(v);
+        assert_eq!(at, goal, "{target:?}: vertex 7 lands on the target");
+        let snapped = h.state().ui.tool.get::<Transform>().and_then(|t| t.snapped_to);
+        assert_eq!(snapped, Some(goal), "{target:?}: the target is shown");
+        h.key_press(Key::Enter);
+        frames(&mut h);
+        assert_eq!(h.state().editor.document.doc().cage.position(v), goal);
+    }
+}
