@@ -177,12 +177,21 @@ impl EditorState {
     /// an end off the real half.
     pub(crate) fn mirror_overlay(&self, data: &mut OverlayData) {
         let doc = self.document.doc();
-        if !self.display.show_cage || doc.mirror_halves() != Some(MirrorHalves::OneHalf) {
+        let Some(plane) = doc.mirror else { return };
+        if !self.display.show_cage {
             return;
         }
-        let Some(plane) = doc.mirror else { return };
         let cage = &doc.cage;
         let frame = &self.display_frame;
+        data.on_top_lines.extend(plane_outline(plane, cage.positions()).map(|[a, b]| LineSegment {
+            a: frame.point(a),
+            b: frame.point(b),
+            color: PLANE_COLOUR,
+            width_px: 1.5,
+        }));
+        if doc.mirror_halves() != Some(MirrorHalves::OneHalf) {
+            return;
+        }
         for e in cage.edges() {
             let (a, b) = cage.edge_vertices(e);
             let (p, q) = (plane.reflect(cage.position(a)), plane.reflect(cage.position(b)));
@@ -252,3 +261,40 @@ impl EditorState {
 #[cfg(test)]
 #[path = "mirror_tests.rs"]
 mod tests;
+
+/// The mirror plane's colour: a magenta apart from the cage, creases and selection.
+const PLANE_COLOUR: [f32; 4] = [0.85, 0.25, 0.75, 0.9];
+
+/// The mirror plane drawn as a rectangle over the cage's extent in the plane (a tenth wider on
+/// every side), with its two diagonals: four edges and a cross.
+pub fn plane_outline(
+    plane: taut_core::mesh::edit::MirrorPlane,
+    points: &[taut_core::DVec3],
+) -> [[taut_core::DVec3; 2]; 6] {
+    use taut_core::mesh::edit::Axis;
+    let k = match plane.axis {
+        Axis::X => 0,
+        Axis::Y => 1,
+        Axis::Z => 2,
+    };
+    let (i, j) = ((k + 1) % 3, (k + 2) % 3);
+    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+    for p in points.iter().map(|p| p.to_array()) {
+        for c in 0..3 {
+            lo[c] = lo[c].min(p[c]);
+            hi[c] = hi[c].max(p[c]);
+        }
+    }
+    if !lo[i].is_finite() {
+        (lo, hi) = ([-1.0; 3], [1.0; 3]);
+    }
+    let pad = |c: usize| 0.1 * (hi[c] - lo[c]).max(1e-9);
+    let corner = |a: f64, b: f64| {
+        let mut q = [0.0; 3];
+        (q[k], q[i], q[j]) = (plane.offset, a, b);
+        taut_core::DVec3::from_array(q)
+    };
+    let (a0, a1, b0, b1) = (lo[i] - pad(i), hi[i] + pad(i), lo[j] - pad(j), hi[j] + pad(j));
+    let c = [corner(a0, b0), corner(a1, b0), corner(a1, b1), corner(a0, b1)];
+    [[c[0], c[1]], [c[1], c[2]], [c[2], c[3]], [c[3], c[0]], [c[0], c[2]], [c[1], c[3]]]
+}

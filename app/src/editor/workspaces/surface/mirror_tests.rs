@@ -156,3 +156,27 @@ fn an_unpaired_vertex_is_said_once() {
     assert_eq!(count(&h), 1);
     assert_eq!(h.state().editor.document.doc().cage.position(VertexId(6)), DVec3::new(-0.5, 0.5, 0.5), "moved alone");
 }
+
+#[test]
+fn the_mirror_plane_is_drawn_while_mirror_is_on_and_lies_in_the_plane() {
+    let mut h = cube_editor();
+    let plane_lines = |h: &Harness<'static, App>| {
+        let data = h.state().editor.overlays();
+        let colour = [0.85, 0.25, 0.75, 0.9];
+        data.on_top_lines.iter().filter(|l| l.color == colour).cloned().collect::<Vec<_>>()
+    };
+    assert!(plane_lines(&h).is_empty(), "no mirror, no plane");
+    open_menu_item(&mut h, &["Mesh", "Mirror", "Plane Y through the origin"]);
+    let lines = plane_lines(&h);
+    assert_eq!(lines.len(), 6, "a rectangle and its diagonals");
+    let frame = h.state().editor.display_frame;
+    let cage = &h.state().editor.document.doc().cage;
+    let (lo, hi) = taut_core::mesh::bounding_box(cage.positions()).unwrap();
+    for l in &lines {
+        for p in [l.a, l.b] {
+            let q = frame.to_model(p.as_dvec3());
+            assert!(q.y.abs() < 1e-6, "on the plane y = 0: {q}");
+            assert!(q.x < lo.x || q.x > hi.x, "beyond the cage's extent: {q}");
+        }
+    }
+}
