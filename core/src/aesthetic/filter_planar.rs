@@ -492,7 +492,8 @@ impl PlanarCurve {
             let sharpest = largest.max(-smallest);
             line_at(sk, sxk).clamp(-sharpest, sharpest)
         };
-        if rules.continuous {
+        let law_window = one_signed && smallest * MAX_CURVATURE_RATIO > largest;
+        if rules.continuous && (rules.clothoid || law_window) {
             // With the data term the law's line gives way to the clothoid's gradually, as the
             // window's curvature ratio goes from half MAX_CURVATURE_RATIO to all of it (or a sign
             // changes): a target that jumps when one sample crosses the threshold can keep a
@@ -502,6 +503,7 @@ impl PlanarCurve {
             } else {
                 1.0
             };
+            // Under InflectionRule::Hold only law windows get here, and they keep the law.
             let share = if rules.clothoid { share.clamp(0.0, 1.0) } else { 0.0 };
             let law = if share < 1.0 {
                 let value = line_at(sy, sxy);
@@ -518,7 +520,7 @@ impl PlanarCurve {
                 (None, _) => None,
             };
         }
-        if one_signed && smallest * MAX_CURVATURE_RATIO > largest {
+        if law_window {
             return radius_from_law(line_at(sy, sxy), alpha).map(|r| sign * (1.0 / r).min(largest));
         }
         if !rules.clothoid {

@@ -89,7 +89,7 @@ impl<'a> Problem<'a> {
         let mut stencil = [0.0; ORDER + 1];
         let mut binomial = 1.0;
         for (k, c) in stencil.iter_mut().enumerate() {
-            *c = if (ORDER - k) % 2 == 0 { binomial } else { -binomial };
+            *c = if (ORDER - k).is_multiple_of(2) { binomial } else { -binomial };
             binomial = binomial * (ORDER - k) as f64 / (k + 1) as f64;
         }
         Problem { points, closed, free: if closed { n } else { n - 2 }, stencil }
