@@ -6,13 +6,19 @@
 //! point and how the filter went. α is given (`--alpha`) or estimated per piece of monotone
 //! curvature (`--estimate-alpha`, the default). Prints α, the passes and the LCG residual before
 //! and after, whole and per piece.
+//!
+//! By default the points are first smoothed at the scale their noise allows and the filter holds
+//! them to that pre-fit (`taut_core::aesthetic::DataTerm`), so noise is removed and the curve
+//! stays where the points were; `--paper` runs the paper's filter on the points as given.
 
 use clap::Args;
 use serde::Serialize;
 use std::path::PathBuf;
 use taut_core::DVec3;
-use taut_core::aesthetic::filter::{DEFAULT_MAX_PASSES, DEFAULT_TOLERANCE, DEFAULT_WINDOW};
-use taut_core::aesthetic::{Alpha, CurveFilter, EstimateSettings, FilterSettings, curvature_graph, estimate_alpha};
+use taut_core::aesthetic::filter::{DEFAULT_DATA_WEIGHT, DEFAULT_MAX_PASSES, DEFAULT_TOLERANCE, DEFAULT_WINDOW};
+use taut_core::aesthetic::{
+    Alpha, CurveFilter, DataTerm, EstimateSettings, FilterSettings, curvature_graph, estimate_alpha,
+};
 use taut_core::curve::{Plane, PointSequence};
 use taut_core::io::{self, points};
 
@@ -44,6 +50,17 @@ pub struct FairArgs {
     /// β of the torsion law (with --space).
     #[arg(long, requires = "space", default_value_t = 1.0, allow_negative_numbers = true)]
     pub torsion_beta: f64,
+    /// The paper's filter on the points as given: no smoothing pre-fit and no data term (on
+    /// dense or very noisy points it moves the curve away from them).
+    #[arg(long, conflicts_with_all = ["data_weight", "smoothing"])]
+    pub paper: bool,
+    /// Weight λ in [0, 1) of the data term: the share of each move that pulls a point back
+    /// towards the smoothing pre-fit.
+    #[arg(long, default_value_t = DEFAULT_DATA_WEIGHT)]
+    pub data_weight: f64,
+    /// Smoothing μ of the pre-fit [default: chosen from the points by cross-validation].
+    #[arg(long)]
+    pub smoothing: Option<f64>,
     /// Treat the points as a closed curve (a JSON file can also say "closed": true).
     #[arg(long)]
     pub closed: bool,
@@ -75,6 +92,9 @@ struct FairedFile {
     lcg_residual_before: Option<f64>,
     lcg_residual_after: Option<f64>,
     lcg_slope_after: Option<f64>,
+    /// The pre-fit's smoothing and the noise level it read (absent with `--paper`).
+    prefit_smoothing: Option<f64>,
+    prefit_noise: Option<f64>,
 }
 
 pub fn run(args: &FairArgs) -> Result<(), String> {
@@ -125,6 +145,7 @@ pub fn run(args: &FairArgs) -> Result<(), String> {
         torsion_beta,
         tolerance: args.tolerance,
         max_passes: args.iterations.unwrap_or(DEFAULT_MAX_PASSES),
+        data_term: (!args.paper).then_some(DataTerm { weight: args.data_weight, smoothing: args.smoothing }),
         ..FilterSettings::default()
     };
     let mut filter = CurveFilter::new(&curve, settings).map_err(|e| format!("{input}: {e}"))?;
@@ -134,6 +155,15 @@ pub fn run(args: &FairArgs) -> Result<(), String> {
              in 3D",
             filter.off_plane_distance()
         ));
+    }
+    if let Some(fit) = filter.prefit() {
+        println!(
+            "pre-fit: smoothing {:.3e} ({:.1} degrees of freedom for {} points), noise level {:.3e} (RMS)",
+            fit.smoothing,
+            fit.dof,
+            curve.len(),
+            fit.noise
+        );
     }
     let started = std::time::Instant::now();
     let status = filter.run_to_convergence().map_err(|e| format!("{input}: {e}"))?;
@@ -200,6 +230,8 @@ pub fn run(args: &FairArgs) -> Result<(), String> {
             lcg_residual_before: before.fit.map(|f| f.residual),
             lcg_residual_after: after.fit.map(|f| f.residual),
             lcg_slope_after: after.fit.map(|f| f.slope),
+            prefit_smoothing: filter.prefit().map(|p| p.smoothing),
+            prefit_noise: filter.prefit().map(|p| p.noise),
         };
         let mut bytes = serde_json::to_vec(&out).map_err(|e| format!("cannot encode the faired curve: {e}"))?;
         bytes.push(b'\n');

@@ -38,7 +38,7 @@
 //! other colour holds points of both), and each window is summed afresh (sums slid from window to
 //! window would lose digits on long curves).
 
-use super::filter::{MAX_CURVATURE_RATIO, PassTotals};
+use super::filter::{MAX_CURVATURE_RATIO, PassTotals, law_limit};
 use super::filter_geometry::{PARALLEL_FROM, window_span};
 use super::law::{law_value, radius_from_law};
 use crate::DVec3;
@@ -62,6 +62,10 @@ pub(super) struct Rules<'a> {
     pub clothoid: bool,
     /// Fraction of the way to its target a point moves.
     pub relaxation: f64,
+    /// With the data term: where the law gives no positive radius, aim at its limit instead of
+    /// holding the point ([`super::filter::law_limit`]), and pass from the law to the clothoid
+    /// line gradually as a window nears an inflection.
+    pub continuous: bool,
 }
 
 /// The planar filter's points and the buffers its passes work in.
@@ -76,6 +80,8 @@ pub(super) struct PlanarCurve {
     stale: Vec<bool>,
     /// The coordinates before the current pass, restored when it fails.
     before: (Vec<f64>, Vec<f64>),
+    /// The data term: the pre-fit's coordinates and the weight λ pulling towards them.
+    anchor: Option<(Vec<f64>, Vec<f64>, f64)>,
     /// Segment `e` joins point `e` to point `e + 1` (the closing one last on a closed curve).
     dx: Vec<f64>,
     dy: Vec<f64>,
@@ -241,6 +247,7 @@ impl PlanarCurve {
             x: points.iter().map(|p| coordinate(p, plane.axis_u)).collect(),
             y: points.iter().map(|p| coordinate(p, plane.axis_v)).collect(),
             stale: vec![false; n],
+            anchor: None,
             before: (Vec::with_capacity(n), Vec::with_capacity(n)),
             dx: Vec::new(),
             dy: Vec::new(),
@@ -251,6 +258,15 @@ impl PlanarCurve {
             law: Vec::new(),
             targets: Vec::new(),
         }
+    }
+
+    /// Holds the points to `anchor` (in the plane) with weight λ: each move becomes
+    /// `ω ((1 − λ) (target − P) + λ (anchor − P))`.
+    pub fn hold_to(&mut self, anchor: &[DVec3], weight: f64) {
+        let coordinate = |p: &DVec3, axis: DVec3| (*p - self.plane.origin).dot(axis) / self.scale;
+        let x = anchor.iter().map(|p| coordinate(p, self.plane.axis_u)).collect();
+        let y = anchor.iter().map(|p| coordinate(p, self.plane.axis_v)).collect();
+        self.anchor = Some((x, y, weight));
     }
 
     /// The plane the points lie in.
@@ -297,16 +313,34 @@ impl PlanarCurve {
             // The largest move and, apart, whether one was NaN (one blend a point would make the
             // loop wait on it).
             let (mut largest2, mut nan) = (totals.largest2, false);
+            let law_share = self.anchor.as_ref().map_or(1.0, |a| 1.0 - a.2);
             for (&i, &target) in colour.iter().zip(&targets) {
                 // A NaN target (from a NaN curvature) moves the point to NaN, and the pass fails.
-                let Some(target) = target else {
-                    totals.held += 1;
-                    continue;
+                let (x, y) = match target {
+                    Some(target) => {
+                        totals.err2 += (self.kappa[i] - target).powi(2);
+                        totals.k2 += self.kappa[i].powi(2);
+                        let (x, y, capped) = self.moved(i, target, rules.relaxation * law_share);
+                        totals.capped += capped as usize;
+                        (x, y)
+                    }
+                    None if self.anchor.is_some() => {
+                        totals.held += 1;
+                        (self.x[i], self.y[i])
+                    }
+                    None => {
+                        totals.held += 1;
+                        continue;
+                    }
                 };
-                totals.err2 += (self.kappa[i] - target).powi(2);
-                totals.k2 += self.kappa[i].powi(2);
-                let (x, y, capped) = self.moved(i, target, rules.relaxation);
-                totals.capped += capped as usize;
+                // The data term: ω λ of the way back to the pre-fit.
+                let (x, y) = match &self.anchor {
+                    Some((ax, ay, weight)) => {
+                        let pull = rules.relaxation * weight;
+                        (x + pull * (ax[i] - self.x[i]), y + pull * (ay[i] - self.y[i]))
+                    }
+                    None => (x, y),
+                };
                 let d2 = (x - self.x[i]).powi(2) + (y - self.y[i]).powi(2);
                 largest2 = if d2 > largest2 { d2 } else { largest2 };
                 nan |= d2.is_nan();
@@ -445,23 +479,54 @@ impl PlanarCurve {
         // ρ → ∞ counts as an inflection too: a sample of nearly zero curvature would dominate the
         // line through ρ^α (α > 0) and throw the target off.
         // A target never bends more sharply than the window's samples (see `filter`'s docs).
-        if one_signed && smallest * MAX_CURVATURE_RATIO > largest {
+        // The line of the signed curvature itself.
+        let clothoid = || {
+            let (mut s, mut sk, mut sxk) = (0.0, 0.0, 0.0);
+            for &(lo, hi) in &runs {
+                for (gap, kappa) in self.gap[lo..hi].iter().zip(&self.kappa[lo..hi]) {
+                    sk += kappa;
+                    sxk += s * kappa;
+                    s += gap;
+                }
+            }
+            let sharpest = largest.max(-smallest);
+            line_at(sk, sxk).clamp(-sharpest, sharpest)
+        };
+        let law_window = one_signed && smallest * MAX_CURVATURE_RATIO > largest;
+        if rules.continuous && (rules.clothoid || law_window) {
+            // With the data term the law's line gives way to the clothoid's gradually, as the
+            // window's curvature ratio goes from half MAX_CURVATURE_RATIO to all of it (or a sign
+            // changes): a target that jumps when one sample crosses the threshold can keep a
+            // point cycling between the two for ever.
+            let share = if one_signed && smallest > 0.0 {
+                ((largest / smallest).ln() - (0.5 * MAX_CURVATURE_RATIO).ln()) / 2f64.ln()
+            } else {
+                1.0
+            };
+            // Under InflectionRule::Hold only law windows get here, and they keep the law.
+            let share = if rules.clothoid { share.clamp(0.0, 1.0) } else { 0.0 };
+            let law = if share < 1.0 {
+                let value = line_at(sy, sxy);
+                match radius_from_law(value, alpha) {
+                    Some(r) => Some((1.0 / r).min(largest)),
+                    None => law_limit(value, alpha, largest),
+                }
+            } else {
+                Some(0.0)
+            };
+            return match (law, share > 0.0) {
+                (Some(law), true) => Some((1.0 - share) * sign * law + share * clothoid()),
+                (Some(law), false) => Some(sign * law),
+                (None, _) => None,
+            };
+        }
+        if law_window {
             return radius_from_law(line_at(sy, sxy), alpha).map(|r| sign * (1.0 / r).min(largest));
         }
         if !rules.clothoid {
             return None;
         }
-        // The line of the signed curvature itself.
-        let (mut s, mut sk, mut sxk) = (0.0, 0.0, 0.0);
-        for &(lo, hi) in &runs {
-            for (gap, kappa) in self.gap[lo..hi].iter().zip(&self.kappa[lo..hi]) {
-                sk += kappa;
-                sxk += s * kappa;
-                s += gap;
-            }
-        }
-        let sharpest = largest.max(-smallest);
-        Some(line_at(sk, sxk).clamp(-sharpest, sharpest))
+        Some(clothoid())
     }
 
     /// Where point `i` moves to bring its curvature `relaxation` of the way to `target`, and

@@ -24,6 +24,7 @@ impl CurveFilter {
                 scratch.moves.clear();
                 scratch.moves.extend(self.colours[c].iter().map(step));
             }
+            let held = self.settings.data_term.zip(self.prefit.as_ref());
             for (&i, m) in self.colours[c].iter().zip(&scratch.moves) {
                 let kappa = geometry.local[i].kappa;
                 match m.target {
@@ -34,12 +35,21 @@ impl CurveFilter {
                     None => totals.held += 1,
                 }
                 totals.capped += m.capped as usize;
-                let d2 = self.points[i].distance_squared(m.position);
+                let position = match held {
+                    // ω ((1 − λ) (target − P) + λ (pre-fit − P)); the move holds ω already.
+                    Some((term, fit)) => {
+                        let p = self.points[i];
+                        p + (1.0 - term.weight) * (m.position - p)
+                            + self.settings.relaxation * term.weight * (fit.points[i] - p)
+                    }
+                    None => m.position,
+                };
+                let d2 = self.points[i].distance_squared(position);
                 // Not f64::max: a NaN must be seen.
                 if d2 > totals.largest2 || d2.is_nan() {
                     totals.largest2 = d2;
                 }
-                self.points[i] = m.position;
+                self.points[i] = position;
             }
         }
         let p = &self.points;
@@ -114,7 +124,12 @@ impl CurveFilter {
             Some(l) => fit_window(g, window, data, l)?,
             None => fit_window(g, window, data, |d| law_value(1.0 / (x(d) * sign), exponent))?,
         };
-        radius_from_law(c * window.at + d, exponent).map(|r| sign * (1.0 / r).min(largest))
+        let value = c * window.at + d;
+        match radius_from_law(value, exponent) {
+            Some(r) => Some(sign * (1.0 / r).min(largest)),
+            None if self.settings.data_term.is_some() => law_limit(value, exponent, largest).map(|k| sign * k),
+            None => None,
+        }
     }
 
     /// Where the spatial filter moves point `i`.

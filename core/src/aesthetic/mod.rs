@@ -9,6 +9,8 @@
 //! - [`filter`]: the planar and spatial curve filters, run pass by pass ([`CurveFilter::run`]
 //!   takes a number of passes and reports [`FilterStatus`]: passes, last move, residual,
 //!   converged), so an editor can run a few passes a frame and stop or continue.
+//! - [`prefit`]: the smoothing pre-fit, with μ chosen by GCV, that the shape-keeping fairing
+//!   starts from and is held to ([`DataTerm`]).
 //! - [`estimate`]: α per piece of monotone curvature from a least-squares B-spline.
 //! - [`lcg`]: the curvature graph and LCG of any point sequence with the fitted line, for plots.
 //! - [`segment`]: Yoshida–Saito segments from three control points and α.
@@ -22,14 +24,16 @@ mod filter_geometry;
 mod filter_planar;
 pub mod law;
 pub mod lcg;
+pub mod prefit;
 pub mod segment;
 pub mod segment_fit;
 pub mod surface;
 
 pub use coons::{BoundaryCurve, coons_patch, grid_mesh};
 pub use estimate::{AlphaEstimate, AlphaPiece, EstimateSettings, estimate_alpha};
-pub use filter::{Alpha, CurveFilter, FilterSettings, FilterStatus, InflectionRule, fair};
+pub use filter::{Alpha, CurveFilter, DataTerm, FilterSettings, FilterStatus, InflectionRule, fair};
 pub use law::{LineFit, fit_line};
 pub use lcg::{CurvatureGraph, LcgPoint, curvature_graph};
+pub use prefit::{Prefit, prefit};
 pub use segment::AestheticSegment;
 pub use surface::{Grid, SurfaceFilter, SurfaceSettings, SurfaceStatus, gaussian_curvature};
