@@ -152,7 +152,9 @@ fn fair_prints_alpha_and_the_lcg_residual_and_writes_json_and_csv() {
     let noisy = noisy_points(&read_json(&seg));
     let input = dir.write("noisy.json", &json!({ "points": noisy }).to_string());
     let out = dir.path("faired.json");
-    let run = taut(&["fair", s(&input), "-o", s(&out), "--alpha", "1", "--tolerance", "1e-6"]);
+    // The paper's filter (--paper): the curve is pulled to the law until its curvature graph is
+    // straight.
+    let run = taut(&["fair", s(&input), "-o", s(&out), "--alpha", "1", "--tolerance", "1e-6", "--paper"]);
     let stdout = String::from_utf8_lossy(&run.stdout).to_string();
     assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
     assert!(
@@ -166,6 +168,20 @@ fn fair_prints_alpha_and_the_lcg_residual_and_writes_json_and_csv() {
     assert!((v["lcg_slope_after"].as_f64().unwrap() - 1.0).abs() < 0.1);
     // The ends stay exactly.
     assert_eq!(points(&v)[0], [noisy[0][0], noisy[0][1], 0.0]);
+
+    // The default keeps the shape: the faired points lie nearer the exact segment than the noisy
+    // ones did (the noise is taken out, the curve is not moved).
+    let exact = points(&read_json(&seg));
+    let kept = dir.path("kept.json");
+    let run = taut(&["fair", s(&input), "-o", s(&kept), "--alpha", "1"]);
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    let mean_gap = |pts: &[[f64; 3]]| {
+        pts.iter().zip(&exact).map(|(p, q)| ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2)).sqrt()).sum::<f64>()
+            / pts.len() as f64
+    };
+    let noisy3: Vec<[f64; 3]> = noisy.iter().map(|p| [p[0], p[1], 0.0]).collect();
+    let (before, after) = (mean_gap(&noisy3), mean_gap(&points(&read_json(&kept))));
+    assert!(after < 0.75 * before, "faired {after} against the noisy input's {before} from the exact segment");
 
     // CSV in, α estimated, CSV out with the same two columns.
     let csv: String =
