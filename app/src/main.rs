@@ -15,6 +15,7 @@ mod editor;
 mod fair_cmd;
 mod fair_surface_cmd;
 mod lcg_cmd;
+mod render_analysis;
 mod render_cmd;
 mod runtime;
 mod smooth_cmd;

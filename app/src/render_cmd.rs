@@ -7,6 +7,7 @@
 
 use crate::cli::{FileFlags, note};
 use crate::editor::state::comb_style;
+use crate::render_analysis::{Analysis, AnalysisFlags, draft_shares};
 use crate::surface_cmd::{SurfaceFlags, extension, load_document, solve_reporting};
 use clap::Args;
 use std::path::PathBuf;
@@ -27,7 +28,8 @@ pub struct RenderArgs {
     /// The picture to write (.png).
     #[arg(short, long)]
     pub output: PathBuf,
-    /// shaded, zebra, or a curvature colour: mean, gaussian, kmin, kmax, kabs, r (NUSD |R|).
+    /// shaded, zebra, draft (draft angle against --pull), highlight (highlight lines of light
+    /// tubes), or a curvature colour: mean, gaussian, kmin, kmax, kabs, r (NUSD |R|).
     #[arg(long, default_value = "shaded")]
     pub view: String,
     /// Picture size in pixels, WIDTHxHEIGHT.
@@ -70,6 +72,8 @@ pub struct RenderArgs {
     #[arg(long)]
     pub scheme: Option<SchemeKind>,
     #[command(flatten)]
+    pub analysis: AnalysisFlags,
+    #[command(flatten)]
     pub smoothing: SurfaceFlags,
     #[command(flatten)]
     pub files: FileFlags,
@@ -78,6 +82,7 @@ pub struct RenderArgs {
 enum View {
     Shaded,
     Zebra,
+    Analysis(Analysis),
     Colour(String),
 }
 
@@ -104,10 +109,11 @@ impl Drawn {
 }
 
 pub fn run(args: &RenderArgs) -> Result<(), String> {
-    let view = match args.view.as_str() {
-        "shaded" => View::Shaded,
-        "zebra" => View::Zebra,
-        other => View::Colour(other.to_string()),
+    let view = match (args.view.as_str(), args.analysis.check(&args.view)?) {
+        (_, Some(analysis)) => View::Analysis(analysis),
+        ("shaded", _) => View::Shaded,
+        ("zebra", _) => View::Zebra,
+        (other, _) => View::Colour(other.to_string()),
     };
     let (width, height) = parse_size(&args.size)?;
     if extension(&args.output) != "png" {
@@ -147,7 +153,9 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
                     ));
                 }
                 Err(_) => {
-                    return Err(format!("--view {name}: use shaded, zebra, mean, gaussian, kmin, kmax, kabs or r"));
+                    return Err(format!(
+                        "--view {name}: use shaded, zebra, draft, highlight, mean, gaussian, kmin, kmax, kabs or r"
+                    ));
                 }
             };
             Some(by)
@@ -183,6 +191,13 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
                 angle_degrees: args.stripe_angle,
                 width_ratio: args.stripe_width,
             },
+            View::Analysis(analysis) => {
+                let frame = drawn.mesh().bounding_box().map_or(taut_render::DisplayFrame::IDENTITY, |(lo, hi)| {
+                    taut_render::DisplayFrame::for_bounds(lo, hi)
+                });
+                report_analysis(&analysis, &drawn, parse_view(args.camera.as_deref())?);
+                analysis.mode(&frame)
+            }
             _ => SurfaceMode::Shaded,
         };
         return draw(args, &drawn, &overlays, data, mode, None, (width, height));
@@ -298,6 +313,29 @@ fn draw(
         gpu.description()
     );
     Ok(())
+}
+
+/// Prints what the analysis view shows in numbers: the draft classes' shares of the area.
+fn report_analysis(analysis: &Analysis, drawn: &Drawn, view: CameraView) {
+    let Analysis::Draft { pull, angle_degrees } = *analysis else { return };
+    let pull = match pull {
+        taut_render::analysis::Pull::Direction(p) => p.normalize(),
+        taut_render::analysis::Pull::View => {
+            let camera = taut_render::Camera { azimuth: view.azimuth, elevation: view.elevation, ..Default::default() };
+            camera.backward().as_dvec3()
+        }
+    };
+    let [positive, below, negative] = draft_shares(drawn.mesh(), drawn.normals(), pull, angle_degrees);
+    println!(
+        "draft against ({:.3}, {:.3}, {:.3}), threshold {angle_degrees}°: {:.1} % of the area positive, \
+         {:.1} % below the threshold, {:.1} % undercut",
+        pull.x,
+        pull.y,
+        pull.z,
+        100.0 * positive,
+        100.0 * below,
+        100.0 * negative
+    );
 }
 
 /// `--sections AXIS:V1,V2,…`: the planes' normal and their offsets along it.

@@ -1,5 +1,5 @@
-//! Taut's display: the wgpu passes that draw a surface shaded, as zebra stripes or in curvature
-//! colour, with overlays, into a window or off screen (`docs/rendering.md`).
+//! Taut's display: the wgpu passes that draw a surface shaded, as zebra stripes, in curvature
+//! colour, by draft angle or with highlight lines ([`analysis`]), with overlays, into a window or off screen (`docs/rendering.md`).
 //!
 //! Long-lived objects (pipelines, layouts: the `passes`) are apart from per-frame data (the
 //! [`FrameUniform`](frame::FrameUniform), uploaded buffers). One WGSL file per pass lives in
@@ -7,6 +7,7 @@
 //! names its WGSL struct. The same [`Renderer`] draws the editor's viewport and the command
 //! line's pictures.
 
+pub mod analysis;
 pub mod buffers;
 pub mod cache;
 pub mod camera;

@@ -1,5 +1,7 @@
-//! The surface pass (`shaders/surface.wgsl`): shaded, zebra or curvature colour.
+//! The surface pass (`shaders/surface.wgsl`): shaded, zebra, curvature colour, draft angle or
+//! highlight lines (the last two in [`crate::analysis`]).
 
+use crate::analysis::{DRAFT_BELOW, DRAFT_NEGATIVE, DRAFT_POSITIVE, LightTubes, Pull};
 use crate::colormap::{self, ColorMap};
 use crate::{SurfaceVertex, shader_source};
 use bytemuck::{Pod, Zeroable};
@@ -13,8 +15,23 @@ pub const GHOST: [f32; 4] = [0.95, 0.45, 0.08, 0.38];
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum SurfaceMode {
     Shaded,
-    Zebra { stripes: f32, angle_degrees: f32, width_ratio: f32 },
-    Curvature { map: ColorMap, min: f32, max: f32 },
+    Zebra {
+        stripes: f32,
+        angle_degrees: f32,
+        width_ratio: f32,
+    },
+    Curvature {
+        map: ColorMap,
+        min: f32,
+        max: f32,
+    },
+    /// The draft angle against `pull`, with faces within `angle_degrees` of 0 in their own band.
+    Draft {
+        pull: Pull,
+        angle_degrees: f32,
+    },
+    /// Highlight lines of light tubes given in display coordinates.
+    Highlight(LightTubes),
 }
 
 /// Mirror of WGSL `SurfaceStyle` in `shaders/surface.wgsl`.
@@ -27,11 +44,26 @@ pub struct SurfaceStyle {
     pub stripe_width: f32,
     pub range_min: f32,
     pub range_max: f32,
-    pub _pad0: f32,
-    pub _pad1: f32,
+    pub draft_sin: f32,
+    pub tube_count: f32,
     pub base_color: [f32; 4],
     pub stripe_dark: [f32; 4],
     pub stripe_light: [f32; 4],
+    pub pull: [f32; 4],
+    pub tube_direction: [f32; 4],
+    pub tube_plane: [f32; 4],
+    pub draft_positive: [f32; 4],
+    pub draft_below: [f32; 4],
+    pub draft_negative: [f32; 4],
+}
+
+/// An sRGB colour as the linear RGBA the shader mixes (the target encodes it back).
+fn linear([r, g, b]: [u8; 3]) -> [f32; 4] {
+    let f = |c: u8| {
+        let c = c as f32 / 255.0;
+        if c <= 0.04045 { c / 12.92 } else { ((c + 0.055) / 1.055).powf(2.4) }
+    };
+    [f(r), f(g), f(b), 1.0]
 }
 
 impl SurfaceStyle {
@@ -43,12 +75,18 @@ impl SurfaceStyle {
             stripe_width: 0.5,
             range_min: -1.0,
             range_max: 1.0,
-            _pad0: 0.0,
-            _pad1: 0.0,
+            draft_sin: 0.0,
+            tube_count: 0.0,
             // A neutral clay grey, linear.
             base_color: [0.50, 0.52, 0.56, 1.0],
             stripe_dark: [0.0, 0.0, 0.0, 1.0],
             stripe_light: [1.0, 1.0, 1.0, 1.0],
+            pull: [0.0, 0.0, 1.0, 0.0],
+            tube_direction: [1.0, 0.0, 0.0, 1.0],
+            tube_plane: [0.0, 0.0, 1.0, 1.0],
+            draft_positive: linear(DRAFT_POSITIVE),
+            draft_below: linear(DRAFT_BELOW),
+            draft_negative: linear(DRAFT_NEGATIVE),
         };
         match mode {
             SurfaceMode::Shaded => {}
@@ -62,6 +100,28 @@ impl SurfaceStyle {
                 style.mode = 2;
                 style.range_min = min;
                 style.range_max = max;
+            }
+            SurfaceMode::Draft { pull, angle_degrees } => {
+                style.mode = 4;
+                style.pull = match pull {
+                    Pull::Direction(p) => {
+                        let p = p.try_normalize().unwrap_or(glam::DVec3::Z).as_vec3();
+                        [p.x, p.y, p.z, 0.0]
+                    }
+                    Pull::View => [0.0, 0.0, 1.0, 1.0],
+                };
+                style.draft_sin = angle_degrees.clamp(0.0, 89.0).to_radians().sin();
+            }
+            SurfaceMode::Highlight(tubes) => {
+                style.mode = 5;
+                let (e, h) = (tubes.axis().as_vec3(), tubes.plane_normal().as_vec3());
+                let spacing = if tubes.spacing > 0.0 && tubes.spacing.is_finite() { tubes.spacing } else { 1.0 };
+                style.tube_direction = [e.x, e.y, e.z, spacing as f32];
+                style.tube_plane = [h.x, h.y, h.z, tubes.height as f32];
+                style.tube_count = tubes.count as f32;
+                // Light clay under dark lines.
+                style.base_color = [0.72, 0.73, 0.75, 1.0];
+                style.stripe_dark = [0.01, 0.01, 0.03, 1.0];
             }
         }
         style
@@ -317,4 +377,38 @@ pub fn colormap_texture(device: &wgpu::Device, queue: &wgpu::Queue, map: ColorMa
         wgpu::util::TextureDataOrder::LayerMajor,
         bytemuck::cast_slice(&table),
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The Rust mirror and the WGSL struct have the same size, so no field is read from the
+    /// wrong place (naga lays the WGSL struct out as the GPU does).
+    #[test]
+    fn the_style_mirror_matches_the_wgsl_layout() {
+        let source = shader_source(include_str!("../../../shaders/surface.wgsl"));
+        let module = naga::front::wgsl::parse_str(&source).unwrap();
+        let mut layouter = naga::proc::Layouter::default();
+        layouter.update(module.to_ctx()).unwrap();
+        let (handle, _) = module.types.iter().find(|(_, t)| t.name.as_deref() == Some("SurfaceStyle")).unwrap();
+        assert_eq!(layouter[handle].size as usize, std::mem::size_of::<SurfaceStyle>());
+    }
+
+    #[test]
+    fn the_analysis_modes_set_their_uniforms() {
+        let draft = SurfaceStyle::new(SurfaceMode::Draft {
+            pull: Pull::Direction(glam::DVec3::new(0.0, 0.0, 4.0)),
+            angle_degrees: 30.0,
+        });
+        assert_eq!((draft.mode, draft.pull), (4, [0.0, 0.0, 1.0, 0.0]));
+        assert!((draft.draft_sin - 0.5).abs() < 1e-6);
+        let view = SurfaceStyle::new(SurfaceMode::Draft { pull: Pull::View, angle_degrees: 3.0 });
+        assert_eq!(view.pull[3], 1.0);
+        let tubes = LightTubes { spacing: 0.4, count: 7, ..LightTubes::default() };
+        let lines = SurfaceStyle::new(SurfaceMode::Highlight(tubes));
+        assert_eq!((lines.mode, lines.tube_count), (5, 7.0));
+        assert_eq!(lines.tube_direction, [1.0, 0.0, 0.0, 0.4]);
+        assert_eq!(lines.tube_plane, [0.0, 0.0, 1.0, 1.5]);
+    }
 }

@@ -29,6 +29,8 @@ pub enum DisplayMode {
     Shaded,
     Zebra,
     Curvature,
+    Draft,
+    Highlight,
 }
 
 /// Display settings of the viewport.
@@ -56,6 +58,8 @@ pub struct Display {
     pub comb_density: usize,
     /// Section curves with their combs, when on.
     pub sections: Option<crate::editor::workspaces::surface::sections::SectionSettings>,
+    /// The draft and highlight views' settings.
+    pub analysis: crate::editor::workspaces::surface::analysis_views::AnalysisSettings,
 }
 
 impl Default for Display {
@@ -75,6 +79,7 @@ impl Default for Display {
             comb_length: 0.12,
             comb_density: 1,
             sections: None,
+            analysis: Default::default(),
         }
     }
 }
@@ -378,6 +383,8 @@ impl EditorState {
                 SurfaceMode::Zebra { stripes: d.stripes, angle_degrees: d.stripe_angle, width_ratio: d.stripe_width }
             }
             DisplayMode::Curvature => SurfaceMode::Curvature { map: self.color_map(), min: 0.0, max: 1.0 },
+            DisplayMode::Draft => self.draft_mode(),
+            DisplayMode::Highlight => self.highlight_mode(),
         }
     }
 

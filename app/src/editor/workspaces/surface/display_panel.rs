@@ -1,6 +1,8 @@
 //! The Display panel: how the surface is drawn (shaded, zebra, curvature colour and its range,
-//! the compare view, overlays, X-ray), each control with a tooltip.
+//! draft angle with its legend, highlight lines, the compare view, overlays, X-ray), each
+//! control with a tooltip.
 
+use super::analysis_views::{PullAxis, draft_legend};
 use crate::editor::live::CompareMode;
 use crate::editor::state::{DisplayMode, EditorState};
 use taut_core::curvature::CurvatureQuantity;
@@ -14,13 +16,21 @@ impl EditorState {
         let scheme = self.document.doc().scheme;
         let other = self.other_scheme();
         let d = &mut self.display;
-        ui.horizontal(|ui| {
+        ui.horizontal_wrapped(|ui| {
             ui.radio_value(&mut d.mode, DisplayMode::Shaded, "shaded").on_hover_text("Plain shading");
             ui.radio_value(&mut d.mode, DisplayMode::Zebra, "zebra").on_hover_text(
                 "Reflection lines: a break in the stripes is a break in tangent, a kink a break in curvature",
             );
             ui.radio_value(&mut d.mode, DisplayMode::Curvature, "curvature")
                 .on_hover_text("Colour by a curvature quantity, with a legend");
+            ui.radio_value(&mut d.mode, DisplayMode::Draft, "draft").on_hover_text(
+                "Colour by the draft angle against the pull direction: green leaves the mould, yellow needs \
+                 more draft, red is an undercut",
+            );
+            ui.radio_value(&mut d.mode, DisplayMode::Highlight, "highlight").on_hover_text(
+                "Highlight lines of parallel light tubes over the model: fixed to the model, unlike zebra; a \
+                 break in the lines is a break in tangent, a kink a break in curvature",
+            );
         });
         match d.mode {
             DisplayMode::Shaded => {}
@@ -31,6 +41,40 @@ impl EditorState {
                     .on_hover_text("The direction of the stripes on screen (0: horizontal)");
                 ui.add(egui::Slider::new(&mut d.stripe_width, 0.1..=0.9).text("black share"))
                     .on_hover_text("The fraction of each stripe pair that is black");
+            }
+            DisplayMode::Draft => {
+                let a = &mut d.analysis;
+                ui.horizontal(|ui| {
+                    ui.label("pull");
+                    for (axis, name) in
+                        [(PullAxis::X, "x"), (PullAxis::Y, "y"), (PullAxis::Z, "z"), (PullAxis::View, "view")]
+                    {
+                        ui.radio_value(&mut a.pull, axis, name)
+                            .on_hover_text("The direction the mould opens: a model axis, or towards the camera");
+                    }
+                });
+                if a.pull != PullAxis::View {
+                    ui.checkbox(&mut a.pull_negative, "negative (the other mould half)")
+                        .on_hover_text("Pull along the negative axis");
+                }
+                ui.add(egui::Slider::new(&mut a.draft_angle, 0.0..=30.0).text("draft angle °"))
+                    .on_hover_text("The least draft a face needs; faces with less, on either side, are yellow");
+                draft_legend(ui, a.draft_angle);
+            }
+            DisplayMode::Highlight => {
+                let a = &mut d.analysis;
+                ui.horizontal(|ui| {
+                    ui.label("tubes along");
+                    for (axis, name) in ["x", "y", "z"].into_iter().enumerate() {
+                        ui.radio_value(&mut a.tube_axis, axis, name).on_hover_text(
+                            "The direction of the light tubes; they hang above the model (in front of it when vertical)",
+                        );
+                    }
+                });
+                ui.add(egui::DragValue::new(&mut a.tube_spacing).range(0.0..=f64::MAX).speed(0.1).prefix("spacing "))
+                    .on_hover_text("Model units between the tubes; 0 spaces them by an eighth of the model's size");
+                ui.add(egui::Slider::new(&mut a.tube_count, 1..=60).text("tubes"))
+                    .on_hover_text("How many tubes, centred over the model");
             }
             DisplayMode::Curvature => {
                 let mut choices: Vec<ColourBy> =

@@ -1,6 +1,8 @@
 //! The Surface workspace: the cage panels, the Mesh menu's operations, selection modes, mirror,
-//! X-ray, the curve-mesh scheme's controls and the colour legend.
+//! X-ray, the curve-mesh scheme's controls, the colour legend and the draft and highlight views'
+//! settings.
 
+pub mod analysis_views;
 pub mod curve_mesh_edit;
 pub mod curve_mesh_panel;
 pub mod display_panel;
