@@ -51,7 +51,7 @@ enum Command {
     /// patches and write them (.obj, .glb or .taut).
     CurveMesh(curve_mesh_cmd::CurveMeshArgs),
     /// Draw a surface shaded, as zebra stripes or in curvature colour into a PNG.
-    Render(render_cmd::RenderArgs),
+    Render(Box<render_cmd::RenderArgs>),
     /// Make a light Loop control cage from a dense mesh (a scan or a heavy export).
     Cage(cage_cmd::CageArgs),
     /// Replay a script of modelling edits (JSON) on a cage and write the result.

@@ -93,7 +93,8 @@ fn the_draft_of_a_cone_against_its_half_angle() {
     let cone = frustum_obj(&dir, 10.0);
     let png = |name: &str| dir.join(name).to_string_lossy().into_owned();
     let run = |name: &str, extra: &[&str]| {
-        let base = ["render", &cone, "--view", "draft", "--size", "320x240", "--software"];
+        // The frustum is written with Z as its axis: read it Z up.
+        let base = ["render", &cone, "--up", "z", "--view", "draft", "--size", "320x240", "--software"];
         render(&[&base[..], &["-o", &png(name)], extra].concat())
     };
     let (stdout, passes) = run("passes.png", &["--pull", "0,0,1", "--draft-angle", "8"]);
@@ -117,7 +118,7 @@ fn the_draft_of_a_cone_against_its_half_angle() {
     // Towards the camera: the side facing it passes, the silhouette needs draft.
     let (_, view) = run("view.png", &["--pull", "view"]);
     let [green, yellow, _] = classes(&view);
-    assert!(green > 5_000 && yellow > 100, "{green} green, {yellow} yellow");
+    assert!(green > 5_000 && yellow > 40, "{green} green, {yellow} yellow");
 }
 
 /// Highlight lines: dark lines over light clay; the count, the spacing and the direction of the
@@ -136,7 +137,8 @@ fn highlight_options_change_the_lines() {
     assert!(dark(&default) > 300, "the default tubes draw lines: {} dark pixels", dark(&default));
     let one = run("one.png", &["--tube-count", "1"]);
     assert!(dark(&one) < dark(&default) / 3, "one tube draws fewer lines: {} vs {}", dark(&one), dark(&default));
-    let wide = run("wide.png", &["--tube-spacing", "1e9"]);
+    // An even count: no tube in the middle, so tubes far apart light nothing.
+    let wide = run("wide.png", &["--tube-spacing", "1e9", "--tube-count", "2"]);
     assert!(dark(&wide) < dark(&default) / 3, "tubes far apart miss the model: {} dark pixels", dark(&wide));
     let along_y = run("y.png", &["--tube-direction", "0,1,0"]);
     let moved = default.pixels().zip(along_y.pixels()).filter(|(a, b)| a[1].abs_diff(b[1]) > 80).count();

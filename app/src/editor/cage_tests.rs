@@ -319,7 +319,7 @@ fn the_distance_view_has_its_legend_and_follows_edits_of_the_cage() {
     // The compare view's distance replaces this one, and the ghost can be turned off.
     harness.state_mut().editor.set_compare(super::live::CompareMode::Distance);
     assert!(!harness.state().editor.cage.distance_shown());
-    harness.get_by_label("original as ghost").click();
+    harness.get_by_label("original as ghost").click_accesskit();
     frames(&mut harness);
     assert!(!harness.state().editor.cage.original.as_ref().unwrap().show_ghost);
     // Opening another document forgets the original.
