@@ -56,7 +56,7 @@ struct Pick {
 
 impl Pick {
     fn set(&self, state: &mut EditorState) {
-        let s = &mut state.selection;
+        let s = &mut state.view.selection;
         s.clear();
         s.mode = self.mode.unwrap_or(SelectMode::Vertex);
         s.vertices = self.vertices.clone();
@@ -237,7 +237,7 @@ fn main() {
     table.op("fill a hole (4 boundary edges)", &mut holed, MeshOp::Fill, &edges(hole.clone()), || {
         edit::fill_edges(&holed_cage, &hole)
     });
-    state.selection.clear();
+    state.view.selection.clear();
     state.mesh_op(MeshOp::Triangulate);
     let mut triangles = editor_on(state.document.doc().cage.clone());
     let tris = triangles.document.doc().cage.clone();

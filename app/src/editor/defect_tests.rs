@@ -190,7 +190,7 @@ fn mixed_selections_show_mixed_values_and_set_all() {
     let mut harness = cube_editor();
     harness.state_mut().editor.edit(Edit::SetVertexTension(vec![VertexId(1)], 8.0));
     harness.state_mut().editor.edit(Edit::SetFixed(vec![VertexId(2)], false));
-    harness.state_mut().editor.selection.vertices = vec![VertexId(0), VertexId(1), VertexId(2)];
+    harness.state_mut().editor.view.selection.vertices = vec![VertexId(0), VertexId(1), VertexId(2)];
     settle(&mut harness);
     let labels: Vec<String> = harness.query_all_by_role(Role::Label).filter_map(|n| text_of(&n)).collect();
     assert!(labels.iter().any(|l| l.starts_with("mixed: 0.00 to 8.00")), "{labels:?}");
@@ -259,7 +259,7 @@ fn a_shift_box_adds_even_when_shift_is_released_first() {
             modifiers: Modifiers::NONE,
         });
         frames(&mut harness);
-        let kept = harness.state().editor.selection.vertices.contains(&VertexId(7));
+        let kept = harness.state().editor.view.selection.vertices.contains(&VertexId(7));
         assert_eq!(kept, expected_kept, "shift {shift}: the selection was {}", if kept { "kept" } else { "cleared" });
     }
 }
@@ -296,7 +296,7 @@ fn every_text_has_its_glyphs() {
     harness.key_press(Key::F1);
     harness.run_steps(3);
     check(&mut harness, "Keyboard shortcuts");
-    harness.state_mut().editor.display.mode = DisplayMode::Curvature;
+    harness.state_mut().editor.view.display.mode = DisplayMode::Curvature;
     harness.run_steps(3);
     check(&mut harness, "the curvature panel");
 }
@@ -306,8 +306,8 @@ fn every_text_has_its_glyphs() {
 fn every_control_has_a_tooltip() {
     for mode in [DisplayMode::Zebra, DisplayMode::Curvature] {
         let mut harness = cube_editor();
-        harness.state_mut().editor.display.mode = mode;
-        harness.state_mut().editor.display.show_curves = true;
+        harness.state_mut().editor.view.display.mode = mode;
+        harness.state_mut().editor.view.display.show_curves = true;
         harness.ctx.global_style_mut(|s| s.interaction.tooltip_delay = 0.0);
         settle(&mut harness);
         let roles = [Role::Slider, Role::CheckBox, Role::RadioButton, Role::ComboBox, Role::SpinButton];
@@ -363,19 +363,19 @@ fn the_legend_never_covers_the_framed_model() {
         )
         .unwrap(),
     );
-    harness.state_mut().editor.display.mode = DisplayMode::Curvature;
+    harness.state_mut().editor.view.display.mode = DisplayMode::Curvature;
     settle(&mut harness);
     harness.key_press(Key::Home);
     harness.run_steps(2);
     let editor = &harness.state().editor;
     let (aspect, margin) = editor.viewport_shape;
     assert!(margin > 0.05, "the legend takes a margin ({margin})");
-    let camera = editor.camera;
+    let camera = editor.view.camera;
     let clip = camera.clip_from_view(aspect) * camera.view_from_world();
     let surface = &editor.surface_mesh().unwrap();
     let (mut lo, mut hi) = (glam::Vec2::splat(f32::INFINITY), glam::Vec2::splat(f32::NEG_INFINITY));
     for &p in surface.positions() {
-        let q = clip.project_point3(editor.display_frame.point(p)).truncate();
+        let q = clip.project_point3(editor.view.display_frame.point(p)).truncate();
         lo = lo.min(q);
         hi = hi.max(q);
     }

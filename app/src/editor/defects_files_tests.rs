@@ -160,11 +160,11 @@ fn save_on_an_untitled_document_then_opens_what_was_asked() {
 fn projected_box(harness: &Harness<'_, App>) -> (glam::Vec2, glam::Vec2) {
     let editor = &harness.state().editor;
     let (aspect, _) = editor.viewport_shape;
-    let camera = editor.camera;
+    let camera = editor.view.camera;
     let clip = camera.clip_from_view(aspect) * camera.view_from_world();
     let (mut lo, mut hi) = (glam::Vec2::splat(f32::INFINITY), glam::Vec2::splat(f32::NEG_INFINITY));
     for &p in editor.surface_mesh().expect("a surface").positions() {
-        let q = clip.project_point3(editor.display_frame.point(p)).truncate();
+        let q = clip.project_point3(editor.view.display_frame.point(p)).truncate();
         lo = lo.min(q);
         hi = hi.max(q);
     }
@@ -360,13 +360,13 @@ fn assert_legend_beside_the_model(harness: &mut Harness<'_, App>, title: &str) {
 #[test]
 fn legends_are_drawn_beside_the_framed_model() {
     let mut harness = cube_editor();
-    harness.state_mut().editor.display.mode = super::state::DisplayMode::Curvature;
+    harness.state_mut().editor.view.display.mode = super::state::DisplayMode::Curvature;
     settle(&mut harness);
     let title = harness.state().editor.legend().expect("a legend").title;
     assert_legend_beside_the_model(&mut harness, &title);
 
     let mut harness = cube_editor();
-    harness.state_mut().editor.selection.clear();
+    harness.state_mut().editor.view.selection.clear();
     settle(&mut harness);
     harness.get(By::new().role(Role::ComboBox).label("scheme")).click();
     harness.run_steps(2);

@@ -33,15 +33,15 @@ fn the_status_bar_names_the_select_mode_and_a_new_document_starts_in_vertex_mode
     h.key_press(Key::Tab);
     h.key_press(Key::Tab);
     frames(&mut h);
-    assert_eq!(h.state().editor.selection.mode, SelectMode::Face);
+    assert_eq!(h.state().editor.view.selection.mode, SelectMode::Face);
     h.get_by_label("face mode");
-    h.state_mut().editor.selection.clear();
+    h.state_mut().editor.view.selection.clear();
     frames(&mut h);
     h.get_by_label_contains("Face mode: click a cage face");
     let fresh = super::document::EditorDocument::new(super::primitives::cube(), None);
     h.state_mut().editor.replace_document(fresh);
     frames(&mut h);
-    assert_eq!(h.state().editor.selection.mode, SelectMode::Vertex, "New and Open start in vertex mode");
+    assert_eq!(h.state().editor.view.selection.mode, SelectMode::Vertex, "New and Open start in vertex mode");
     h.get_by_label("vertex mode");
     h.get_by_label_contains("Vertex mode: click a cage vertex");
 }
@@ -49,10 +49,10 @@ fn the_status_bar_names_the_select_mode_and_a_new_document_starts_in_vertex_mode
 #[test]
 fn a_click_beside_a_corner_in_face_mode_says_that_a_vertex_is_there() {
     let mut h = cube_editor();
-    h.state_mut().editor.camera.set_view(StandardView::Perspective);
-    h.state_mut().editor.selection.clear();
+    h.state_mut().editor.view.camera.set_view(StandardView::Perspective);
+    h.state_mut().editor.view.selection.clear();
     frames(&mut h);
-    h.state_mut().editor.selection.mode = SelectMode::Face;
+    h.state_mut().editor.view.selection.mode = SelectMode::Face;
     // The view is framed again while the surface settles: the pixels are read once it has.
     settle(&mut h);
     frames(&mut h);
@@ -69,7 +69,7 @@ fn a_click_beside_a_corner_in_face_mode_says_that_a_vertex_is_there() {
     let at = corner + 5.0 * (corner - centre).normalize();
     assert!(viewport(&h).size.x > 0.0);
     click(&mut h, at);
-    assert!(h.state().editor.selection.is_empty(), "nothing selected in face mode");
+    assert!(h.state().editor.view.selection.is_empty(), "nothing selected in face mode");
     let notice = h.state().editor.notice.clone().expect("the click says why nothing was selected");
     assert!(notice.text.contains("face mode: no face there") && notice.text.contains("a vertex"), "{}", notice.text);
     // The same click on empty space far from the cube stays silent.

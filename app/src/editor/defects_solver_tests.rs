@@ -22,7 +22,7 @@ fn top_face_selected() -> Harness<'static, App> {
     frames(&mut h);
     let cage = h.state().editor.document.doc().cage.clone();
     let top = cage.faces().find(|&f| cage.face_vertices(f).all(|v| cage.position(v).z > 0.0)).expect("a top face");
-    let selection = &mut h.state_mut().editor.selection;
+    let selection = &mut h.state_mut().editor.view.selection;
     selection.clear();
     selection.mode = SelectMode::Face;
     selection.faces = vec![top];
@@ -167,14 +167,14 @@ fn typed_digits_of_one_frame_keep_their_order() {
 fn undo_and_redo_restore_the_selection_of_their_step() {
     for e in 0..12 {
         let mut h = cube_editor();
-        let selection = &mut h.state_mut().editor.selection;
+        let selection = &mut h.state_mut().editor.view.selection;
         selection.clear();
         selection.mode = SelectMode::Edge;
         selection.edges = vec![EdgeId(e)];
         frames(&mut h);
         h.state_mut().editor.mesh_op(MeshOp::Triangulate);
         frames(&mut h);
-        let after = h.state().editor.selection.clone();
+        let after = h.state().editor.view.selection.clone();
         if after.edges == vec![EdgeId(e)] {
             continue;
         }
@@ -182,11 +182,11 @@ fn undo_and_redo_restore_the_selection_of_their_step() {
         frames(&mut h);
         let editor = &h.state().editor;
         assert_eq!(editor.document.doc().cage.face_count(), 6, "undone");
-        assert_eq!(editor.selection.edges, vec![EdgeId(e)], "the edge of that step");
-        assert_eq!(editor.selection.mode, SelectMode::Edge);
+        assert_eq!(editor.view.selection.edges, vec![EdgeId(e)], "the edge of that step");
+        assert_eq!(editor.view.selection.mode, SelectMode::Edge);
         h.key_press_modifiers(Modifiers::COMMAND | Modifiers::SHIFT, Key::Z);
         frames(&mut h);
-        assert_eq!(h.state().editor.selection.edges, after.edges, "redo: the selection after the step");
+        assert_eq!(h.state().editor.view.selection.edges, after.edges, "redo: the selection after the step");
         return;
     }
     panic!("no edge of the cube is renumbered by Triangulate: the test needs another case");
@@ -205,7 +205,7 @@ fn choose_scheme(h: &mut Harness<'_, App>, scheme: SchemeKind) {
 #[test]
 fn the_loop_refusal_goes_once_loop_succeeds() {
     let mut h = cube_editor();
-    h.state_mut().editor.selection.clear();
+    h.state_mut().editor.view.selection.clear();
     frames(&mut h);
     choose_scheme(&mut h, SchemeKind::Loop);
     let notice = h.state().editor.notice.clone().expect("a message");

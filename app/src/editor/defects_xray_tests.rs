@@ -15,8 +15,8 @@ use taut_render::StandardView;
 /// A cube editor in the perspective view, nothing selected, and the corner its front hides.
 fn cube_from_above() -> (Harness<'static, App>, VertexId) {
     let mut h = cube_editor();
-    h.state_mut().editor.camera.set_view(StandardView::Perspective);
-    h.state_mut().editor.selection.clear();
+    h.state_mut().editor.view.camera.set_view(StandardView::Perspective);
+    h.state_mut().editor.view.selection.clear();
     // Settled, so that the display frame (which follows the surface) stays put.
     for _ in 0..400 {
         if !h.state().editor.busy() {
@@ -33,7 +33,7 @@ fn cube_from_above() -> (Harness<'static, App>, VertexId) {
     // The hidden corner is the one farthest from the eye.
     let editor = &h.state().editor;
     let cage = &editor.document.doc().cage;
-    let eye = editor.display_frame.to_model(editor.camera.eye().as_dvec3());
+    let eye = editor.view.display_frame.to_model(editor.view.camera.eye().as_dvec3());
     let far = cage
         .vertices()
         .max_by(|&a, &b| (cage.position(a) - eye).length().total_cmp(&(cage.position(b) - eye).length()));
@@ -53,24 +53,24 @@ fn a_click_on_the_hidden_corner_selects_it_only_with_x_ray() {
     let at = |h: &Harness<'_, App>| pixel_of(h, h.state().editor.document.doc().cage.position(far));
     let p = at(&h);
     click(&mut h, p);
-    assert!(!h.state().editor.selection.vertices.contains(&far), "a hidden corner is not picked");
+    assert!(!h.state().editor.view.selection.vertices.contains(&far), "a hidden corner is not picked");
     let notice = h.state().editor.notice.clone().expect("the click says why nothing was picked");
     assert!(notice.text.contains("behind the cage's front") && notice.text.contains("Alt+Z"), "{}", notice.text);
     assert!(!h.state().editor.overlays().points.is_empty());
 
     alt_z(&mut h);
-    assert!(h.state().editor.display.xray, "Alt+Z turns X-ray on");
+    assert!(h.state().editor.view.display.xray, "Alt+Z turns X-ray on");
     h.get_by_label("X-ray");
     let p = at(&h);
     click(&mut h, p);
-    assert_eq!(h.state().editor.selection.vertices, vec![far], "with X-ray the corner behind is picked");
+    assert_eq!(h.state().editor.view.selection.vertices, vec![far], "with X-ray the corner behind is picked");
 
     alt_z(&mut h);
-    assert!(!h.state().editor.display.xray, "Alt+Z again turns it off");
-    h.state_mut().editor.selection.clear();
+    assert!(!h.state().editor.view.display.xray, "Alt+Z again turns it off");
+    h.state_mut().editor.view.selection.clear();
     let p = at(&h);
     click(&mut h, p);
-    assert!(!h.state().editor.selection.vertices.contains(&far));
+    assert!(!h.state().editor.view.selection.vertices.contains(&far));
 }
 
 #[test]
@@ -79,21 +79,21 @@ fn a_box_over_the_whole_cube_catches_only_the_corners_in_view_unless_x_ray() {
     let v = viewport(&h);
     let (from, to) = (v.min + glam::Vec2::splat(4.0), v.min + v.size - glam::Vec2::splat(4.0));
     drag_along(&mut h, &[from, (from + to) / 2.0, to]);
-    let mut caught = h.state().editor.selection.vertices.clone();
+    let mut caught = h.state().editor.view.selection.vertices.clone();
     caught.sort();
     let expected: Vec<VertexId> = (0..8).map(VertexId).filter(|&v| v != far).collect();
     assert_eq!(caught, expected, "the box leaves out the corner behind");
 
-    h.state_mut().editor.selection.clear();
+    h.state_mut().editor.view.selection.clear();
     alt_z(&mut h);
     drag_along(&mut h, &[from, (from + to) / 2.0, to]);
-    assert_eq!(h.state().editor.selection.vertices.len(), 8, "with X-ray the box catches every corner");
+    assert_eq!(h.state().editor.view.selection.vertices.len(), 8, "with X-ray the box catches every corner");
 }
 
 #[test]
 fn a_hidden_edge_is_not_picked_for_a_crease_and_is_drawn_dimmer() {
     let (mut h, far) = cube_from_above();
-    h.state_mut().editor.selection.mode = SelectMode::Edge;
+    h.state_mut().editor.view.selection.mode = SelectMode::Edge;
     frames(&mut h);
     let cage = h.state().editor.document.doc().cage.clone();
     let edges: Vec<EdgeId> = cage
@@ -118,7 +118,7 @@ fn a_hidden_edge_is_not_picked_for_a_crease_and_is_drawn_dimmer() {
     };
     let p = at(&h);
     click(&mut h, p);
-    assert!(h.state().editor.selection.edges.is_empty(), "{:?}", h.state().editor.selection.edges);
+    assert!(h.state().editor.view.selection.edges.is_empty(), "{:?}", h.state().editor.view.selection.edges);
 
     // The overlay draws the hidden edges first and faint, the rest at full strength.
     let lines = h.state().editor.overlays().on_top_lines;
@@ -129,7 +129,7 @@ fn a_hidden_edge_is_not_picked_for_a_crease_and_is_drawn_dimmer() {
     alt_z(&mut h);
     let p = at(&h);
     click(&mut h, p);
-    assert_eq!(h.state().editor.selection.edges, vec![edges[0]], "with X-ray the hidden edge is picked");
+    assert_eq!(h.state().editor.view.selection.edges, vec![edges[0]], "with X-ray the hidden edge is picked");
     let lines = h.state().editor.overlays().on_top_lines;
     assert!(lines.iter().all(|l| l.color[3] >= 0.5), "with X-ray nothing is dimmed");
 }
@@ -148,7 +148,7 @@ fn the_menus_and_help_name_alt_z_and_hidden_parts_follow_the_camera() {
             .filter(|&v| (cage.position(v) - centre).dot(p - centre) < 0.0)
             .unwrap()
     };
-    let camera = &mut h.state_mut().editor.camera;
+    let camera = &mut h.state_mut().editor.view.camera;
     camera.orbit(180.0, 0.0);
     camera.elevation = -camera.elevation;
     frames(&mut h);

@@ -29,9 +29,9 @@ fn a_recorded_session_replays_to_the_editors_document_bit_for_bit_and_undo_names
     {
         let editor = &mut h.state_mut().editor;
         let top = top_face(&editor.document.doc().cage);
-        editor.selection.clear();
-        editor.selection.mode = SelectMode::Face;
-        editor.selection.faces = vec![top];
+        editor.view.selection.clear();
+        editor.view.selection.mode = SelectMode::Face;
+        editor.view.selection.faces = vec![top];
     }
     frames(&mut h);
     press(&mut h, Modifiers::NONE, Key::E);
@@ -54,9 +54,9 @@ fn a_recorded_session_replays_to_the_editors_document_bit_for_bit_and_undo_names
     assert_eq!(h.state().editor.document.undo_name(), Some("Inset"));
     {
         let editor = &mut h.state_mut().editor;
-        editor.selection.clear();
-        editor.selection.mode = SelectMode::Edge;
-        editor.selection.edges = vec![EdgeId(0)];
+        editor.view.selection.clear();
+        editor.view.selection.mode = SelectMode::Edge;
+        editor.view.selection.edges = vec![EdgeId(0)];
     }
     frames(&mut h);
     press(&mut h, Modifiers::COMMAND, Key::R);
@@ -74,9 +74,9 @@ fn a_recorded_session_replays_to_the_editors_document_bit_for_bit_and_undo_names
     assert!(!editor.document.in_gesture(), "the slide ended");
     assert_eq!(editor.notice.as_ref().filter(|n| n.is_error), None);
     assert_eq!(editor.document.undo_name(), Some("Set Crease"));
-    editor.selection.clear();
-    editor.selection.mode = SelectMode::Vertex;
-    editor.selection.vertices = vec![taut_core::VertexId(1)];
+    editor.view.selection.clear();
+    editor.view.selection.mode = SelectMode::Vertex;
+    editor.view.selection.vertices = vec![taut_core::VertexId(1)];
     frames(&mut h);
     press(&mut h, Modifiers::NONE, Key::X);
     assert_eq!(h.state().editor.document.undo_name(), Some("Delete Vertices"));

@@ -24,8 +24,8 @@ pub(super) fn viewport(h: &Harness<'_, App>) -> ViewportRect {
 /// Where a model point lands on screen.
 pub(super) fn pixel_of(h: &Harness<'_, App>, p: DVec3) -> glam::Vec2 {
     let editor = &h.state().editor;
-    let d = editor.display_frame.to_display_f64(p);
-    interaction::project(&editor.camera, &viewport(h), d).expect("in front of the camera").0
+    let d = editor.view.display_frame.to_display_f64(p);
+    interaction::project(&editor.view.camera, &viewport(h), d).expect("in front of the camera").0
 }
 
 fn button(h: &mut Harness<'_, App>, button: PointerButton, pressed: bool, at: glam::Vec2, modifiers: Modifiers) {
@@ -49,10 +49,10 @@ pub(super) fn drag_along(h: &mut Harness<'_, App>, path: &[glam::Vec2]) {
 /// The cube editor in a standard view with the given vertices selected, laid out.
 fn cube_in_view(view: StandardView, selected: Vec<VertexId>) -> Harness<'static, App> {
     let mut h = cube_editor();
-    h.state_mut().editor.camera.set_view(view);
+    h.state_mut().editor.view.camera.set_view(view);
     // Zoomed out so that the whole gizmo is inside the viewport, clear of the side panels.
-    h.state_mut().editor.camera.distance *= 2.5;
-    h.state_mut().editor.selection.vertices = selected;
+    h.state_mut().editor.view.camera.distance *= 2.5;
+    h.state_mut().editor.view.selection.vertices = selected;
     frames(&mut h);
     frames(&mut h);
     h
@@ -66,7 +66,7 @@ fn layout(h: &Harness<'_, App>) -> GizmoLayout {
 /// `pixel` (all in display coordinates): the textbook skew-line formula, written out here.
 fn closest_on_line(h: &Harness<'_, App>, anchor: DVec3, axis: DVec3, pixel: glam::Vec2) -> f64 {
     let editor = &h.state().editor;
-    let (o, d) = interaction::unproject_ray(&editor.camera, &viewport(h), pixel);
+    let (o, d) = interaction::unproject_ray(&editor.view.camera, &viewport(h), pixel);
     // Solve for s, t with (anchor + s·axis − o − t·d) ⟂ axis and ⟂ d.
     let w = anchor - o;
     let (a, b, c) = (axis.dot(axis), axis.dot(d), d.dot(d));
@@ -84,7 +84,7 @@ fn dragging_an_arrow_moves_the_selection_along_its_axis_only_in_one_undo_step() 
     let mut h = cube_in_view(StandardView::Perspective, vec![v]);
     let before: Document = h.state().editor.document.doc().clone();
     let l = layout(&h);
-    let camera = h.state().editor.camera;
+    let camera = h.state().editor.view.camera;
     let view = viewport(&h);
     // The middle of the X arrow's shaft, then a drag with a sideways component too.
     let press = interaction::project(&camera, &view, l.pivot + 0.7 * l.length * DVec3::X).unwrap().0;
@@ -93,14 +93,14 @@ fn dragging_an_arrow_moves_the_selection_along_its_axis_only_in_one_undo_step() 
     let path: Vec<glam::Vec2> = (0..=5).map(|k| press + (end - press) * (k as f32 / 5.0)).collect();
     drag_along(&mut h, &path);
     let editor = &h.state().editor;
-    assert!(editor.selection.vertices == vec![v], "the press on the gizmo selected nothing else");
+    assert!(editor.view.selection.vertices == vec![v], "the press on the gizmo selected nothing else");
     let p0 = before.cage.position(v);
     let p1 = editor.document.doc().cage.position(v);
     // The centroid is the vertex itself: the reference moves it by the change of the closest
     // point of the mouse ray to the X line through it.
-    let anchor = editor.display_frame.to_display_f64(p0);
+    let anchor = editor.view.display_frame.to_display_f64(p0);
     let expected = (closest_on_line(&h, anchor, DVec3::X, end) - closest_on_line(&h, anchor, DVec3::X, press))
-        * editor.display_frame.scale;
+        * editor.view.display_frame.scale;
     assert!(expected > 0.05, "the drag went right along X: {expected}");
     assert!((p1.x - p0.x - expected).abs() < 1e-9 * (1.0 + expected.abs()), "{} vs {expected}", p1.x - p0.x);
     assert_eq!((p1.y.to_bits(), p1.z.to_bits()), (p0.y.to_bits(), p0.z.to_bits()), "y and z untouched");
@@ -127,7 +127,7 @@ fn dragging_the_z_ring_in_the_top_view_turns_the_top_face_about_its_centre() {
     // Along the ring on screen, from 45° to 105° (clear of the arrows and plane squares).
     let r = 0.85 * super::gizmo::GIZMO_RADIUS_PX;
     let at = |deg: f32| c + r * glam::Vec2::new(deg.to_radians().cos(), -deg.to_radians().sin());
-    let camera = h.state().editor.camera;
+    let camera = h.state().editor.view.camera;
     assert_eq!(
         pick_handle(&camera, &viewport(&h), &l, GizmoMode::All, at(45.0)),
         Some(Handle::Ring(interaction::Axis::Z))
@@ -192,7 +192,7 @@ fn each_pivot_scales_about_its_closed_form_and_shift_s_and_the_toolbar_choose_it
         }
         // The gizmo sits at the pivot.
         let l = layout(&h);
-        let frame = h.state().editor.display_frame;
+        let frame = h.state().editor.view.display_frame;
         let now: Vec<DVec3> = corners.iter().map(|&v| cage.position(v)).collect();
         let pivot_now = super::pivot::pivot_point(pivot, &now, cursor, Some(now[2]));
         assert!((l.pivot - frame.to_display_f64(pivot_now)).length() < 1e-12);
@@ -220,13 +220,13 @@ fn shift_right_click_puts_the_3d_cursor_on_the_cage_under_the_mouse() {
     h.input_mut().events.push(egui::Event::ModifiersChanged(Modifiers::NONE));
     frames(&mut h);
     let editor = &h.state().editor;
-    let c = editor.display_frame.to_display_f64(editor.gizmo.cursor);
-    let (o, d) = interaction::unproject_ray(&editor.camera, &viewport(&h), at);
+    let c = editor.view.display_frame.to_display_f64(editor.gizmo.cursor);
+    let (o, d) = interaction::unproject_ray(&editor.view.camera, &viewport(&h), at);
     assert!((c - o).cross(d).length() < 1e-9, "the cursor is on the ray under the mouse");
     // And on a face of what it hit: within 1e-9 of the plane of some triangle it lies inside.
     let mesh = editor.surface_mesh().expect("the smoothed surface");
     let p = mesh.positions();
-    let m = editor.display_frame.to_model(c);
+    let m = editor.view.display_frame.to_model(c);
     let on = mesh.triangles().iter().any(|t| {
         let [a, b, q] = t.map(|i| p[i as usize]);
         let n = (b - a).cross(q - a).normalize();
@@ -273,7 +273,7 @@ fn a_plane_lock_keeps_the_locked_coordinate_bit_for_bit_and_a_second_press_unloc
     // Scale in the plane: S, Shift+X, 3 → x kept, y and z tripled about the vertex (no change).
     h.key_press(Key::Enter);
     frames(&mut h);
-    h.state_mut().editor.selection.vertices = corners.clone();
+    h.state_mut().editor.view.selection.vertices = corners.clone();
     let before = h.state().editor.document.doc().clone();
     h.key_press(Key::S);
     frames(&mut h);
@@ -350,7 +350,7 @@ fn snapping_lands_on_multiples_of_each_step() {
     let start = pixel_of(&h, p0);
     let step = {
         let e = &h.state().editor;
-        e.gizmo.snap.grid_step(&e.camera, &e.display_frame)
+        e.gizmo.snap.grid_step(&e.view.camera, &e.view.display_frame)
     };
     // Grab with Ctrl held: every component of the move is a whole number of grid steps.
     h.hover_at(pos2(start.x, start.y));
@@ -375,7 +375,7 @@ fn snapping_lands_on_multiples_of_each_step() {
     h.get_by_label("Snap (Ctrl inverts)").click();
     frames(&mut h);
     assert!(h.state().editor.gizmo.snap.always);
-    h.state_mut().editor.selection.vertices = corners.clone();
+    h.state_mut().editor.view.selection.vertices = corners.clone();
     for (key, check) in [(Key::R, 0), (Key::S, 1)] {
         let before = h.state().editor.document.doc().clone();
         let l = layout(&h);
@@ -397,7 +397,7 @@ fn snapping_lands_on_multiples_of_each_step() {
         if check == 0 {
             // About the view axis: the angle between p and q seen along it is a multiple of 5°.
             let e = &h.state().editor;
-            let axis = (e.camera.eye().as_dvec3() - e.display_frame.to_display_f64(c)).normalize();
+            let axis = (e.view.camera.eye().as_dvec3() - e.view.display_frame.to_display_f64(c)).normalize();
             let flat = |x: DVec3| x - x.dot(axis) * axis;
             assert!((p.dot(axis) - q.dot(axis)).abs() < 1e-9, "turned about the view axis");
             let degrees = flat(p).angle_between(flat(q)).to_degrees();
@@ -437,12 +437,12 @@ fn w_and_the_toolbar_show_and_hide_the_gizmo_and_choose_its_handles() {
     assert_eq!(h.state().editor.gizmo.mode, GizmoMode::Rotate);
     // Only rings now: the X arrow's place picks nothing (or a ring), never an arrow.
     let l = layout(&h);
-    let camera = h.state().editor.camera;
+    let camera = h.state().editor.view.camera;
     let on_arrow = interaction::project(&camera, &viewport(&h), l.pivot + 1.0 * l.length * DVec3::X).unwrap().0;
     let picked = pick_handle(&camera, &viewport(&h), &l, GizmoMode::Rotate, on_arrow);
     assert!(!matches!(picked, Some(Handle::Arrow(_) | Handle::Cube(_) | Handle::Centre)), "{picked:?}");
     // Nothing selected: no gizmo.
-    h.state_mut().editor.selection.clear();
+    h.state_mut().editor.view.selection.clear();
     frames(&mut h);
     assert!(h.state().editor.gizmo_layout(&viewport(&h)).is_none());
 }
@@ -458,7 +458,7 @@ fn a_press_on_a_vertex_under_the_gizmo_centre_drags_the_vertex() {
     let at = layout(&h).centre;
     h.hover_at(pos2(at.x, at.y));
     frames(&mut h);
-    assert_eq!(h.state().editor.selection.hovered_vertex, Some(v), "the point under the centre is hovered");
+    assert_eq!(h.state().editor.view.selection.hovered_vertex, Some(v), "the point under the centre is hovered");
     assert_ne!(h.state().editor.gizmo.hovered, Some(Handle::Centre));
     let path: Vec<glam::Vec2> = (0..=4).map(|k| at + glam::Vec2::new(10.0 * k as f32, 5.0 * k as f32)).collect();
     drag_along(&mut h, &path);
@@ -480,7 +480,7 @@ fn the_gizmo_centre_moves_the_selection_in_the_view_plane() {
     h.hover_at(pos2(at.x, at.y));
     frames(&mut h);
     assert_eq!(h.state().editor.gizmo.hovered, Some(Handle::Centre));
-    assert_eq!(h.state().editor.selection.hovered_vertex, None, "no cage point under the pivot");
+    assert_eq!(h.state().editor.view.selection.hovered_vertex, None, "no cage point under the pivot");
     let path: Vec<glam::Vec2> = (0..=4).map(|k| at + glam::Vec2::new(12.0 * k as f32, -6.0 * k as f32)).collect();
     drag_along(&mut h, &path);
     let cage = &h.state().editor.document.doc().cage;
@@ -490,7 +490,8 @@ fn the_gizmo_centre_moves_the_selection_in_the_view_plane() {
     let mid = 0.5 * (cage.position(a) + cage.position(b));
     assert!(pixel_of(&h, mid).distance(*path.last().unwrap()) < 1.0, "the pivot follows the cursor");
     let editor = &h.state().editor;
-    let view_dir = editor.camera.backward().as_dvec3();
-    let along = editor.display_frame.to_display_f64(mid) - editor.display_frame.to_display_f64(0.5 * (a0 + b0));
+    let view_dir = editor.view.camera.backward().as_dvec3();
+    let along =
+        editor.view.display_frame.to_display_f64(mid) - editor.view.display_frame.to_display_f64(0.5 * (a0 + b0));
     assert!(along.dot(view_dir).abs() < 1e-4 * along.length(), "in the view plane: {along}");
 }

@@ -165,7 +165,7 @@ impl EditorState {
             ui.separator();
             let xray = format!("X-ray  {}", shortcuts::label(Action::ToggleXray));
             if ui
-                .checkbox(&mut self.display.xray.clone(), xray)
+                .checkbox(&mut self.view.display.xray.clone(), xray)
                 .on_hover_text("Off: the back of the cage is drawn dimmer and cannot be picked. On: all of it is")
                 .clicked()
             {

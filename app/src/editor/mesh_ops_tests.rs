@@ -26,9 +26,9 @@ fn top_face_selected() -> Harness<'static, App> {
     let mut h = cube_editor();
     let editor = &mut h.state_mut().editor;
     let top = top_face(&editor.document.doc().cage);
-    editor.selection.clear();
-    editor.selection.mode = SelectMode::Face;
-    editor.selection.faces = vec![top];
+    editor.view.selection.clear();
+    editor.view.selection.mode = SelectMode::Face;
+    editor.view.selection.faces = vec![top];
     frames(&mut h);
     h
 }
@@ -69,8 +69,8 @@ fn e_extrudes_the_top_face_and_keeps_it_selected_above_the_old_one() {
     assert_eq!(counts(&h), (12, 20, 10));
     let editor = &h.state().editor;
     let cage = &editor.document.doc().cage;
-    assert_eq!(editor.selection.faces.len(), 1);
-    let cap = editor.selection.faces[0];
+    assert_eq!(editor.view.selection.faces.len(), 1);
+    let cap = editor.view.selection.faces[0];
     assert!(cage.face_vertices(cap).all(|v| cage.position(v).z > 0.5 + 1e-9), "the cap rose along +z");
     assert!(cage.face_vertices(cap).all(|v| v.index() >= 8 || cage.position(v).z > 0.5));
     check_key(top_face_selected(), Modifiers::NONE, Key::E, (12, 20, 10));
@@ -88,7 +88,7 @@ fn an_extruded_cap_keeps_the_fixed_flags_of_the_corners_it_was_lifted_from() {
     h.key_press(Key::E);
     frames(&mut h);
     let editor = &h.state().editor;
-    let (doc, cap) = (editor.document.doc(), editor.selection.faces[0]);
+    let (doc, cap) = (editor.document.doc(), editor.view.selection.faces[0]);
     for v in doc.cage.face_vertices(cap) {
         // The copy sits straight above its source corner.
         let source = corners
@@ -112,13 +112,13 @@ fn each_modelling_key_reaches_its_operation_and_undoes_in_one_step() {
     check_key(cube_editor(), Modifiers::NONE, Key::X, (7, 9, 3));
     // Ctrl+R on one selected edge: a ring of 4 quads split, 4 new vertices.
     let mut h = cube_editor();
-    h.state_mut().editor.selection.vertices.clear();
-    h.state_mut().editor.selection.edges = vec![taut_core::EdgeId(0)];
+    h.state_mut().editor.view.selection.vertices.clear();
+    h.state_mut().editor.view.selection.edges = vec![taut_core::EdgeId(0)];
     check_key(h, Modifiers::COMMAND, Key::R, (12, 20, 10));
     // M on the two ends of an edge: one vertex fewer, the two faces at the edge become triangles.
     let mut h = cube_editor();
     let (a, b) = h.state().editor.document.doc().cage.edge_vertices(taut_core::EdgeId(0));
-    h.state_mut().editor.selection.vertices = vec![a, b];
+    h.state_mut().editor.view.selection.vertices = vec![a, b];
     check_key(h, Modifiers::NONE, Key::M, (7, 11, 6));
 }
 
@@ -131,10 +131,10 @@ fn f_fills_the_hole_a_delete_left() {
     // The hole's rim: every boundary edge, in edge mode.
     let editor = &mut h.state_mut().editor;
     let cage = editor.document.doc().cage.clone();
-    editor.selection.clear();
-    editor.selection.mode = SelectMode::Edge;
-    editor.selection.edges = cage.edges().filter(|&e| cage.is_boundary_edge(e)).collect();
-    assert_eq!(editor.selection.edges.len(), 4);
+    editor.view.selection.clear();
+    editor.view.selection.mode = SelectMode::Edge;
+    editor.view.selection.edges = cage.edges().filter(|&e| cage.is_boundary_edge(e)).collect();
+    assert_eq!(editor.view.selection.edges.len(), 4);
     check_key(h, Modifiers::NONE, Key::F, (8, 12, 6));
 }
 
@@ -147,7 +147,7 @@ fn refused_requests_change_nothing_and_say_why() {
         (Vec::new(), Key::R, Modifiers::COMMAND, "point at an edge"),
     ] {
         let mut h = cube_editor();
-        h.state_mut().editor.selection.vertices = select;
+        h.state_mut().editor.view.selection.vertices = select;
         let before = h.state().editor.document.doc().clone();
         let revision = h.state().editor.document.revision();
         h.key_press_modifiers(modifiers, key);
@@ -164,14 +164,14 @@ fn refused_requests_change_nothing_and_say_why() {
     // extruding all six faces as one region has no mean normal.
     let mut h = top_face_selected();
     let all: Vec<FaceId> = h.state().editor.document.doc().cage.faces().collect();
-    h.state_mut().editor.selection.faces = all.clone();
+    h.state_mut().editor.view.selection.faces = all.clone();
     let before = h.state().editor.document.doc().clone();
     h.key_press(Key::E);
     frames(&mut h);
     let editor = &h.state().editor;
     assert!(same_bits(editor.document.doc(), &before));
     assert!(editor.notice.as_ref().is_some_and(|n| n.is_error && n.text.contains("extrude")));
-    assert_eq!(editor.selection.faces, all, "a refused edit keeps the selection");
+    assert_eq!(editor.view.selection.faces, all, "a refused edit keeps the selection");
 }
 
 #[test]
@@ -196,15 +196,15 @@ fn the_mesh_menu_reaches_every_operation_and_tab_cycles_the_modes() {
     for mode in [SelectMode::Edge, SelectMode::Face, SelectMode::Vertex] {
         h.key_press(Key::Tab);
         frames(&mut h);
-        assert_eq!(h.state().editor.selection.mode, mode);
+        assert_eq!(h.state().editor.view.selection.mode, mode);
     }
     // A lone vertex spans no edge, so the round trip through edge mode dropped it (as in Blender).
-    assert!(h.state().editor.selection.is_empty());
+    assert!(h.state().editor.view.selection.is_empty());
     // Ctrl+L from one vertex selects the whole cube.
-    h.state_mut().editor.selection.vertices = vec![VertexId(7)];
+    h.state_mut().editor.view.selection.vertices = vec![VertexId(7)];
     h.key_press_modifiers(Modifiers::COMMAND, Key::L);
     frames(&mut h);
-    assert_eq!(h.state().editor.selection.vertices.len(), 8);
+    assert_eq!(h.state().editor.view.selection.vertices.len(), 8);
     // The frame-selection key moved to "." (F is fill).
     h.key_press(Key::Period);
     frames(&mut h);
@@ -233,8 +233,8 @@ fn a_mesh_operation_says_which_curve_mesh_edits_it_dropped() {
         let doc = doc.with_scheme(SchemeKind::Nusd);
         assert_eq!(doc.curve_mesh.vertices.len(), 1);
         editor.document.apply(Edit::Replace(Box::new(doc))).unwrap();
-        editor.selection.clear();
-        editor.selection.vertices = vec![VertexId(5)];
+        editor.view.selection.clear();
+        editor.view.selection.vertices = vec![VertexId(5)];
     }
     frames(&mut h);
     h.key_press(Key::X);

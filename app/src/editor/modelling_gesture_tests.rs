@@ -19,11 +19,11 @@ fn top_face_selected() -> Harness<'static, App> {
     let mut h = cube_editor();
     let editor = &mut h.state_mut().editor;
     let top = top_face(&editor.document.doc().cage);
-    editor.selection.clear();
-    editor.selection.mode = SelectMode::Face;
-    editor.selection.faces = vec![top];
-    editor.camera.set_view(StandardView::Front);
-    editor.camera.distance *= 2.0;
+    editor.view.selection.clear();
+    editor.view.selection.mode = SelectMode::Face;
+    editor.view.selection.faces = vec![top];
+    editor.view.camera.set_view(StandardView::Front);
+    editor.view.camera.distance *= 2.0;
     frames(&mut h);
     frames(&mut h);
     h
@@ -66,7 +66,7 @@ fn e_then_a_typed_distance_lifts_the_cap_along_its_normal_in_one_undo_step() {
     }
     let doc = h.state().editor.document.doc().clone();
     assert_eq!(doc.cage.polygons(), lifted.cage.polygons());
-    let cap: Vec<_> = doc.cage.face_vertices(h.state().editor.selection.faces[0]).collect();
+    let cap: Vec<_> = doc.cage.face_vertices(h.state().editor.view.selection.faces[0]).collect();
     for v in doc.cage.vertices() {
         let (p, q) = (lifted.cage.position(v), doc.cage.position(v));
         if cap.contains(&v) {
@@ -105,7 +105,7 @@ fn e_then_the_mouse_moves_along_the_normal_and_esc_leaves_the_extrusion_in_place
     click(&mut h, PointerButton::Primary, start + glam::Vec2::new(20.0, -60.0));
     assert!(h.state().ui.tool.get::<crate::editor::transform::Transform>().is_none());
     let doc = h.state().editor.document.doc().clone();
-    let cap: Vec<_> = doc.cage.face_vertices(h.state().editor.selection.faces[0]).collect();
+    let cap: Vec<_> = doc.cage.face_vertices(h.state().editor.view.selection.faces[0]).collect();
     for &v in &cap {
         let (p, q) = (lifted.cage.position(v), doc.cage.position(v));
         assert_eq!((q.x.to_bits(), q.y.to_bits()), (p.x.to_bits(), p.y.to_bits()), "along z only");
@@ -138,9 +138,9 @@ fn e_then_the_mouse_moves_along_the_normal_and_esc_leaves_the_extrusion_in_place
 fn cube_with_front_edge() -> (Harness<'static, App>, EdgeId) {
     let mut h = cube_editor();
     let editor = &mut h.state_mut().editor;
-    editor.selection.clear();
-    editor.camera.set_view(StandardView::Perspective);
-    editor.camera.distance *= 2.0;
+    editor.view.selection.clear();
+    editor.view.camera.set_view(StandardView::Perspective);
+    editor.view.camera.distance *= 2.0;
     let cage = &editor.document.doc().cage;
     let edge = cage
         .edges()
@@ -282,7 +282,7 @@ fn a_cage_replaced_under_a_gesture_ends_it_and_is_left_untouched() {
     // the menu while the gesture runs): the gesture ends and the new cage is not moved.
     for keys in [vec![(Modifiers::NONE, Key::G)], vec![(Modifiers::COMMAND, Key::R)], vec![(Modifiers::NONE, Key::I)]] {
         let mut h = top_face_selected();
-        h.state_mut().editor.selection.edges = vec![EdgeId(0)];
+        h.state_mut().editor.view.selection.edges = vec![EdgeId(0)];
         let at = pixel_of(&h, DVec3::new(0.3, 0.0, 0.5));
         for (modifiers, key) in keys {
             h.key_press_modifiers(modifiers, key);

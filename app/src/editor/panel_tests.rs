@@ -46,7 +46,7 @@ pub(super) fn editor_on(doc: taut_core::Document) -> Harness<'static, App> {
         // kittest's default check refuses; `panels_name_every_input_widget` keeps track of it.
         .with_accessibility_check(false)
         .build_ui_state(|ui, app: &mut App| app.editor.ui(ui, &mut app.ui), App { editor, ui });
-    harness.state_mut().editor.selection.vertices = vec![VERTEX];
+    harness.state_mut().editor.view.selection.vertices = vec![VERTEX];
     harness
 }
 
@@ -211,7 +211,7 @@ fn drag_tension_and_undo(doc: taut_core::Document) -> DragOutcome {
     assert_eq!(tension(&harness), 0.0, "Ctrl+Z after the drag");
     assert!(!can_undo(&harness), "the drag was more than one undo step");
     assert!(!harness.state().editor.document.is_dirty(), "undo back to the opened state is clean");
-    assert_eq!(harness.state().editor.selection.vertices, vec![VERTEX], "undo keeps the selection");
+    assert_eq!(harness.state().editor.view.selection.vertices, vec![VERTEX], "undo keeps the selection");
 
     settle(&mut harness);
     // The solver stops within `tol · diagonal` of its fixed point (its threshold).
@@ -395,13 +395,13 @@ fn levels_slider_and_curvature_display_change_the_state() {
     assert!(summary.contains("level 2/2"), "{summary}");
 
     // The curvature view.
-    assert_eq!(harness.state().editor.display.mode, DisplayMode::Zebra);
+    assert_eq!(harness.state().editor.view.display.mode, DisplayMode::Zebra);
     assert!(harness.query_by_label("quantity").is_none(), "no curvature quantity outside the curvature view");
     harness.get_by_label("curvature").click();
     frames(&mut harness);
     settle(&mut harness);
     let editor = &harness.state().editor;
-    assert_eq!(editor.display.mode, DisplayMode::Curvature, "the curvature radio button");
+    assert_eq!(editor.view.display.mode, DisplayMode::Curvature, "the curvature radio button");
     let values = editor.surface.as_ref().and_then(|s| s.values.as_ref()).map(|(v, _, _)| v.len());
     assert_eq!(values, Some(coarse), "the curvature view computes a value per surface vertex");
     assert!(editor.overlays().legend.is_some(), "the curvature view shows its legend");
@@ -414,7 +414,7 @@ fn levels_slider_and_curvature_display_change_the_state() {
     let editor = &harness.state().editor;
     assert_eq!(editor.document.doc().settings, before, "Ctrl+Z restores the levels");
     assert!(!editor.document.can_undo(), "the levels click was one undo step");
-    assert_eq!(editor.display.mode, DisplayMode::Curvature, "undo leaves the display alone");
+    assert_eq!(editor.view.display.mode, DisplayMode::Curvature, "undo leaves the display alone");
 }
 
 /// Every input widget of the panels should have an accessible name: screen readers need it,

@@ -56,8 +56,8 @@ fn creases_are_set_by_slider_and_by_shift_e_with_the_mouse() {
     let mut harness = cube_editor();
     harness.state_mut().editor.edit(Edit::SetScheme(SchemeKind::CatmullClark));
     let edges = vec![EdgeId(0), EdgeId(3)];
-    harness.state_mut().editor.selection.vertices.clear();
-    harness.state_mut().editor.selection.edges = edges.clone();
+    harness.state_mut().editor.view.selection.vertices.clear();
+    harness.state_mut().editor.view.selection.edges = edges.clone();
     settle(&mut harness);
     assert!(has_label(&harness, "crease sharpness s"));
     let crease = |h: &Harness<'_, App>| {
@@ -84,7 +84,7 @@ fn creases_are_set_by_slider_and_by_shift_e_with_the_mouse() {
     frames(&mut harness);
     assert!(harness.state().ui.tool.get::<crate::editor::tools::crease_drag::CreaseDrag>().is_none());
     assert_eq!(crease(&harness), vec![1.5, 1.5]);
-    assert_eq!(harness.state().editor.selection.edges, edges, "the click that sets the crease selects nothing");
+    assert_eq!(harness.state().editor.view.selection.edges, edges, "the click that sets the crease selects nothing");
     harness.key_press_modifiers(Modifiers::COMMAND, Key::Z);
     frames(&mut harness);
     assert_eq!(crease(&harness), vec![0.0, 0.0], "one Ctrl+Z undoes the whole Shift+E drag");
@@ -145,10 +145,10 @@ fn corners_are_set_by_shift_v_and_the_panel_and_the_surface_keeps_a_sharp_corner
     let surface = editor.surface_mesh().expect("the limit surface");
     assert_eq!(surface.position(VertexId(7)), cage_vertex, "a sharp corner stays where it is");
     // The overlay draws it, once deselected, as a filled dot in the crease colour.
-    harness.state_mut().editor.selection.clear();
+    harness.state_mut().editor.view.selection.clear();
     let editor = &harness.state().editor;
     let points = editor.overlays().points;
-    let at = editor.display_frame.point(cage_vertex);
+    let at = editor.view.display_frame.point(cage_vertex);
     assert!(points.iter().any(|p| (p.position - at).length() < 1e-5 && p.color == taut_render::overlay::CREASE));
     // One Ctrl+Z at a time undoes the checkbox, then the whole Shift+V drag.
     harness.key_press_modifiers(Modifiers::COMMAND, Key::Z);

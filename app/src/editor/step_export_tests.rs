@@ -41,7 +41,7 @@ fn open_file_menu(h: &mut Harness<'_, App>) {
 /// A Catmull–Clark cube, as the scheme selector leaves it.
 fn catmull_clark_cube() -> Harness<'static, App> {
     let mut h = cube_editor();
-    h.state_mut().editor.selection.clear();
+    h.state_mut().editor.view.selection.clear();
     h.state_mut().editor.edit(Edit::SetScheme(SchemeKind::CatmullClark));
     frames(&mut h);
     h
@@ -97,7 +97,7 @@ fn the_step_entry_is_off_for_loop_and_says_why() {
     h.run_steps(2);
     assert!(h.query_by_label(MENU_ENTRY).is_none(), "the menu closed");
 
-    h.state_mut().editor.selection.clear();
+    h.state_mut().editor.view.selection.clear();
     h.state_mut().editor.mesh_op(MeshOp::Triangulate);
     h.state_mut().editor.edit(Edit::SetScheme(SchemeKind::Loop));
     frames(&mut h);
@@ -234,7 +234,7 @@ fn a_mirrored_half_exports_the_whole_solid() {
     let half = taut_core::Document::new(taut_core::mesh::edit::delete_faces(&cube, &[x0]).unwrap().mesh);
     let mut h = super::panel_tests::editor_on(half);
     let editor = &mut h.state_mut().editor;
-    editor.selection.vertices = editor.document.doc().cage.vertices().collect();
+    editor.view.selection.vertices = editor.document.doc().cage.vertices().collect();
     editor.set_mirror(taut_core::mesh::edit::Axis::X, super::mirror::MirrorThrough::Origin);
     editor.edit(Edit::SetScheme(SchemeKind::CatmullClark));
     frames(&mut h);

@@ -36,14 +36,14 @@ fn prepared(selection: &str, subdivision: bool) -> Harness<'static, App> {
     match selection {
         "face" => {
             let top = top_face(&editor.document.doc().cage);
-            editor.selection.clear();
-            editor.selection.mode = SelectMode::Face;
-            editor.selection.faces = vec![top];
+            editor.view.selection.clear();
+            editor.view.selection.mode = SelectMode::Face;
+            editor.view.selection.faces = vec![top];
         }
         "edge" => {
-            editor.selection.clear();
-            editor.selection.mode = SelectMode::Edge;
-            editor.selection.edges = vec![EdgeId(0)];
+            editor.view.selection.clear();
+            editor.view.selection.mode = SelectMode::Edge;
+            editor.view.selection.edges = vec![EdgeId(0)];
         }
         _ => {}
     }
@@ -137,7 +137,7 @@ fn every_listed_tool_starts_from_its_key_and_its_menu_entry_and_esc_cancels_it_c
 #[test]
 fn esc_during_a_box_select_drops_the_box_and_keeps_the_selection() {
     let mut h = prepared("vertex", false);
-    let selected = h.state().editor.selection.vertices.clone();
+    let selected = h.state().editor.view.selection.vertices.clone();
     assert!(!selected.is_empty());
     // A corner of the viewport, away from the cube.
     let from = pos2(300.0, 60.0);
@@ -161,7 +161,7 @@ fn esc_during_a_box_select_drops_the_box_and_keeps_the_selection() {
     assert!(!tool_running(&h), "Esc drops the box");
     h.input_mut().events.push(press(pos2(660.0, 360.0), false));
     frames(&mut h);
-    assert_eq!(h.state().editor.selection.vertices, selected, "the selection is as it was");
+    assert_eq!(h.state().editor.view.selection.vertices, selected, "the selection is as it was");
 }
 
 #[test]

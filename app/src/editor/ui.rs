@@ -222,33 +222,33 @@ impl EditorState {
             Action::Open => self.ask_path(PathPurpose::Open, ui_state),
             Action::Quit => self.request(Pending::Quit, ui_state),
             Action::SelectAll => {
-                self.selection.clear();
-                self.selection.vertices = self.document.doc().cage.vertices().collect();
-                let mode = self.selection.mode;
-                select_modes::set_mode(&self.document.doc().cage, &mut self.selection, mode);
+                self.view.selection.clear();
+                self.view.selection.vertices = self.document.doc().cage.vertices().collect();
+                let mode = self.view.selection.mode;
+                select_modes::set_mode(&self.document.doc().cage, &mut self.view.selection, mode);
             }
-            Action::SelectNone => self.selection.clear(),
+            Action::SelectNone => self.view.selection.clear(),
             Action::FrameAll => self.frame_all(),
             Action::FrameSelection if self.curves.workspace == taut_core::curve::Workspace::Curves => {
                 self.frame_curves_selection()
             }
             Action::FrameSelection => self.frame_selection(),
-            Action::ViewFront => self.camera.set_view(StandardView::Front),
-            Action::ViewRight => self.camera.set_view(StandardView::Right),
-            Action::ViewTop => self.camera.set_view(StandardView::Top),
-            Action::ViewPerspective => self.camera.set_view(StandardView::Perspective),
+            Action::ViewFront => self.view.camera.set_view(StandardView::Front),
+            Action::ViewRight => self.view.camera.set_view(StandardView::Right),
+            Action::ViewTop => self.view.camera.set_view(StandardView::Top),
+            Action::ViewPerspective => self.view.camera.set_view(StandardView::Perspective),
             Action::ShowShortcuts => ui_state.show_shortcuts = true,
             Action::Crease | Action::Corner | Action::Transform(_) | Action::Measure => {
                 self.start_listed_tool(action, ui_state)
             }
             Action::CycleSelectMode => {
-                let mode = self.selection.mode.next();
-                select_modes::set_mode(&self.document.doc().cage, &mut self.selection, mode);
+                let mode = self.view.selection.mode.next();
+                select_modes::set_mode(&self.document.doc().cage, &mut self.view.selection, mode);
                 self.notify(format!("{} select mode", mode.name()), false);
             }
-            Action::SelectLinked => select_modes::select_linked(&self.document.doc().cage, &mut self.selection),
-            Action::SelectMore => select_modes::select_more(&self.document.doc().cage, &mut self.selection),
-            Action::SelectLess => select_modes::select_less(&self.document.doc().cage, &mut self.selection),
+            Action::SelectLinked => select_modes::select_linked(&self.document.doc().cage, &mut self.view.selection),
+            Action::SelectMore => select_modes::select_more(&self.document.doc().cage, &mut self.view.selection),
+            Action::SelectLess => select_modes::select_less(&self.document.doc().cage, &mut self.view.selection),
             Action::Mesh(op) if super::tools::listed(action).is_none() => self.mesh_op(op),
             Action::Mesh(_) => self.start_listed_tool(action, ui_state),
             Action::ToggleGizmo => self.toggle_gizmo(),

@@ -79,7 +79,7 @@ impl EditorState {
         }
 
         // Navigation, as in every viewport.
-        super::navigation::navigate(&mut self.camera, ui, &response, rect.height());
+        super::navigation::navigate(&mut self.view.camera, ui, &response, rect.height());
 
         if ui_state.tool.pointer(self, &pointer) {
             self.gizmo_overlay(ui, rect, &view, ui_state);
@@ -95,7 +95,7 @@ impl EditorState {
         let over_triad = mouse.is_some_and(|m| triad::contains(&view, m));
         triad::draw(
             &ui.painter_at(rect),
-            &self.camera,
+            &self.view.camera,
             &view,
             over_triad || ui_state.tool.get::<triad::TriadOrbit>().is_some(),
         );
@@ -127,8 +127,8 @@ impl EditorState {
             && let Some(m) = mouse
             && triad::contains(&view, m)
         {
-            if let Some(standard) = triad::pick(&self.camera, &view, m) {
-                self.camera.set_view(standard);
+            if let Some(standard) = triad::pick(&self.view.camera, &view, m) {
+                self.view.camera.set_view(standard);
             }
             return;
         }
@@ -151,7 +151,7 @@ impl EditorState {
             && let Some(m) = mouse
             && !ui.ctx().input(|i| i.modifiers.alt)
         {
-            let s = &self.selection;
+            let s = &self.view.selection;
             let missed = match s.mode {
                 SelectMode::Vertex => s.hovered_vertex.is_none() && s.hovered_edge.is_none(),
                 SelectMode::Edge => s.hovered_edge.is_none(),
@@ -164,10 +164,10 @@ impl EditorState {
         if response.clicked_by(PointerButton::Primary)
             && !self.click_in_mode(ui.ctx().input(|i| i.modifiers), &view, mouse)
         {
-            match (self.selection.hovered_vertex, self.selection.hovered_edge) {
-                (Some(v), _) => self.selection.click_vertex(v, shift),
-                (None, Some(e)) => self.selection.click_edge(e, shift),
-                (None, None) if !shift => self.selection.clear(),
+            match (self.view.selection.hovered_vertex, self.view.selection.hovered_edge) {
+                (Some(v), _) => self.view.selection.click_vertex(v, shift),
+                (None, Some(e)) => self.view.selection.click_edge(e, shift),
+                (None, None) if !shift => self.view.selection.clear(),
                 _ => {}
             }
         }
@@ -176,7 +176,7 @@ impl EditorState {
     /// The cage in display coordinates, for picking.
     pub(super) fn display_cage(&self) -> PolyMesh {
         let mut cage = self.document.doc().cage.clone();
-        let frame = self.display_frame;
+        let frame = self.view.display_frame;
         for p in cage.positions_mut() {
             *p = frame.to_display_f64(*p);
         }

@@ -194,7 +194,7 @@ impl EditorState {
         self.surface = None;
         self.comparison = None;
         self.surface_error = None;
-        self.selection.clear();
+        self.view.selection.clear();
         self.cage.dialog = None;
         let kept = if report.kept_round > 0 { "the fitted cage" } else { "the QEM cage" };
         let mut text = format!(
@@ -225,7 +225,7 @@ impl EditorState {
     pub fn set_original_distance(&mut self, on: bool) {
         let Some(original) = &mut self.cage.original else { return };
         original.show_distance = on;
-        if on && self.display.compare == crate::editor::live::CompareMode::Distance {
+        if on && self.view.display.compare == crate::editor::live::CompareMode::Distance {
             self.set_compare(crate::editor::live::CompareMode::Off);
         }
         self.invalidate_values();
@@ -429,8 +429,8 @@ impl OriginalGhost {
             return;
         };
         let mesh = &original.mesh;
-        let key = (original.id, mesh.topology_generation(), mesh.generation(), editor.display_frame);
-        self.cache.show(gpu, key, taut_render::ShownMesh::plain(mesh), &editor.display_frame);
+        let key = (original.id, mesh.topology_generation(), mesh.generation(), editor.view.display_frame);
+        self.cache.show(gpu, key, taut_render::ShownMesh::plain(mesh), &editor.view.display_frame);
     }
 
     /// The ghost to draw, if shown.

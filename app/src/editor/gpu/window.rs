@@ -190,7 +190,7 @@ impl Running {
         };
         let recovery = autosave.as_ref().and_then(|a| a.pending());
         let mut editor = EditorState::new(document, recent, autosave);
-        editor.display.mode = match startup.view.as_str() {
+        editor.view.display.mode = match startup.view.as_str() {
             "shaded" => crate::editor::state::DisplayMode::Shaded,
             "curvature" => crate::editor::state::DisplayMode::Curvature,
             _ => crate::editor::state::DisplayMode::Zebra,
@@ -268,7 +268,7 @@ impl Running {
                 viewport: self.ui.viewport_px,
                 ghost: self.ghost.shown(&self.editor),
                 second_ghost: self.original_ghost.shown(&self.editor),
-                ..Scene::new(self.editor.camera, self.surface_gpu.surface(), self.editor.surface_mode())
+                ..Scene::new(self.editor.view.camera, self.surface_gpu.surface(), self.editor.surface_mode())
             },
         };
         // egui's texture changes are applied whether or not this frame reaches the screen.
@@ -345,7 +345,7 @@ impl Running {
             return;
         };
         let mesh = surface.mesh();
-        let frame = self.editor.display_frame;
+        let frame = self.editor.view.display_frame;
         let key = (mesh.topology_generation(), mesh.generation(), surface.values_id, frame);
         let values = surface.values.as_ref().map(|(v, _, _)| v.as_slice());
         let shown = ShownMesh { mesh, normals: surface.scheme.normals(), values };
@@ -357,7 +357,7 @@ impl Running {
         let [_, _, w, h] = self.ui.viewport_px.unwrap_or([0, 0, self.config.width, self.config.height]);
         let overlays = self.editor.workspace_overlays();
         let scene = self.patches.scene(&self.editor, self.surface_gpu.surface(), &overlays).unwrap_or_else(|| {
-            Scene::new(self.editor.camera, self.surface_gpu.surface(), self.editor.surface_mode())
+            Scene::new(self.editor.view.camera, self.surface_gpu.surface(), self.editor.surface_mode())
                 .with_overlays(&overlays)
         });
         // An off-screen picture needs a format the read-back understands.
@@ -381,18 +381,22 @@ struct Ghost {
 impl Ghost {
     /// Uploads the comparison surface when it changed; drops it when the compare view is off.
     fn upload(&mut self, gpu: &taut_render::Gpu, editor: &crate::editor::state::EditorState) {
-        let Some(other) = editor.comparison.as_ref().filter(|_| editor.display.compare == CompareMode::Ghost) else {
+        let Some(other) = editor.comparison.as_ref().filter(|_| editor.view.display.compare == CompareMode::Ghost)
+        else {
             self.cache.clear();
             return;
         };
         let mesh = other.scheme.mesh();
-        let key = (mesh.topology_generation(), mesh.generation(), editor.display_frame);
+        let key = (mesh.topology_generation(), mesh.generation(), editor.view.display_frame);
         let shown = ShownMesh { mesh, normals: other.scheme.normals(), values: None };
-        self.cache.show(gpu, key, shown, &editor.display_frame);
+        self.cache.show(gpu, key, shown, &editor.view.display_frame);
     }
 
     fn shown(&self, editor: &crate::editor::state::EditorState) -> Option<(&GpuSurface, [f32; 4])> {
-        (editor.display.compare == CompareMode::Ghost).then_some(self.cache.surface()).flatten().map(|g| (g, GHOST))
+        (editor.view.display.compare == CompareMode::Ghost)
+            .then_some(self.cache.surface())
+            .flatten()
+            .map(|g| (g, GHOST))
     }
 }
 

@@ -12,13 +12,13 @@ impl EditorState {
     /// the camera under the mouse).
     pub(crate) fn keep_new_document_framed(&mut self) {
         let Some((camera, revision)) = self.auto_frame else { return };
-        if self.camera != camera || self.document.revision() != revision {
+        if self.view.camera != camera || self.document.revision() != revision {
             self.auto_frame = None;
             return;
         }
         self.frame_all();
         let settled = self.surface_error.is_some() || (self.surface.is_some() && !self.busy());
-        self.auto_frame = (!settled).then_some((self.camera, revision));
+        self.auto_frame = (!settled).then_some((self.view.camera, revision));
     }
 
     /// Frames the whole cage and surface (in the Curves workspace, its curves and patches when
@@ -49,31 +49,32 @@ impl EditorState {
         if points.is_empty() {
             return;
         }
-        self.display_frame = DisplayFrame::for_points(points);
+        self.view.display_frame = DisplayFrame::for_points(points);
         self.frame_display_points(points);
     }
 
     /// Frames model points in the current display frame.
     fn frame_display_points(&mut self, points: &[taut_core::DVec3]) {
-        let display: Vec<glam::Vec3> = points.iter().map(|&p| self.display_frame.point(p)).collect();
+        let display: Vec<glam::Vec3> = points.iter().map(|&p| self.view.display_frame.point(p)).collect();
         let (aspect, margin_fraction) = self.viewport_shape;
         let legend = self.colours_shown() || self.curve_mesh_legend().is_some();
         let margin_fraction = if legend { margin_fraction } else { 0.0 };
-        self.camera.frame_points(&display, aspect * (1.0 - margin_fraction));
+        self.view.camera.frame_points(&display, aspect * (1.0 - margin_fraction));
         // Centre the model in what the legend leaves free: half the margin to the left, in
         // pixels of a viewport one unit high.
-        self.camera.pan(-0.5 * margin_fraction * aspect, 0.0, 1.0);
+        self.view.camera.pan(-0.5 * margin_fraction * aspect, 0.0, 1.0);
     }
 
     /// Frames the selected vertices (or everything when nothing is selected).
     pub fn frame_selection(&mut self) {
         let cage = &self.document.doc().cage;
-        let mut points: Vec<taut_core::DVec3> = self.selection.vertices.iter().map(|&v| cage.position(v)).collect();
-        for &e in &self.selection.edges {
+        let mut points: Vec<taut_core::DVec3> =
+            self.view.selection.vertices.iter().map(|&v| cage.position(v)).collect();
+        for &e in &self.view.selection.edges {
             let (a, b) = cage.edge_vertices(e);
             points.extend([cage.position(a), cage.position(b)]);
         }
-        for &f in &self.selection.faces {
+        for &f in &self.view.selection.faces {
             points.extend(cage.face_vertices(f).map(|v| cage.position(v)));
         }
         match taut_core::mesh::bounding_box(&points) {

@@ -163,7 +163,7 @@ impl EditorState {
 
     /// Keeps the compare view's surface in step with the document (in the other scheme).
     fn update_comparison(&mut self) {
-        if self.display.compare == CompareMode::Off {
+        if self.view.display.compare == CompareMode::Off {
             self.comparison = None;
             return;
         }
@@ -176,14 +176,14 @@ impl EditorState {
         };
         if let Err(e) = result {
             self.comparison = None;
-            self.display.compare = CompareMode::Off;
+            self.view.display.compare = CompareMode::Off;
             self.notify(format!("cannot compare with {}: {e}", other.scheme.display_name()), true);
         }
     }
 
     /// Turns the compare view on or off (or switches between ghost and distance).
     pub fn set_compare(&mut self, mode: CompareMode) {
-        self.display.compare = mode;
+        self.view.display.compare = mode;
         if mode == CompareMode::Distance
             && let Some(original) = &mut self.cage.original
         {
@@ -223,17 +223,17 @@ impl EditorState {
 
     /// What the colour view shows now.
     pub fn colour_by(&self) -> ColourBy {
-        if self.display.compare == CompareMode::Distance || self.cage.distance_shown() {
+        if self.view.display.compare == CompareMode::Distance || self.cage.distance_shown() {
             ColourBy::Distance
         } else {
-            self.display.colour_by
+            self.view.display.colour_by
         }
     }
 
     /// True when the surface is drawn in colour (the curvature view, or the compare distance).
     pub fn colours_shown(&self) -> bool {
-        self.display.mode == DisplayMode::Curvature
-            || self.display.compare == CompareMode::Distance
+        self.view.display.mode == DisplayMode::Curvature
+            || self.view.display.compare == CompareMode::Distance
             || self.cage.distance_shown()
     }
 
@@ -264,7 +264,7 @@ impl EditorState {
             ColourBy::Distance => self.measure_distances(),
             other => other.values(view.scheme.as_ref()).map_err(|e| e.to_string()),
         };
-        let fixed_range = self.display.fixed_range;
+        let fixed_range = self.view.display.fixed_range;
         let Some(view) = &mut self.surface else { return };
         view.values_stale = false;
         view.values_at = Some(Instant::now());

@@ -27,7 +27,7 @@ impl EditorState {
     /// Notes the selection of the document's current state.
     pub(crate) fn note_selection(&mut self) {
         let history = &mut self.selection_history.by_state;
-        let mut selection = self.selection.clone();
+        let mut selection = self.view.selection.clone();
         (selection.hovered_vertex, selection.hovered_edge, selection.hovered_face) = (None, None, None);
         history.insert(self.document.state(), selection);
         if history.len() > 2 * MAX_UNDO_STEPS + 2 {
@@ -39,7 +39,7 @@ impl EditorState {
     /// After undo or redo: the selection noted with the state now current, if any.
     pub(crate) fn restore_selection(&mut self) {
         if let Some(selection) = self.selection_history.by_state.get(&self.document.state()) {
-            self.selection = selection.clone();
+            self.view.selection = selection.clone();
         }
         self.prune_selection();
     }

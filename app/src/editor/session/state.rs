@@ -156,7 +156,31 @@ pub struct Notice {
 /// Most messages the history keeps (oldest dropped first).
 pub const MAX_MESSAGES: usize = 200;
 
-/// Everything the editor holds.
+/// How the document is seen: what a view owns, apart from the session (the document, its undo
+/// and the live surface, in [`EditorState`]).
+#[derive(Clone, Debug)]
+pub struct View {
+    pub camera: Camera,
+    /// What is drawn and how (shaded, zebra, curvature, the cage, X-ray, …).
+    pub display: Display,
+    pub selection: Selection,
+    /// Model to display coordinates: the camera and every GPU position live in display space.
+    pub display_frame: DisplayFrame,
+}
+
+impl Default for View {
+    fn default() -> Self {
+        View {
+            camera: Camera::default(),
+            display: Display::default(),
+            selection: Selection::default(),
+            display_frame: DisplayFrame::IDENTITY,
+        }
+    }
+}
+
+/// Everything the editor holds: the session (document, undo, live surface, messages) and the
+/// view of it.
 #[derive(Debug)]
 pub struct EditorState {
     pub document: EditorDocument,
@@ -166,13 +190,12 @@ pub struct EditorState {
     pub surface: Option<SurfaceView>,
     /// The other scheme's surface, while the compare view is on.
     pub comparison: Option<Comparison>,
-    pub camera: Camera,
-    pub selection: Selection,
+    /// How the document is seen: camera, display settings, selection, display frame.
+    pub view: View,
     /// The selection of each state of the undo history.
     pub(crate) selection_history: SelectionHistory,
     /// The kind of the last refused edit and its message, while shown.
     refused_edit: Option<(std::mem::Discriminant<Edit>, String)>,
-    pub display: Display,
     pub notice: Option<Notice>,
     /// Every message of the session, oldest first (at most [`MAX_MESSAGES`]).
     pub messages: Vec<Notice>,
@@ -186,8 +209,6 @@ pub struct EditorState {
     pub surface_error: Option<String>,
     /// The up axis of OBJ files opened and exported.
     pub obj_up: UpAxis,
-    /// Model to display coordinates: the camera and every GPU position live in display space.
-    pub display_frame: DisplayFrame,
     /// The viewport's width over height and the legend's margin at its right, in points, as last
     /// laid out (framing fits the model into what the legend leaves free).
     pub viewport_shape: (f32, f32),
@@ -222,9 +243,7 @@ impl EditorState {
             solved_revision: None,
             surface: None,
             comparison: None,
-            camera: Camera::default(),
-            selection: Selection::default(),
-            display: Display::default(),
+            view: View::default(),
             notice: None,
             messages: Vec::new(),
             progress: None,
@@ -234,7 +253,6 @@ impl EditorState {
             last_autosave: Instant::now(),
             surface_error: None,
             obj_up: UpAxis::default(),
-            display_frame: DisplayFrame::IDENTITY,
             viewport_shape: (1.6, 0.0),
             auto_frame: None,
             curves: Default::default(),
@@ -250,7 +268,7 @@ impl EditorState {
         };
         state.load_curves_view();
         state.frame_all();
-        state.auto_frame = Some((state.camera, state.document.revision()));
+        state.auto_frame = Some((state.view.camera, state.document.revision()));
         state
     }
 
@@ -291,7 +309,7 @@ impl EditorState {
         self.comparison = None;
         self.progress = None;
         // A new document starts in vertex mode, whatever the last one was left in.
-        self.selection = Selection::default();
+        self.view.selection = Selection::default();
         self.selection_history.clear();
         self.surface_error = None;
         self.load_curves_view();
@@ -301,9 +319,9 @@ impl EditorState {
         }
         // A new or opened document is seen from the front, right and above (Blender's and
         // Rhino's three-quarter view), framed, whatever view the last one was left in.
-        self.camera.set_view(taut_render::StandardView::Perspective);
+        self.view.camera.set_view(taut_render::StandardView::Perspective);
         self.frame_all();
-        self.auto_frame = Some((self.camera, self.document.revision()));
+        self.auto_frame = Some((self.view.camera, self.document.revision()));
     }
 
     /// Opens a file; an unreadable one is reported and the current document stays.
@@ -372,7 +390,7 @@ impl EditorState {
 
     /// The surface mode for the renderer.
     pub fn surface_mode(&self) -> SurfaceMode {
-        let d = &self.display;
+        let d = &self.view.display;
         if self.colours_shown() {
             // The values are uploaded already mapped to the range (see `refresh_values`).
             return SurfaceMode::Curvature { map: self.color_map(), min: 0.0, max: 1.0 };
@@ -397,18 +415,22 @@ impl EditorState {
     pub fn overlays(&self) -> OverlayData {
         let mut data = OverlayData::default();
         let doc = self.document.doc();
-        let frame = &self.display_frame;
-        if self.display.show_wire
+        let frame = &self.view.display_frame;
+        if self.view.display.show_wire
             && let Some(mesh) = self.surface_mesh()
         {
             data.surface_lines.extend(overlay::wireframe(mesh, [0.05, 0.05, 0.06, 0.7], 1.0, frame));
         }
-        if self.display.show_curves
+        if self.view.display.show_curves
             && let Some(mesh) = self.surface_mesh()
         {
             let curves = self.surface_curves();
-            let style =
-                comb_style(&curves, mesh.bounding_diagonal(), self.display.comb_length, self.display.comb_density);
+            let style = comb_style(
+                &curves,
+                mesh.bounding_diagonal(),
+                self.view.display.comb_length,
+                self.view.display.comb_density,
+            );
             for c in &curves {
                 data.surface_lines.extend(overlay::polyline_with_comb(c, false, &style, frame));
             }
@@ -416,15 +438,15 @@ impl EditorState {
         self.section_overlays(&mut data);
         if self.curve_mesh_overlays(&mut data) {
             // The curve-mesh scheme draws its own vertices and a faint cage.
-        } else if self.display.show_cage {
+        } else if self.view.display.show_cage {
             let selection = CageSelection {
-                selected_vertices: self.selection.vertices.clone(),
-                selected_edges: self.selection.edges.clone(),
-                hovered_vertex: self.selection.hovered_vertex,
-                hovered_edge: self.selection.hovered_edge,
-                selected_faces: self.selection.faces.clone(),
-                hovered_face: self.selection.hovered_face,
-                face_dots: self.selection.mode == SelectMode::Face,
+                selected_vertices: self.view.selection.vertices.clone(),
+                selected_edges: self.view.selection.edges.clone(),
+                hovered_vertex: self.view.selection.hovered_vertex,
+                hovered_edge: self.view.selection.hovered_edge,
+                selected_faces: self.view.selection.faces.clone(),
+                hovered_face: self.view.selection.hovered_face,
+                face_dots: self.view.selection.mode == SelectMode::Face,
                 hidden: self.cage_seen().map(|seen| overlay::Hidden {
                     vertices: seen.vertices.iter().map(|&s| !s).collect(),
                     edges: seen.edges.iter().map(|&s| !s).collect(),
@@ -477,24 +499,24 @@ impl EditorState {
     /// The cage vertices an edit of the selection applies to: selected vertices, the ends of
     /// selected edges and the corners of selected faces.
     pub fn selected_vertices_with_edge_ends(&self) -> Vec<VertexId> {
-        crate::editor::select_modes::selected_vertex_set(&self.document.doc().cage, &self.selection)
+        crate::editor::select_modes::selected_vertex_set(&self.document.doc().cage, &self.view.selection)
     }
 
     /// Drops selected elements that no longer exist (after undo of a document replacement).
     pub fn prune_selection(&mut self) {
         let cage = &self.document.doc().cage;
         let (nv, ne, nf) = (cage.vertex_count(), cage.edge_count(), cage.face_count());
-        self.selection.vertices.retain(|v| v.index() < nv);
-        self.selection.edges.retain(|e| e.index() < ne);
-        self.selection.faces.retain(|f| f.index() < nf);
-        if self.selection.hovered_face.is_some_and(|f| f.index() >= nf) {
-            self.selection.hovered_face = None;
+        self.view.selection.vertices.retain(|v| v.index() < nv);
+        self.view.selection.edges.retain(|e| e.index() < ne);
+        self.view.selection.faces.retain(|f| f.index() < nf);
+        if self.view.selection.hovered_face.is_some_and(|f| f.index() >= nf) {
+            self.view.selection.hovered_face = None;
         }
-        if self.selection.hovered_vertex.is_some_and(|v| v.index() >= nv) {
-            self.selection.hovered_vertex = None;
+        if self.view.selection.hovered_vertex.is_some_and(|v| v.index() >= nv) {
+            self.view.selection.hovered_vertex = None;
         }
-        if self.selection.hovered_edge.is_some_and(|e| e.index() >= ne) {
-            self.selection.hovered_edge = None;
+        if self.view.selection.hovered_edge.is_some_and(|e| e.index() >= ne) {
+            self.view.selection.hovered_edge = None;
         }
     }
 }

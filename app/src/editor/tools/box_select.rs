@@ -57,7 +57,7 @@ impl Tool for BoxSelect {
     fn end(self: Box<Self>, editor: &mut EditorState, end: End) {
         let (End::Keep, Some(view)) = (end, self.view) else { return };
         if !self.add {
-            editor.selection.clear();
+            editor.view.selection.clear();
         }
         let cage = editor.display_cage();
         let boxed = editor.box_cage(&view, &cage, self.from, self.to);

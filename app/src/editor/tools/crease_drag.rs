@@ -50,7 +50,8 @@ pub(crate) fn start_corner(editor: &mut EditorState, mouse: Option<Vec2>) -> Opt
         editor.notify("corners belong to the subdivision schemes: choose Catmull–Clark or Loop first", true);
         return None;
     }
-    let vertices = crate::editor::select_modes::selected_vertex_set(&editor.document.doc().cage, &editor.selection);
+    let vertices =
+        crate::editor::select_modes::selected_vertex_set(&editor.document.doc().cage, &editor.view.selection);
     if vertices.is_empty() {
         editor.notify("select the cage vertices to sharpen first", true);
         return None;

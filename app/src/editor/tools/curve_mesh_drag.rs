@@ -63,10 +63,10 @@ pub(crate) fn start(
 impl CurveMeshDrag {
     /// The drag with the mouse at `mouse`: one edit from where the drag began.
     fn follow(&self, editor: &mut EditorState, view: &interaction::ViewportRect, mouse: glam::Vec2) {
-        let frame = editor.display_frame;
+        let frame = editor.view.display_frame;
         let start: Vec<(VertexId, DVec3)> = self.start.iter().map(|&(v, p)| (v, frame.to_display_f64(p))).collect();
         let moved: Vec<(VertexId, DVec3)> =
-            interaction::drag_positions(&editor.camera, view, &start, self.mouse_start, mouse, self.axis)
+            interaction::drag_positions(&editor.view.camera, view, &start, self.mouse_start, mouse, self.axis)
                 .into_iter()
                 .map(|(v, p)| (v, frame.to_model(p)))
                 .collect();

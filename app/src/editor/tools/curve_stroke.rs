@@ -61,11 +61,11 @@ impl Tool for CurveStroke {
     fn overlay(&self, editor: &EditorState, painter: &egui::Painter, view: &ViewportRect) {
         let [r, g, b, a] = PICKED_COLOR;
         let colour: egui::Color32 = egui::Rgba::from_rgba_premultiplied(r, g, b, a).into();
-        let frame = editor.display_frame;
+        let frame = editor.view.display_frame;
         let screen: Vec<egui::Pos2> = self
             .points
             .iter()
-            .filter_map(|&p| interaction::project(&editor.camera, view, frame.to_display_f64(p)))
+            .filter_map(|&p| interaction::project(&editor.view.camera, view, frame.to_display_f64(p)))
             .map(|(q, _)| egui::pos2(q.x, q.y))
             .collect();
         painter.add(egui::Shape::line(screen, egui::Stroke::new(2.0, colour)));

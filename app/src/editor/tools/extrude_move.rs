@@ -33,7 +33,7 @@ impl EditorState {
             return None;
         }
         let cage = &self.document.doc().cage;
-        let area: DVec3 = self.selection.faces.iter().map(|&f| cage.face_area_vector(f)).sum();
+        let area: DVec3 = self.view.selection.faces.iter().map(|&f| cage.face_area_vector(f)).sum();
         let lifted = mean(self.selected_vertices_with_edge_ends().into_iter().map(|v| cage.position(v)));
         let normal = [area, lifted - old_mean]
             .into_iter()

@@ -289,8 +289,8 @@ impl EditorState {
         if vertices.is_empty() {
             return None;
         }
-        let pivot = self.display_frame.to_display_f64(self.pivot_of(&vertices));
-        GizmoLayout::new(&self.camera, view, pivot)
+        let pivot = self.view.display_frame.to_display_f64(self.pivot_of(&vertices));
+        GizmoLayout::new(&self.view.camera, view, pivot)
     }
 
     /// The gizmo's and the 3D cursor's share of the viewport's mouse, before the cage's: the
@@ -317,7 +317,8 @@ impl EditorState {
         // vertex (the centre handle would move the same selection in the view plane anyway, but
         // a press there must also be able to pick a vertex that is not selected yet).
         // Only a vertex in view (or any, with X-ray) counts.
-        let (seen, camera, mode, gizmo_mode) = (self.cage_seen(), self.camera, self.selection.mode, self.gizmo.mode);
+        let (seen, camera, mode, gizmo_mode) =
+            (self.cage_seen(), self.view.camera, self.view.selection.mode, self.gizmo.mode);
         let vertex_under = |m: Vec2| {
             let pickable = |v| seen.as_ref().is_none_or(|s| s.vertex(v));
             mode == SelectMode::Vertex
@@ -340,9 +341,9 @@ impl EditorState {
         }
         if self.gizmo.hovered.is_some() {
             // The gizmo is in front: nothing of the cage is hovered or clicked through it.
-            self.selection.hovered_vertex = None;
-            self.selection.hovered_edge = None;
-            self.selection.hovered_face = None;
+            self.view.selection.hovered_vertex = None;
+            self.view.selection.hovered_edge = None;
+            self.view.selection.hovered_face = None;
             return response.clicked_by(egui::PointerButton::Primary);
         }
         false
@@ -372,8 +373,8 @@ impl EditorState {
             Handle::Arrow(a) | Handle::Ring(a) | Handle::Cube(a) => t.axis = Some(a),
             Handle::Plane(a) => t.plane = Some(a),
             Handle::ViewRing => {
-                let pivot = self.display_frame.to_display_f64(t.centre);
-                t.direction = Some((self.camera.eye().as_dvec3() - pivot).normalize());
+                let pivot = self.view.display_frame.to_display_f64(t.centre);
+                t.direction = Some((self.view.camera.eye().as_dvec3() - pivot).normalize());
             }
             Handle::Centre => {}
         }
@@ -394,7 +395,7 @@ impl EditorState {
             self.gizmo.active = None;
         }
         let Some(layout) = self.gizmo_layout(view) else { return };
-        let camera = self.camera;
+        let camera = self.view.camera;
         let px = |p: DVec3| interaction::project(&camera, view, p).map(|(q, _)| Pos2::new(q.x, q.y));
         let mode = self.gizmo.mode;
         let lit = |h: Handle, c: Color32| {

@@ -110,8 +110,8 @@ impl Tool for InsetDrag {
 
     /// The thickness follows the cursor's distance from the faces' centre on screen.
     fn pointer(&mut self, editor: &mut EditorState, pointer: &Pointer) -> Flow {
-        let centre = editor.display_frame.to_display_f64(self.centre);
-        let centre = interaction::project(&editor.camera, &pointer.view, centre);
+        let centre = editor.view.display_frame.to_display_f64(self.centre);
+        let centre = interaction::project(&editor.view.camera, &pointer.view, centre);
         if let (Some((c, _)), Some(m), true) = (centre, pointer.mouse, self.typed.is_empty()) {
             let start = *self.mouse_start.get_or_insert(m);
             let (a, b) = ((start - c).length(), (m - c).length());

@@ -53,11 +53,11 @@ const SLIDE_MARGIN: f64 = 1e-3;
 /// Ctrl+R: the preview over the viewport, or with the mouse elsewhere and one edge selected,
 /// the cut at once.
 pub(crate) fn start(editor: &mut EditorState, mouse: Option<Vec2>) -> Option<Box<dyn Tool>> {
-    let selected = match editor.selection.edges.as_slice() {
+    let selected = match editor.view.selection.edges.as_slice() {
         [e] => Some(*e),
         _ => None,
     };
-    let target = editor.selection.hovered_edge.or(selected);
+    let target = editor.view.selection.hovered_edge.or(selected);
     if mouse.is_none() {
         let Some(edge) = target else {
             editor.notify("point at an edge (or select one edge) to cut the ring across it", true);
@@ -112,14 +112,14 @@ fn cut_and_slide(editor: &mut EditorState, edge: EdgeId) -> Option<LoopCutTool> 
         }
     };
     // The new loop is the selection, in the current mode's elements.
-    let selection = &mut editor.selection;
+    let selection = &mut editor.view.selection;
     let mode = selection.mode;
     selection.clear();
     selection.vertices = new_vertices.clone();
     selection.hovered_vertex = None;
     selection.hovered_edge = None;
     selection.hovered_face = None;
-    crate::editor::select_modes::set_mode(&editor.document.doc().cage, &mut editor.selection, mode);
+    crate::editor::select_modes::set_mode(&editor.document.doc().cage, &mut editor.view.selection, mode);
     let topology = CageStamp::now(editor);
     Some(LoopCutTool::Slide { original, edge, new_vertices, fraction: 0.5, topology })
 }
@@ -178,7 +178,7 @@ impl Tool for LoopCutTool {
     /// The preview follows the edge under the mouse and a click cuts; then the mouse slides and
     /// a click sets; a right click cancels.
     fn pointer(&mut self, editor: &mut EditorState, pointer: &Pointer) -> Flow {
-        let frame = editor.display_frame;
+        let frame = editor.view.display_frame;
         let view = &pointer.view;
         if let LoopCutTool::Preview { edge: Some(e), .. } = self
             && e.index() >= editor.document.doc().cage.edge_count()
@@ -202,7 +202,7 @@ impl Tool for LoopCutTool {
             }
             LoopCutTool::Slide { original, edge, .. } => {
                 let (a, b) = original.cage.edge_vertices(*edge);
-                let project = |p: DVec3| interaction::project(&editor.camera, view, frame.to_display_f64(p));
+                let project = |p: DVec3| interaction::project(&editor.view.camera, view, frame.to_display_f64(p));
                 let ends = project(original.cage.position(a)).zip(project(original.cage.position(b)));
                 if let (Some(((pa, _), (pb, _))), Some(m)) = (ends, pointer.mouse) {
                     let ab = pb - pa;
@@ -223,7 +223,8 @@ impl Tool for LoopCutTool {
     fn overlay(&self, editor: &EditorState, painter: &egui::Painter, view: &ViewportRect) {
         let LoopCutTool::Preview { lines, .. } = self else { return };
         let colour = egui::Color32::from_rgb(255, 220, 50);
-        let project = |p: DVec3| interaction::project(&editor.camera, view, editor.display_frame.to_display_f64(p));
+        let project =
+            |p: DVec3| interaction::project(&editor.view.camera, view, editor.view.display_frame.to_display_f64(p));
         for [p, q] in lines {
             if let (Some((p, _)), Some((q, _))) = (project(*p), project(*q)) {
                 painter.line_segment([egui::pos2(p.x, p.y), egui::pos2(q.x, q.y)], egui::Stroke::new(2.0, colour));

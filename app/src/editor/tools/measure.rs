@@ -101,8 +101,8 @@ impl EditorState {
         if let Some(v) = self.pick_cage_vertex(view, &display, mouse, 8.0) {
             return Some((cage.position(v), None));
         }
-        let frame = self.display_frame;
-        let (origin, direction) = interaction::unproject_ray(&self.camera, view, mouse);
+        let frame = self.view.display_frame;
+        let (origin, direction) = interaction::unproject_ray(&self.view.camera, view, mouse);
         if let Some(e) = self.pick_cage_edge(view, &display, mouse, 8.0) {
             // The point of the edge nearest the cursor's ray.
             let (a, b) = display.edge_vertices(e);
@@ -148,9 +148,9 @@ impl Tool for Measure {
 
     /// The points, the lines between them, and the principal directions.
     fn overlay(&self, editor: &EditorState, painter: &egui::Painter, view: &ViewportRect) {
-        let frame = editor.display_frame;
+        let frame = editor.view.display_frame;
         let px = |p: DVec3| {
-            interaction::project(&editor.camera, view, frame.to_display_f64(p)).map(|(q, _)| Pos2::new(q.x, q.y))
+            interaction::project(&editor.view.camera, view, frame.to_display_f64(p)).map(|(q, _)| Pos2::new(q.x, q.y))
         };
         let colour = Color32::from_rgb(255, 220, 60);
         let screen: Vec<Pos2> = self.points.iter().filter_map(|&p| px(p)).collect();

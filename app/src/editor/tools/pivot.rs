@@ -98,7 +98,7 @@ impl EditorState {
     /// last.
     pub fn active_vertex(&self) -> Option<VertexId> {
         let cage = &self.document.doc().cage;
-        let s = &self.selection;
+        let s = &self.view.selection;
         s.vertices
             .last()
             .copied()
@@ -118,8 +118,8 @@ impl EditorState {
     /// Shift+right-click: the 3D cursor goes where the mouse ray meets the surface (or the cage),
     /// else into the view plane through its old place.
     pub fn place_cursor(&mut self, view: &ViewportRect, mouse: Vec2) {
-        let (origin, direction) = interaction::unproject_ray(&self.camera, view, mouse);
-        let frame = self.display_frame;
+        let (origin, direction) = interaction::unproject_ray(&self.view.camera, view, mouse);
+        let frame = self.view.display_frame;
         let display = self.display_cage();
         let hit = self
             .surface_mesh()
@@ -134,7 +134,7 @@ impl EditorState {
             Some(t) => origin + t * direction,
             None => {
                 let old = frame.to_display_f64(self.gizmo.cursor);
-                let forward = (self.camera.target.as_dvec3() - origin).normalize();
+                let forward = (self.view.camera.target.as_dvec3() - origin).normalize();
                 let depth = (old - origin).dot(forward);
                 let along = direction.dot(forward);
                 if depth > 0.0 && along > 0.0 { origin + direction * (depth / along) } else { old }
@@ -148,8 +148,8 @@ impl EditorState {
 
     /// Draws the 3D cursor: a red and white ring with a cross, as Blender draws it.
     pub(crate) fn draw_cursor(&self, painter: &egui::Painter, view: &ViewportRect) {
-        let p = self.display_frame.to_display_f64(self.gizmo.cursor);
-        let Some((c, _)) = interaction::project(&self.camera, view, p) else { return };
+        let p = self.view.display_frame.to_display_f64(self.gizmo.cursor);
+        let Some((c, _)) = interaction::project(&self.view.camera, view, p) else { return };
         let c = egui::pos2(c.x, c.y);
         let red = egui::Color32::from_rgb(230, 50, 50);
         let white = egui::Color32::WHITE;

@@ -53,7 +53,7 @@ impl EditorState {
         moving: &[VertexId],
     ) -> Option<DVec3> {
         let cage = &self.document.doc().cage;
-        let frame = self.display_frame;
+        let frame = self.view.display_frame;
         let mut moves = vec![false; cage.vertex_count()];
         for v in moving.iter().filter(|v| v.index() < cage.vertex_count()) {
             moves[v.index()] = true;
@@ -80,7 +80,7 @@ impl EditorState {
                 let mesh = self.surface_mesh()?;
                 let mut shown = mesh.clone();
                 shown.positions_mut().iter_mut().for_each(|p| *p = frame.to_display_f64(*p));
-                let (origin, direction) = interaction::unproject_ray(&self.camera, view, mouse);
+                let (origin, direction) = interaction::unproject_ray(&self.view.camera, view, mouse);
                 let t = crate::editor::pivot::ray_cast(&shown, origin, direction)?;
                 return Some(frame.to_model(origin + t * direction));
             }
@@ -88,7 +88,7 @@ impl EditorState {
         candidates
             .into_iter()
             .filter_map(|p| {
-                let (pixel, _) = interaction::project(&self.camera, view, frame.to_display_f64(p))?;
+                let (pixel, _) = interaction::project(&self.view.camera, view, frame.to_display_f64(p))?;
                 let d = pixel.distance(mouse);
                 (d <= SNAP_RADIUS_PX).then_some((d, p))
             })

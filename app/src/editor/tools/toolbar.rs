@@ -35,7 +35,7 @@ impl EditorState {
             })
             .response
             .on_hover_text("What rotate and scale turn about; Shift+right-click places the 3D cursor");
-        let view_step = snapping::view_grid_step(&self.camera, &self.display_frame);
+        let view_step = snapping::view_grid_step(&self.view.camera, &self.view.display_frame);
         let snap = &mut self.gizmo.snap;
         ui.checkbox(&mut snap.always, "Snap (Ctrl inverts)")
             .on_hover_text("Moves land on grid steps, rotations on the angle step, scales on the scale step");

@@ -317,8 +317,8 @@ impl Tool for Transform {
     /// The geometry a snapped move landed on, ringed.
     fn overlay(&self, editor: &EditorState, painter: &egui::Painter, view: &ViewportRect) {
         let Some(target) = self.snapped_to else { return };
-        let at = editor.display_frame.to_display_f64(target);
-        if let Some((p, _)) = interaction::project(&editor.camera, view, at) {
+        let at = editor.view.display_frame.to_display_f64(target);
+        if let Some((p, _)) = interaction::project(&editor.view.camera, view, at) {
             let colour = egui::Color32::from_rgb(255, 160, 40);
             painter.circle_stroke(egui::pos2(p.x, p.y), 9.0, egui::Stroke::new(2.0, colour));
             painter.circle_filled(egui::pos2(p.x, p.y), 2.5, colour);
@@ -371,7 +371,7 @@ impl EditorState {
         }
         let centre = self.pivot_of(&vertices);
         let mut t = Transform::new(kind, start, centre, mouse);
-        t.grid_step = self.gizmo.snap.grid_step(&self.camera, &self.display_frame);
+        t.grid_step = self.gizmo.snap.grid_step(&self.view.camera, &self.view.display_frame);
         t.topology = CageStamp::now(self);
         Some(t)
     }
@@ -429,7 +429,7 @@ impl EditorState {
         from: Vec2,
         to: Vec2,
     ) -> (Vec<(VertexId, DVec3)>, Applied) {
-        let frame = self.display_frame;
+        let frame = self.view.display_frame;
         let snap = &self.gizmo.snap;
         let unmoved = (t.start.clone(), Transform::new(t.kind, Vec::new(), t.centre, None).applied);
         match t.kind {
@@ -452,7 +452,7 @@ impl EditorState {
             }
             TransformKind::Rotate | TransformKind::Scale => {
                 let centre = frame.to_display_f64(t.centre);
-                let Some((c, _)) = interaction::project(&self.camera, view, centre) else {
+                let Some((c, _)) = interaction::project(&self.view.camera, view, centre) else {
                     return unmoved;
                 };
                 let (a, b) = (from - c, to - c);
@@ -467,7 +467,7 @@ impl EditorState {
                     // Screen y runs down: a counter-clockwise turn on screen is a negative perp,
                     // and counter-clockwise about an axis that points at the viewer.
                     let screen = f64::from(-a.perp_dot(b).atan2(a.dot(b))).to_degrees();
-                    let towards_viewer = (self.camera.eye().as_dvec3() - centre).normalize();
+                    let towards_viewer = (self.view.camera.eye().as_dvec3() - centre).normalize();
                     let axis = t.rotation_axis().unwrap_or(towards_viewer);
                     let degrees = if axis.dot(towards_viewer) < 0.0 { -screen } else { screen };
                     let degrees = if t.snap { snapping::to_multiple(degrees, snap.degrees) } else { degrees };
@@ -494,14 +494,14 @@ impl EditorState {
     /// A grab's offset in model coordinates for the mouse going from `from` to `to`, locked and
     /// snapped as the transform says.
     fn grab_offset(&self, t: &Transform, view: &ViewportRect, from: Vec2, to: Vec2) -> DVec3 {
-        let frame = self.display_frame;
+        let frame = self.view.display_frame;
         let centroid = t.start.iter().map(|&(_, p)| frame.to_display_f64(p)).sum::<DVec3>() / t.start.len() as f64;
         let anchor = [(VertexId(0), centroid)];
         let view_plane = |axis: Option<Axis>| {
-            interaction::drag_positions(&self.camera, view, &anchor, from, to, axis)[0].1 - centroid
+            interaction::drag_positions(&self.view.camera, view, &anchor, from, to, axis)[0].1 - centroid
         };
-        let limit = 100.0 * f64::from(self.camera.distance);
-        let ray = |m: Vec2| interaction::unproject_ray(&self.camera, view, m);
+        let limit = 100.0 * f64::from(self.view.camera.distance);
+        let ray = |m: Vec2| interaction::unproject_ray(&self.view.camera, view, m);
         let display = match (t.direction, t.axis, t.plane) {
             (Some(d), ..) => {
                 let param = |m: Vec2| {

@@ -71,7 +71,7 @@ fn typed_rotations_and_scales_match_their_closed_forms_and_esc_cancels() {
     // The top face: centre (0, 0, 0.5).
     let top: Vec<VertexId> =
         (0..8).map(VertexId).filter(|&v| h.state().editor.document.doc().cage.position(v).z > 0.0).collect();
-    h.state_mut().editor.selection.vertices = top.clone();
+    h.state_mut().editor.view.selection.vertices = top.clone();
     let before = h.state().editor.document.doc().clone();
     for key in [Key::R, Key::Z, Key::Num9, Key::Num0, Key::Enter] {
         h.key_press(key);

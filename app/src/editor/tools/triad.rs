@@ -94,7 +94,7 @@ pub struct TriadOrbit {
 
 /// Starts orbiting from the triad.
 pub(crate) fn start_orbit(editor: &EditorState) -> Box<dyn Tool> {
-    Box::new(TriadOrbit { before: editor.camera })
+    Box::new(TriadOrbit { before: editor.view.camera })
 }
 
 impl Tool for TriadOrbit {
@@ -106,7 +106,7 @@ impl Tool for TriadOrbit {
         if pointer.dragged() {
             let delta = pointer.response.drag_delta();
             let (da, de) = interaction::orbit_from_drag(Vec2::new(delta.x, delta.y));
-            editor.camera.orbit(da, de);
+            editor.view.camera.orbit(da, de);
         }
         pointer.release()
     }
@@ -117,7 +117,7 @@ impl Tool for TriadOrbit {
 
     fn end(self: Box<Self>, editor: &mut EditorState, end: End) {
         if end == End::Cancel {
-            editor.camera = self.before;
+            editor.view.camera = self.before;
         }
     }
 }
@@ -150,19 +150,19 @@ mod tests {
         for (standard, (azimuth, elevation)) in
             [(StandardView::Top, (0.0, 90.0)), (StandardView::Right, (90.0, 0.0)), (StandardView::Front, (0.0, 0.0))]
         {
-            let at = end_of(&h.state().editor.camera, &view, standard).unwrap();
-            let before = h.state().editor.camera;
+            let at = end_of(&h.state().editor.view.camera, &view, standard).unwrap();
+            let before = h.state().editor.view.camera;
             h.hover_at(pos2(at.x, at.y));
             frames(&mut h);
             press(&mut h, at, true);
             press(&mut h, at, false);
-            let camera = h.state().editor.camera;
+            let camera = h.state().editor.view.camera;
             assert_eq!((camera.azimuth, camera.elevation), (azimuth, elevation), "{standard:?}");
             assert_eq!((camera.target, camera.distance), (before.target, before.distance), "only the direction turns");
             assert_eq!(h.state().editor.document.doc(), &crate::editor::primitives::cube(), "nothing else happens");
         }
         // A drag from the triad's centre orbits; Esc puts the view back.
-        let before = h.state().editor.camera;
+        let before = h.state().editor.view.camera;
         let c = centre(&view);
         h.hover_at(pos2(c.x, c.y));
         frames(&mut h);
@@ -171,23 +171,23 @@ mod tests {
             h.hover_at(pos2(c.x + 12.0 * k as f32, c.y));
             frames(&mut h);
         }
-        assert!(h.state().editor.camera.azimuth != before.azimuth, "the drag orbits");
+        assert!(h.state().editor.view.camera.azimuth != before.azimuth, "the drag orbits");
         assert!(h.state().ui.tool.get::<TriadOrbit>().is_some());
         h.key_press(egui::Key::Escape);
         frames(&mut h);
         press(&mut h, c + Vec2::new(48.0, 0.0), false);
-        assert_eq!(h.state().editor.camera, before, "Esc puts the view back");
-        assert!(h.state().editor.selection.vertices == vec![taut_core::VertexId(7)], "the selection is untouched");
+        assert_eq!(h.state().editor.view.camera, before, "Esc puts the view back");
+        assert!(h.state().editor.view.selection.vertices == vec![taut_core::VertexId(7)], "the selection is untouched");
     }
 
     #[test]
     fn a_new_document_opens_in_the_three_quarter_view_whatever_the_last_one_showed() {
         let mut h = cube_editor();
-        h.state_mut().editor.camera.set_view(StandardView::Bottom);
+        h.state_mut().editor.view.camera.set_view(StandardView::Bottom);
         let fresh = crate::editor::document::EditorDocument::new(crate::editor::primitives::prism(5), None);
         h.state_mut().editor.replace_document(fresh);
         frames(&mut h);
-        let camera = h.state().editor.camera;
+        let camera = h.state().editor.view.camera;
         assert_eq!((camera.azimuth, camera.elevation), (30.0, 25.0), "from the front, right and above");
     }
 }

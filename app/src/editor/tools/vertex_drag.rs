@@ -40,10 +40,10 @@ impl Tool for VertexDrag {
         if pointer.dragged()
             && let Some(m) = pointer.mouse
         {
-            let frame = editor.display_frame;
+            let frame = editor.view.display_frame;
             let start: Vec<(VertexId, DVec3)> = self.start.iter().map(|&(v, p)| (v, frame.to_display_f64(p))).collect();
             let moved =
-                interaction::drag_positions(&editor.camera, &pointer.view, &start, self.mouse_start, m, self.axis);
+                interaction::drag_positions(&editor.view.camera, &pointer.view, &start, self.mouse_start, m, self.axis);
             editor.edit(Edit::MoveVertices(moved.into_iter().map(|(v, p)| (v, frame.to_model(p))).collect()));
         }
         pointer.release()

@@ -9,7 +9,7 @@ use taut_render::{Gpu, GpuSurface, Scene, ShownMesh, SurfaceCache};
 
 /// The stripes the patches are drawn with.
 pub fn patch_zebra(editor: &EditorState) -> SurfaceMode {
-    let d = &editor.display;
+    let d = &editor.view.display;
     SurfaceMode::Zebra { stripes: d.stripes, angle_degrees: d.stripe_angle, width_ratio: d.stripe_width }
 }
 
@@ -32,13 +32,13 @@ impl PatchSurface {
             return;
         }
         let run = editor.curves.run.as_ref().map(|r| (r.curve, r.status().passes));
-        let key = (editor.document.revision(), run, editor.display_frame);
+        let key = (editor.document.revision(), run, editor.view.display_frame);
         let mesh = std::cell::OnceCell::new();
         self.cache.show_with(
             gpu,
             key,
             || Some(ShownMesh::plain(mesh.get_or_init(|| editor.patches_mesh()).as_ref()?)),
-            &editor.display_frame,
+            &editor.view.display_frame,
         );
     }
 
@@ -53,7 +53,7 @@ impl PatchSurface {
         (editor.curves.workspace == Workspace::Curves).then(|| Scene {
             overlays: Some(overlays),
             ghost: cage_surface.map(|g| (g, GHOST)),
-            ..Scene::new(editor.camera, self.cache.surface(), patch_zebra(editor))
+            ..Scene::new(editor.view.camera, self.cache.surface(), patch_zebra(editor))
         })
     }
 }

@@ -204,7 +204,7 @@ fn a_drawn_curve_lies_on_the_chosen_plane() {
 
     // On the YZ plane, x = 0.
     harness.state_mut().editor.curves.plane = super::DrawPlane::Yz;
-    harness.state_mut().editor.camera.set_view(taut_render::StandardView::Right);
+    harness.state_mut().editor.view.camera.set_view(taut_render::StandardView::Right);
     harness.run_steps(1);
     stroke(&mut harness, centre, &path);
     let curves = &harness.state().editor.curve_set().curves;
@@ -330,15 +330,15 @@ fn a_coons_patch_from_four_curves_lands_in_the_document_and_reopens() {
 #[test]
 fn dragging_a_control_point_moves_only_it_in_the_segments_plane_as_one_undo_step() {
     let mut harness = curves_editor(Vec::new());
-    harness.state_mut().editor.camera.set_view(taut_render::StandardView::Top);
+    harness.state_mut().editor.view.camera.set_view(taut_render::StandardView::Top);
     harness.get_by_label("New segment").click();
     harness.run_steps(2);
     let before = harness.state().editor.curve_set().curves[0].segment.expect("a segment");
     let [x, y, w, h] = harness.state().ui.viewport_px.expect("the viewport was laid out").map(|v| v as f32);
     let view = crate::editor::interaction::ViewportRect { min: glam::Vec2::new(x, y), size: glam::Vec2::new(w, h) };
     let editor = &harness.state().editor;
-    let middle = editor.display_frame.to_display_f64(before.points()[1]);
-    let (pixel, _) = crate::editor::interaction::project(&editor.camera, &view, middle).expect("on screen");
+    let middle = editor.view.display_frame.to_display_f64(before.points()[1]);
+    let (pixel, _) = crate::editor::interaction::project(&editor.view.camera, &view, middle).expect("on screen");
     let from = Pos2::new(pixel.x, pixel.y);
     let path: Vec<Pos2> = (1..=8).map(|k| from + egui::vec2(4.0 * k as f32, 3.0 * k as f32)).collect();
     stroke(&mut harness, from, &path);
@@ -357,7 +357,7 @@ fn cage_keys_do_nothing_in_the_curves_workspace() {
     // The cage and its selection are out of sight here: Delete, X, E, G, Tab and Ctrl+A must not
     // touch them, and the Mesh menu is not offered.
     let mut harness = editor_on(primitives::cube());
-    harness.state_mut().editor.selection.click_vertex(taut_core::VertexId(7), false);
+    harness.state_mut().editor.view.selection.click_vertex(taut_core::VertexId(7), false);
     harness.run_steps(2);
     harness.get_by_label("Curves workspace").click();
     harness.run_steps(2);
@@ -374,7 +374,7 @@ fn cage_keys_do_nothing_in_the_curves_workspace() {
     let editor = &harness.state().editor;
     assert_eq!(editor.document.doc(), &before, "the cage is unchanged");
     assert!(!editor.document.can_undo(), "no undo step was made");
-    assert_eq!(editor.selection.vertices, vec![taut_core::VertexId(7)], "the cage selection stays");
+    assert_eq!(editor.view.selection.vertices, vec![taut_core::VertexId(7)], "the cage selection stays");
     assert!(harness.query(By::new().label("Mesh")).is_none(), "no Mesh menu here");
     // Back in the Surface workspace the same key works on the selection.
     harness.get_by_label("Surface workspace").click();
@@ -409,7 +409,7 @@ fn shift_click_picks_curves_for_a_patch_and_a_click_on_the_patch_selects_it() {
         })
         .collect();
     let mut harness = curves_editor(curves);
-    harness.state_mut().editor.camera.set_view(taut_render::StandardView::Top);
+    harness.state_mut().editor.view.camera.set_view(taut_render::StandardView::Top);
     harness.state_mut().editor.frame_all();
     harness.run_steps(2);
     let at = |harness: &Harness<'_, App>, p: DVec3| {
@@ -468,7 +468,7 @@ fn home_frames_the_curves_and_period_the_selected_one() {
     };
     let curves = vec![DocCurve::new("long", arc(40.0, 2.0), false), DocCurve::new("short", arc(43.0, 0.2), false)];
     let mut harness = curves_editor(curves);
-    harness.state_mut().editor.camera.set_view(taut_render::StandardView::Top);
+    harness.state_mut().editor.view.camera.set_view(taut_render::StandardView::Top);
     harness.run_steps(2);
     let [_, _, width, height] = harness.state().ui.viewport_px.expect("laid out").map(|v| v as f32);
     // The extent on screen of curve `i`, as a fraction of the viewport's width and height.

@@ -45,15 +45,15 @@ impl EditorState {
         n: DVec3,
         point: DVec3,
     ) -> Option<DVec3> {
-        let (o, d) = interaction::unproject_ray(&self.camera, view, mouse);
-        let frame = self.display_frame;
+        let (o, d) = interaction::unproject_ray(&self.view.camera, view, mouse);
+        let frame = self.view.display_frame;
         let (o, d) = (frame.to_model(o), (frame.to_model(o + d) - frame.to_model(o)).normalize());
         ray_plane(o, d, n, n.dot(point))
     }
 
     /// Where model point `p` is on screen.
     fn on_screen(&self, view: &ViewportRect, p: DVec3) -> Option<glam::Vec2> {
-        interaction::project(&self.camera, view, self.display_frame.to_display_f64(p)).map(|(pixel, _)| pixel)
+        interaction::project(&self.view.camera, view, self.view.display_frame.to_display_f64(p)).map(|(pixel, _)| pixel)
     }
 
     /// The segment control point under the mouse: curve, control index.
@@ -98,8 +98,8 @@ impl EditorState {
 
     /// The Coons patch under the mouse: the nearest one the mouse ray meets.
     fn pick_patch(&self, view: &ViewportRect, mouse: glam::Vec2) -> Option<usize> {
-        let (o, d) = interaction::unproject_ray(&self.camera, view, mouse);
-        let frame = self.display_frame;
+        let (o, d) = interaction::unproject_ray(&self.view.camera, view, mouse);
+        let frame = self.view.display_frame;
         let (o, d) = (frame.to_model(o), (frame.to_model(o + d) - frame.to_model(o)).normalize());
         let mut best: Option<(f64, usize)> = None;
         for k in 0..self.curve_set().patches.len() {
@@ -138,7 +138,7 @@ impl EditorState {
         let shift = ui.ctx().input(|i| i.modifiers.shift);
 
         // Navigation, as in the surface workspace.
-        crate::editor::navigation::navigate(&mut self.camera, ui, &response, rect.height());
+        crate::editor::navigation::navigate(&mut self.view.camera, ui, &response, rect.height());
 
         let pointer = Pointer { ui, response: &response, view, mouse };
         let running = ui_state.tool.pointer(self, &pointer);
@@ -201,7 +201,7 @@ impl EditorState {
     /// The curves, combs, control polygons and the stroke, in display coordinates.
     pub fn curves_overlays(&self) -> OverlayData {
         let mut data = OverlayData::default();
-        let frame = &self.display_frame;
+        let frame = &self.view.display_frame;
         let size = self.curves_size();
         let line =
             |a: DVec3, b: DVec3, color, width_px| LineSegment { a: frame.point(a), b: frame.point(b), color, width_px };

@@ -394,7 +394,7 @@ impl EditorState {
 
     /// The camera's backward direction in model coordinates.
     pub(crate) fn view_backward(&self) -> DVec3 {
-        self.camera.backward().as_dvec3()
+        self.view.camera.backward().as_dvec3()
     }
 
     /// The size of what the workspace shows: the curves and patches, or the cage.

@@ -79,12 +79,12 @@ impl AnalysisSettings {
 impl EditorState {
     /// The surface mode of the draft view.
     pub fn draft_mode(&self) -> SurfaceMode {
-        self.display.analysis.draft_mode()
+        self.view.display.analysis.draft_mode()
     }
 
     /// The surface mode of the highlight view, in the viewport's display frame.
     pub fn highlight_mode(&self) -> SurfaceMode {
-        self.display.analysis.highlight_mode(&self.display_frame)
+        self.view.display.analysis.highlight_mode(&self.view.display_frame)
     }
 }
 

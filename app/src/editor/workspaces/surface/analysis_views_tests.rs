@@ -30,7 +30,7 @@ fn the_display_panel_offers_draft_and_highlight_with_their_controls() {
     harness.get_by_label("draft").click();
     frames(&mut harness);
     let editor = &harness.state().editor;
-    assert_eq!(editor.display.mode, DisplayMode::Draft);
+    assert_eq!(editor.view.display.mode, DisplayMode::Draft);
     assert_eq!(editor.surface_mode(), SurfaceMode::Draft { pull: Pull::Direction(DVec3::Z), angle_degrees: 3.0 });
     for words in ["draft ≥ 3°", "below 3°: needs draft", "draft ≤ −3°: undercut"] {
         assert!(harness.query_by_label(words).is_some(), "the legend shows {words:?}");

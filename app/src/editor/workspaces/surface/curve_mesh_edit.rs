@@ -161,15 +161,16 @@ impl EditorState {
         if v.index() >= cm.vertex_count() || cm.topology().is_isolated(v) {
             return false;
         }
-        let eye = self.display_frame.to_model(self.camera.eye().as_dvec3());
+        let eye = self.view.display_frame.to_model(self.view.camera.eye().as_dvec3());
         self.curve_mesh.selected.contains(&v) || (eye - cm.vertex_position(v)).dot(cm.vertex_normal(v)) > 0.0
     }
 
     /// The handle under `mouse` (points), nearest on screen, the front one among ties.
     pub fn pick_curve_mesh_handle(&self, view: &ViewportRect, mouse: glam::Vec2) -> Option<Handle> {
         let handles = self.curve_mesh_handles();
-        let positions: Vec<DVec3> = handles.iter().map(|&(_, p)| self.display_frame.to_display_f64(p)).collect();
-        interaction::pick_vertex(&self.camera, view, &positions, mouse, PICK_RADIUS_PX).map(|i| handles[i.index()].0)
+        let positions: Vec<DVec3> = handles.iter().map(|&(_, p)| self.view.display_frame.to_display_f64(p)).collect();
+        interaction::pick_vertex(&self.view.camera, view, &positions, mouse, PICK_RADIUS_PX)
+            .map(|i| handles[i.index()].0)
     }
 
     /// Selects a curve-mesh vertex; with `add`, toggles it in the selection.
@@ -230,8 +231,8 @@ impl EditorState {
         if self.document.doc().scheme != SchemeKind::CurveMesh {
             return false;
         }
-        self.selection.hovered_vertex = None;
-        self.selection.hovered_edge = None;
+        self.view.selection.hovered_vertex = None;
+        self.view.selection.hovered_edge = None;
         self.prune_curve_mesh_selection();
         self.refresh_curve_mesh_continuity();
         true
@@ -281,10 +282,10 @@ impl EditorState {
             return false;
         }
         let Some(s) = self.curve_mesh_surface() else { return false };
-        let frame = &self.display_frame;
+        let frame = &self.view.display_frame;
         let cm = s.curve_mesh();
         let t = cm.topology();
-        if self.display.show_cage {
+        if self.view.display.show_cage {
             let cage = &self.document.doc().cage;
             data.on_top_lines.extend(cage.edges().map(|e| {
                 let (a, b) = cage.edge_vertices(e);

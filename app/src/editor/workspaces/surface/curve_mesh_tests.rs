@@ -15,7 +15,7 @@ use taut_core::{DVec3, VertexId};
 /// An editor on the cube, switched to the curve mesh through the Surface panel's selector.
 fn curve_mesh_editor() -> Harness<'static, App> {
     let mut harness = cube_editor();
-    harness.state_mut().editor.selection.clear();
+    harness.state_mut().editor.view.selection.clear();
     settle(&mut harness);
     harness.get(By::new().role(Role::ComboBox).label("scheme")).click();
     harness.run_steps(2);
@@ -34,8 +34,8 @@ fn viewport(harness: &Harness<'_, App>) -> ViewportRect {
 /// Where a model point lands in the viewport.
 fn pixel_of(harness: &Harness<'_, App>, p: DVec3) -> glam::Vec2 {
     let editor = &harness.state().editor;
-    let display = editor.display_frame.to_display_f64(p);
-    interaction::project(&editor.camera, &viewport(harness), display).expect("in front of the camera").0
+    let display = editor.view.display_frame.to_display_f64(p);
+    interaction::project(&editor.view.camera, &viewport(harness), display).expect("in front of the camera").0
 }
 
 fn button(harness: &mut Harness<'_, App>, pressed: bool, at: glam::Vec2) {
@@ -73,7 +73,7 @@ fn front_vertex(harness: &Harness<'_, App>) -> (VertexId, DVec3) {
         .map(|v| (v, cm.vertex_position(v)))
         .min_by(|a, b| {
             let depth = |p: DVec3| {
-                interaction::project(&editor.camera, &view, editor.display_frame.to_display_f64(p)).unwrap().1
+                interaction::project(&editor.view.camera, &view, editor.view.display_frame.to_display_f64(p)).unwrap().1
             };
             depth(a.1).total_cmp(&depth(b.1))
         })

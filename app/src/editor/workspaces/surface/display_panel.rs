@@ -11,11 +11,11 @@ use taut_core::surface::{ColourBy, fields_of};
 impl EditorState {
     pub(crate) fn display_panel(&mut self, ui: &mut egui::Ui) {
         ui.heading("Display");
-        let before = self.display.clone();
+        let before = self.view.display.clone();
         let range = self.value_range();
         let scheme = self.document.doc().scheme;
         let other = self.other_scheme();
-        let d = &mut self.display;
+        let d = &mut self.view.display;
         ui.horizontal_wrapped(|ui| {
             ui.radio_value(&mut d.mode, DisplayMode::Shaded, "shaded").on_hover_text("Plain shading");
             ui.radio_value(&mut d.mode, DisplayMode::Zebra, "zebra").on_hover_text(
@@ -159,11 +159,11 @@ impl EditorState {
             ui.radio_value(&mut compare, CompareMode::Distance, "distance")
                 .on_hover_text("This surface coloured by its distance to the other scheme's, with a legend");
         });
-        let compare_changed = compare != self.display.compare;
+        let compare_changed = compare != self.view.display.compare;
         if compare_changed {
             self.set_compare(compare);
         }
-        if self.display != before {
+        if self.view.display != before {
             self.invalidate_values();
         }
     }

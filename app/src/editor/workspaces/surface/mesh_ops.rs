@@ -112,7 +112,7 @@ pub(crate) struct Picked {
 }
 
 pub(crate) fn picked(cage: &PolyMesh, state: &EditorState) -> Picked {
-    let s = &state.selection;
+    let s = &state.view.selection;
     let vertices = selected_vertex_set(cage, s);
     let mut covered = vec![false; cage.vertex_count()];
     vertices.iter().for_each(|v| covered[v.index()] = true);
@@ -161,7 +161,7 @@ impl EditorState {
     fn try_mesh_op(&mut self, op: MeshOp) -> Result<(), String> {
         let edit = self.mesh_edit(op)?;
         let faces = picked(&self.document.doc().cage, self).faces;
-        let mode = self.selection.mode;
+        let mode = self.view.selection.mode;
         let Some((provenance, carried)) = self.document.apply_mesh(edit)? else { return Ok(()) };
         // Curve-mesh edits whose vertices did not survive the operation are said, not lost
         // silently (undo brings them back).
@@ -171,10 +171,10 @@ impl EditorState {
         let Some(provenance) = provenance else { return Ok(()) };
         if matches!(op, MeshOp::Extrude | MeshOp::Inset) && !faces.is_empty() && mode != SelectMode::Edge {
             // The lifted faces stay selected, in the current mode's elements.
-            self.selection.clear();
-            self.selection.faces = faces;
+            self.view.selection.clear();
+            self.view.selection.faces = faces;
             self.map_selection(&provenance);
-            let selection = &mut self.selection;
+            let selection = &mut self.view.selection;
             crate::editor::select_modes::set_mode(&self.document.doc().cage, selection, mode);
         } else {
             self.map_selection(&provenance);
@@ -187,7 +187,7 @@ impl EditorState {
     fn mesh_edit(&self, op: MeshOp) -> Result<MeshEdit, String> {
         let cage = &self.document.doc().cage;
         let p = picked(cage, self);
-        let mode = self.selection.mode;
+        let mode = self.view.selection.mode;
         let v = |ids: &[VertexId]| ids.iter().map(|v| v.0).collect::<Vec<_>>();
         let e = |ids: &[EdgeId]| ids.iter().map(|e| e.0).collect::<Vec<_>>();
         let f = |ids: &[FaceId]| ids.iter().map(|f| f.0).collect::<Vec<_>>();
@@ -209,7 +209,7 @@ impl EditorState {
                 MeshEdit::Inset { faces: f(&p.faces), distance }
             }
             MeshOp::LoopCut => {
-                let edge = self.selection.hovered_edge.or(match self.selection.edges.as_slice() {
+                let edge = self.view.selection.hovered_edge.or(match self.view.selection.edges.as_slice() {
                     [e] => Some(*e),
                     _ => None,
                 });
@@ -259,7 +259,7 @@ impl EditorState {
                 MeshEdit::MergeByDistance { vertices: v(&all), distance }
             }
             MeshOp::Fill => {
-                if mode == SelectMode::Vertex && !self.selection.vertices.is_empty() {
+                if mode == SelectMode::Vertex && !self.view.selection.vertices.is_empty() {
                     MeshEdit::FillVertices { vertices: v(&p.vertices) }
                 } else {
                     need(&boundary, "a closed run of open-boundary edges to fill")?;
@@ -286,7 +286,7 @@ impl EditorState {
         let mut was_vertex = vec![false; nv];
         let mut was_edge = vec![false; ne];
         let mut was_face = vec![false; nf];
-        let s = &mut self.selection;
+        let s = &mut self.view.selection;
         s.vertices.iter().filter(|v| v.index() < nv).for_each(|v| was_vertex[v.index()] = true);
         s.edges.iter().filter(|e| e.index() < ne).for_each(|e| was_edge[e.index()] = true);
         s.faces.iter().filter(|f| f.index() < nf).for_each(|f| was_face[f.index()] = true);
@@ -326,8 +326,12 @@ impl EditorState {
             ui.menu_button("Select mode", |ui| {
                 for mode in [SelectMode::Vertex, SelectMode::Edge, SelectMode::Face] {
                     let label = format!("{} select", mode.name());
-                    if ui.radio(self.selection.mode == mode, label).clicked() {
-                        crate::editor::select_modes::set_mode(&self.document.doc().cage, &mut self.selection, mode);
+                    if ui.radio(self.view.selection.mode == mode, label).clicked() {
+                        crate::editor::select_modes::set_mode(
+                            &self.document.doc().cage,
+                            &mut self.view.selection,
+                            mode,
+                        );
                     }
                 }
             });

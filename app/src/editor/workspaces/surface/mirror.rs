@@ -68,7 +68,7 @@ impl EditorState {
             MirrorThrough::Origin => 0.0,
             MirrorThrough::SelectionCentre => {
                 let cage = &self.document.doc().cage;
-                let vertices = selected_vertex_set(cage, &self.selection);
+                let vertices = selected_vertex_set(cage, &self.view.selection);
                 if vertices.is_empty() {
                     self.notify("select the vertices whose centre the mirror plane goes through", true);
                     return;
@@ -178,11 +178,11 @@ impl EditorState {
     pub(crate) fn mirror_overlay(&self, data: &mut OverlayData) {
         let doc = self.document.doc();
         let Some(plane) = doc.mirror else { return };
-        if !self.display.show_cage {
+        if !self.view.display.show_cage {
             return;
         }
         let cage = &doc.cage;
-        let frame = &self.display_frame;
+        let frame = &self.view.display_frame;
         data.on_top_lines.extend(plane_outline(plane, cage.positions()).map(|[a, b]| LineSegment {
             a: frame.point(a),
             b: frame.point(b),

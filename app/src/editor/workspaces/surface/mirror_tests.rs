@@ -88,7 +88,7 @@ fn a_drag_and_typed_moves_of_one_half_move_the_other_exactly() {
 #[test]
 fn a_half_shows_the_whole_surface_and_its_plane_vertices_stay_on_the_plane() {
     let mut h = editor_on(half_box());
-    h.state_mut().editor.selection.vertices = h.state().editor.document.doc().cage.vertices().collect();
+    h.state_mut().editor.view.selection.vertices = h.state().editor.document.doc().cage.vertices().collect();
     h.state_mut().editor.set_mirror(Axis::X, crate::editor::mirror::MirrorThrough::Origin);
     settle(&mut h);
     let editor = &h.state().editor;
@@ -169,7 +169,7 @@ fn the_mirror_plane_is_drawn_while_mirror_is_on_and_lies_in_the_plane() {
     open_menu_item(&mut h, &["Mesh", "Mirror", "Plane Y through the origin"]);
     let lines = plane_lines(&h);
     assert_eq!(lines.len(), 6, "a rectangle and its diagonals");
-    let frame = h.state().editor.display_frame;
+    let frame = h.state().editor.view.display_frame;
     let cage = &h.state().editor.document.doc().cage;
     let (lo, hi) = taut_core::mesh::bounding_box(cage.positions()).unwrap();
     for l in &lines {

@@ -47,7 +47,7 @@ impl EditorState {
     /// "2 vertices, 1 edge", with the faces too when any are selected.
     fn selection_summary(&self) -> String {
         let count = |n: usize, one: &str, many: &str| format!("{n} {}", if n == 1 { one } else { many });
-        let s = &self.selection;
+        let s = &self.view.selection;
         let mut text =
             format!("{}, {}", count(s.vertices.len(), "vertex", "vertices"), count(s.edges.len(), "edge", "edges"));
         if !s.faces.is_empty() {
@@ -87,9 +87,9 @@ impl EditorState {
             let ms = self.frame_time.as_secs_f64() * 1e3;
             ui.label(format!("frame {ms:.1} ms ({:.0} fps)", if ms > 0.0 { 1e3 / ms } else { 0.0 }));
             ui.separator();
-            ui.label(format!("{} mode", self.selection.mode.name()))
+            ui.label(format!("{} mode", self.view.selection.mode.name()))
                 .on_hover_text("What a click in the viewport selects: vertices, edges or faces (Tab changes it)");
-            if self.display.xray {
+            if self.view.display.xray {
                 ui.label("X-ray").on_hover_text("The back of the cage is drawn and picked too (Alt+Z turns it off)");
             }
             ui.separator();
@@ -145,7 +145,7 @@ impl EditorState {
     pub(crate) fn cage_panel(&mut self, ui: &mut egui::Ui, ui_state: &mut UiState) {
         ui.heading("Cage");
         if self.document.doc().scheme == SchemeKind::CurveMesh {
-            self.selection.clear();
+            self.view.selection.clear();
             ui.add(
                 egui::Label::new(
                     "The curve mesh is edited in the viewport and the Surface panel; the cage is shown for \
@@ -157,8 +157,8 @@ impl EditorState {
         }
         self.mirror_panel(ui);
         let vertices = self.selected_vertices_with_edge_ends();
-        if self.selection.is_empty() {
-            let what = match self.selection.mode {
+        if self.view.selection.is_empty() {
+            let what = match self.view.selection.mode {
                 SelectMode::Vertex => "Vertex mode: click a cage vertex (or an edge) to select it",
                 SelectMode::Edge => "Edge mode: click a cage edge to select it",
                 SelectMode::Face => "Face mode: click a cage face to select it",
@@ -173,7 +173,7 @@ impl EditorState {
         }
         let doc = self.document.doc();
         let diagonal = doc.cage.bounding_diagonal();
-        let moving = crate::editor::select_modes::selected_vertex_set(&doc.cage, &self.selection);
+        let moving = crate::editor::select_modes::selected_vertex_set(&doc.cage, &self.view.selection);
         if !moving.is_empty() {
             // One vertex: its coordinates. More (or an edge, a face): their median (mean), and a
             // typed or dragged value moves them all by the same offset, as Blender's N panel.
@@ -249,26 +249,26 @@ impl EditorState {
             self.emit(Edit::SetFixed(vertices.to_vec(), fixed));
         }
         ui.separator();
-        if !self.selection.vertices.is_empty() {
+        if !self.view.selection.vertices.is_empty() {
             let doc = self.document.doc();
-            let values = mixed(self.selection.vertices.iter().map(|v| doc.vertex_tension[v.index()]));
-            let vertices = self.selection.vertices.clone();
+            let values = mixed(self.view.selection.vertices.iter().map(|v| doc.vertex_tension[v.index()]));
+            let vertices = self.view.selection.vertices.clone();
             self.tension_control(ui, ui_state, "vertex tension τ", values, TENSION_HELP_VERTEX, |tau| {
                 Edit::SetVertexTension(vertices, tau)
             });
         }
         let doc = self.document.doc();
-        if !self.selection.edges.is_empty() {
-            let values = mixed(self.selection.edges.iter().map(|e| doc.edge_tension[e.index()]));
-            let edges = self.selection.edges.clone();
+        if !self.view.selection.edges.is_empty() {
+            let values = mixed(self.view.selection.edges.iter().map(|e| doc.edge_tension[e.index()]));
+            let edges = self.view.selection.edges.clone();
             self.tension_control(ui, ui_state, "edge tension τ", values, TENSION_HELP_EDGE, |tau| {
                 Edit::SetEdgeTension(edges, tau)
             });
         }
         if ui.button("Reset tension").on_hover_text("Set the tension of the selection back to 0").clicked() {
             self.emit(Edit::ResetTension {
-                vertices: self.selection.vertices.clone(),
-                edges: self.selection.edges.clone(),
+                vertices: self.view.selection.vertices.clone(),
+                edges: self.view.selection.edges.clone(),
             });
         }
     }
@@ -295,7 +295,7 @@ impl EditorState {
     /// Corner sharpness of the selected vertices (OpenSubdiv's corners, Blender's vertex crease).
     fn corner_controls(&mut self, ui: &mut egui::Ui, ui_state: &mut UiState) {
         let doc = self.document.doc();
-        let vertices = crate::editor::select_modes::selected_vertex_set(&doc.cage, &self.selection);
+        let vertices = crate::editor::select_modes::selected_vertex_set(&doc.cage, &self.view.selection);
         if vertices.is_empty() {
             ui.add(egui::Label::new("Select cage vertices to sharpen them into corners.").wrap());
             return;
@@ -363,9 +363,9 @@ impl EditorState {
     /// vertices.
     pub(crate) fn crease_targets(&self) -> Vec<taut_core::EdgeId> {
         let cage = &self.document.doc().cage;
-        let mut edges = self.selection.edges.clone();
-        for &a in &self.selection.vertices {
-            for &b in &self.selection.vertices {
+        let mut edges = self.view.selection.edges.clone();
+        for &a in &self.view.selection.vertices {
+            for &b in &self.view.selection.vertices {
                 if a < b
                     && let Some(h) = cage.find_halfedge(a, b)
                     && !edges.contains(&h.edge())

@@ -45,7 +45,7 @@ pub struct SectionCache {
 impl EditorState {
     /// Adds the section curves with their combs when Display ▸ sections is on.
     pub(crate) fn section_overlays(&self, data: &mut OverlayData) {
-        let Some(settings) = self.display.sections else { return };
+        let Some(settings) = self.view.display.sections else { return };
         let Some(mesh) = self.surface_mesh() else { return };
         let key = (
             mesh.topology_generation(),
@@ -65,9 +65,14 @@ impl EditorState {
             cache.key = Some(key);
         }
         let points: Vec<Vec<DVec3>> = cache.curves.iter().map(|(p, _)| p.clone()).collect();
-        let style = comb_style(&points, mesh.bounding_diagonal(), self.display.comb_length, self.display.comb_density);
+        let style = comb_style(
+            &points,
+            mesh.bounding_diagonal(),
+            self.view.display.comb_length,
+            self.view.display.comb_density,
+        );
         for (p, closed) in &cache.curves {
-            data.surface_lines.extend(overlay::polyline_with_comb(p, *closed, &style, &self.display_frame));
+            data.surface_lines.extend(overlay::polyline_with_comb(p, *closed, &style, &self.view.display_frame));
         }
     }
 }
@@ -92,7 +97,7 @@ mod tests {
         }
         let editor = &mut h.state_mut().editor;
         let without = editor.overlays().surface_lines.len();
-        editor.display.sections = Some(SectionSettings { axis: 2, count: 3, spacing: 0.0 });
+        editor.view.display.sections = Some(SectionSettings { axis: 2, count: 3, spacing: 0.0 });
         let with = editor.overlays().surface_lines.len();
         let curves = editor.sections.borrow().curves.clone();
         assert_eq!(curves.len(), 3, "three planes across the closed surface");

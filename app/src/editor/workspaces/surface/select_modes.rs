@@ -338,7 +338,7 @@ fn ray_triangle(origin: DVec3, direction: DVec3, a: DVec3, b: DVec3, c: DVec3) -
 impl EditorState {
     /// What the mouse points at in the current mode (vertex mode: a vertex, else an edge).
     pub(crate) fn hover_in_mode(&mut self, view: &ViewportRect, cage: &PolyMesh, mouse: Option<Vec2>) {
-        let hovered = match (self.selection.mode, mouse) {
+        let hovered = match (self.view.selection.mode, mouse) {
             (_, None) => (None, None, None),
             (SelectMode::Vertex, Some(m)) => match self.pick_cage_vertex(view, cage, m, 8.0) {
                 Some(v) => (Some(v), None, None),
@@ -347,19 +347,21 @@ impl EditorState {
             (SelectMode::Edge, Some(m)) => (None, self.pick_cage_edge(view, cage, m, 8.0), None),
             (SelectMode::Face, Some(m)) => (None, None, self.pick_cage_face(view, cage, m)),
         };
-        let s = &mut self.selection;
+        let s = &mut self.view.selection;
         (s.hovered_vertex, s.hovered_edge, s.hovered_face) = hovered;
     }
 
     /// A click or a press at `at` picked nothing in the current mode: where a vertex, an edge or a
     /// face of another mode lies there, says so (a click on empty space stays silent).
     pub(crate) fn say_missed_pick(&mut self, view: &ViewportRect, cage: &PolyMesh, at: Vec2) {
-        let mode = self.selection.mode;
+        let mode = self.view.selection.mode;
         // An element of this mode lies there, behind the cage's front: X-ray picks it.
-        let behind = !self.display.xray
+        let behind = !self.view.display.xray
             && match mode {
-                SelectMode::Vertex => interaction::pick_vertex(&self.camera, view, cage.positions(), at, 8.0).is_some(),
-                SelectMode::Edge => interaction::pick_edge(&self.camera, view, cage, at, 8.0).is_some(),
+                SelectMode::Vertex => {
+                    interaction::pick_vertex(&self.view.camera, view, cage.positions(), at, 8.0).is_some()
+                }
+                SelectMode::Edge => interaction::pick_edge(&self.view.camera, view, cage, at, 8.0).is_some(),
                 SelectMode::Face => false,
             };
         if behind {
@@ -394,23 +396,23 @@ impl EditorState {
         origin: Vec2,
         shift: bool,
     ) -> Option<()> {
-        match self.selection.mode {
+        match self.view.selection.mode {
             SelectMode::Vertex => {
                 let v = self.pick_cage_vertex(view, cage, origin, 8.0)?;
-                if !self.selection.vertices.contains(&v) {
-                    self.selection.click_vertex(v, shift);
+                if !self.view.selection.vertices.contains(&v) {
+                    self.view.selection.click_vertex(v, shift);
                 }
             }
             SelectMode::Edge => {
                 let e = self.pick_cage_edge(view, cage, origin, 8.0)?;
-                if !self.selection.edges.contains(&e) {
-                    self.selection.click_edge(e, shift);
+                if !self.view.selection.edges.contains(&e) {
+                    self.view.selection.click_edge(e, shift);
                 }
             }
             SelectMode::Face => {
                 let f = self.pick_cage_face(view, cage, origin)?;
-                if !self.selection.faces.contains(&f) {
-                    self.selection.click_face(f, shift);
+                if !self.view.selection.faces.contains(&f) {
+                    self.view.selection.click_face(f, shift);
                 }
             }
         }
@@ -421,7 +423,7 @@ impl EditorState {
     /// faces they cover.
     pub(crate) fn box_select_in_mode(&mut self, boxed: Vec<VertexId>) {
         let cage = &self.document.doc().cage;
-        let s = &mut self.selection;
+        let s = &mut self.view.selection;
         let covered = flags(cage, &boxed);
         let mut caught = Selection { mode: s.mode, ..Default::default() };
         select_covered(cage, &mut caught, s.mode, &covered);
@@ -454,14 +456,17 @@ impl EditorState {
         let add = modifiers.shift;
         if modifiers.alt {
             let cage = self.display_cage();
-            let edge =
-                self.selection.hovered_edge.or_else(|| mouse.and_then(|m| self.pick_cage_edge(view, &cage, m, 8.0)));
+            let edge = self
+                .view
+                .selection
+                .hovered_edge
+                .or_else(|| mouse.and_then(|m| self.pick_cage_edge(view, &cage, m, 8.0)));
             if let Some(e) = edge {
-                select_loop_or_ring(&self.document.doc().cage, &mut self.selection, e, modifiers.command, add);
+                select_loop_or_ring(&self.document.doc().cage, &mut self.view.selection, e, modifiers.command, add);
             }
             return true;
         }
-        let s = &mut self.selection;
+        let s = &mut self.view.selection;
         match s.mode {
             SelectMode::Vertex => return false,
             SelectMode::Edge => match s.hovered_edge {

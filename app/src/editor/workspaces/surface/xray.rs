@@ -30,11 +30,11 @@ pub const FACE_DOT_PICK_PX: f32 = 8.0;
 impl EditorState {
     /// What the eye sees of the cage, or `None` with X-ray on (everything counts as seen).
     pub fn cage_seen(&self) -> Option<Arc<Visibility>> {
-        if self.display.xray {
+        if self.view.display.xray {
             return None;
         }
         let cage = &self.document.doc().cage;
-        let eye = self.display_frame.to_model(self.camera.eye().as_dvec3());
+        let eye = self.view.display_frame.to_model(self.view.camera.eye().as_dvec3());
         let mut cache = self.visibility.borrow_mut();
         let same_shape = cache.shape.as_ref().is_some_and(|(topology, positions, _)| {
             *topology == cage.topology_generation() && positions.as_slice() == cage.positions()
@@ -54,8 +54,8 @@ impl EditorState {
 
     /// Alt+Z: X-ray on or off, said in the message strip.
     pub fn toggle_xray(&mut self) {
-        self.display.xray = !self.display.xray;
-        let text = if self.display.xray {
+        self.view.display.xray = !self.view.display.xray;
+        let text = if self.view.display.xray {
             "X-ray on: the whole cage is drawn and can be picked, back included (Alt+Z)"
         } else {
             "X-ray off: the back of the cage is dimmed and cannot be picked (Alt+Z)"
@@ -74,7 +74,7 @@ impl EditorState {
     ) -> Option<VertexId> {
         let seen = self.cage_seen();
         let pickable = |v: VertexId| seen.as_ref().is_none_or(|s| s.vertex(v));
-        interaction::pick_vertex_where(&self.camera, view, cage.positions(), mouse, radius_px, pickable)
+        interaction::pick_vertex_where(&self.view.camera, view, cage.positions(), mouse, radius_px, pickable)
     }
 
     /// The edge under `mouse` among those seen (all with X-ray on).
@@ -87,14 +87,14 @@ impl EditorState {
     ) -> Option<EdgeId> {
         let seen = self.cage_seen();
         let pickable = |e: EdgeId| seen.as_ref().is_none_or(|s| s.edge(e));
-        interaction::pick_edge_where(&self.camera, view, cage, mouse, radius_px, pickable)
+        interaction::pick_edge_where(&self.view.camera, view, cage, mouse, radius_px, pickable)
     }
 
     /// The face under `mouse`: the first one the mouse ray meets (the one in front, which is
     /// always seen); with X-ray on, the face whose centre dot is nearest the mouse within
     /// [`FACE_DOT_PICK_PX`] first, so a face behind can be picked by its dot.
     pub(crate) fn pick_cage_face(&self, view: &ViewportRect, cage: &PolyMesh, mouse: Vec2) -> Option<FaceId> {
-        if self.display.xray {
+        if self.view.display.xray {
             let centres: Vec<DVec3> = cage
                 .faces()
                 .map(|f| {
@@ -102,17 +102,17 @@ impl EditorState {
                     ring.iter().copied().sum::<DVec3>() / ring.len().max(1) as f64
                 })
                 .collect();
-            if let Some(dot) = interaction::pick_vertex(&self.camera, view, &centres, mouse, FACE_DOT_PICK_PX) {
+            if let Some(dot) = interaction::pick_vertex(&self.view.camera, view, &centres, mouse, FACE_DOT_PICK_PX) {
                 return Some(FaceId(dot.0));
             }
         }
-        select_modes::pick_face(&self.camera, view, cage, mouse)
+        select_modes::pick_face(&self.view.camera, view, cage, mouse)
     }
 
     /// The vertices of a rubber band from `from` to `to` among those seen (all with X-ray on).
     pub(crate) fn box_cage(&self, view: &ViewportRect, cage: &PolyMesh, from: Vec2, to: Vec2) -> Vec<VertexId> {
         let seen = self.cage_seen();
         let pickable = |v: VertexId| seen.as_ref().is_none_or(|s| s.vertex(v));
-        interaction::box_select_where(&self.camera, view, cage.positions(), from, to, pickable)
+        interaction::box_select_where(&self.view.camera, view, cage.positions(), from, to, pickable)
     }
 }
