@@ -261,7 +261,9 @@ impl EditorState {
     /// Starts the tool [`super::tools::TOOLS`] lists for `action`.
     fn start_listed_tool(&mut self, action: Action, ui_state: &mut UiState) {
         let Some(entry) = super::tools::listed(action) else { return };
+        // A tool running (its menu entry chosen while it runs) ends first, its gesture closed.
         ui_state.tool.end(self, super::tools::tool::End::Keep);
+        self.apply_commands(ui_state);
         if let Some(tool) = (entry.start)(self, ui_state.pointer) {
             ui_state.tool.start(self, tool);
         }

@@ -6,26 +6,39 @@
 //! draws. A panel therefore never sees half of its own frame's change, and a key and a menu
 //! entry run the very same command.
 //!
-//! A running tool ([`crate::editor::tools::tool`]) is the exception that proves the rule: it
-//! has the pointer for the whole gesture, and its edits are applied as it makes them, inside
-//! the gesture it opened, because each of its steps reads where the last one left the cage
-//! (a loop cut's new vertices, an inset's ring).
+//! A running tool ([`crate::editor::tools::tool`]) emits its steps the same way: the edits of a
+//! drag, the values put back by Esc, the end of its gesture. Only a tool's start changes the
+//! document at once (a loop cut or an inset needs the new cage's vertices to go on); a start
+//! runs from a key or a menu entry, so it runs here already, while the commands are applied.
 
 use crate::editor::document::Edit;
 use crate::editor::shortcuts::Action;
 use crate::editor::state::EditorState;
 use crate::editor::ui::UiState;
 
-/// What a panel, a menu or a key asks of the session this frame.
-#[derive(Clone, Debug)]
+/// What a panel, a menu, a key or a running tool asks of the session this frame.
 pub enum Command {
     /// An edit of the document (one undo step, or part of the open gesture).
     Edit(Edit),
     /// What a shortcut or a menu entry does (the shortcut table's action).
     Action(Action),
-    /// Closes the gesture a slider or a field drag opened, after the edit of the frame it was
-    /// let go in.
+    /// Closes the gesture a slider, a field drag or a tool opened, after the edit of the frame
+    /// it was let go in.
     EndGesture,
+    /// A change that reads the document it leaves (the Curves workspace's curve set keeps its
+    /// selection valid; a cut undone prunes the selection): run in its turn.
+    Run(Box<dyn FnOnce(&mut EditorState)>),
+}
+
+impl std::fmt::Debug for Command {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Command::Edit(edit) => write!(f, "Edit({})", edit.name()),
+            Command::Action(action) => write!(f, "Action({action:?})"),
+            Command::EndGesture => write!(f, "EndGesture"),
+            Command::Run(_) => write!(f, "Run"),
+        }
+    }
 }
 
 impl EditorState {
@@ -44,6 +57,11 @@ impl EditorState {
         self.commands.push(Command::EndGesture);
     }
 
+    /// Runs `change` at the end of the frame, in its turn among the other commands.
+    pub(crate) fn emit_run(&mut self, change: impl FnOnce(&mut EditorState) + 'static) {
+        self.commands.push(Command::Run(Box::new(change)));
+    }
+
     /// Runs the frame's commands in the order they were emitted (the one place they are
     /// applied); true when there were any.
     pub fn apply_commands(&mut self, ui_state: &mut UiState) -> bool {
@@ -55,6 +73,7 @@ impl EditorState {
                     Command::Edit(edit) => self.edit(edit),
                     Command::Action(action) => self.run_action(action, ui_state),
                     Command::EndGesture => self.document.end_gesture(),
+                    Command::Run(change) => change(self),
                 }
             }
         }

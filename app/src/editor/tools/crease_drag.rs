@@ -101,7 +101,7 @@ impl Tool for CreaseDrag {
             let value = (value * 20.0).round() / 20.0;
             if value != self.value {
                 self.value = value;
-                editor.edit(self.edit(value));
+                editor.emit(self.edit(value));
             }
         }
         pointer.clicks()
@@ -122,13 +122,13 @@ impl Tool for CreaseDrag {
     fn end(self: Box<Self>, editor: &mut EditorState, end: End) {
         if end == End::Cancel {
             for (e, s) in self.edges.iter().zip(&self.start) {
-                editor.edit(Edit::SetCrease(vec![*e], *s));
+                editor.emit(Edit::SetCrease(vec![*e], *s));
             }
             for (v, s) in self.vertices.iter().zip(&self.start) {
-                editor.edit(Edit::SetCorner(vec![*v], *s));
+                editor.emit(Edit::SetCorner(vec![*v], *s));
             }
         }
-        editor.document.end_gesture();
+        editor.emit_end_gesture();
     }
 
     fn is_stale(&self, editor: &EditorState) -> bool {

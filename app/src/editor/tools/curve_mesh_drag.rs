@@ -71,9 +71,9 @@ impl CurveMeshDrag {
                 .map(|(v, p)| (v, frame.to_model(p)))
                 .collect();
         match self.handle {
-            Handle::Vertex(_) => editor.edit(Edit::MoveCurveMeshVertices(moved)),
+            Handle::Vertex(_) => editor.emit(Edit::MoveCurveMeshVertices(moved)),
             Handle::Inner { curve, end } => {
-                editor.edit(Edit::MoveCurveMeshInnerPoint { curve, end, position: moved[0].1 })
+                editor.emit(Edit::MoveCurveMeshInnerPoint { curve, end, position: moved[0].1 })
             }
             Handle::Normal(v) => {
                 let Some(s) = editor.curve_mesh_surface() else { return };
@@ -85,8 +85,8 @@ impl CurveMeshDrag {
                     return;
                 }
                 // From the plane the drag began with, so the drag does not depend on its path.
-                editor.edit(Edit::SetCurveMeshEdits(self.before.clone()));
-                editor.edit(Edit::SetCurveMeshNormal(v, n));
+                editor.emit(Edit::SetCurveMeshEdits(self.before.clone()));
+                editor.emit(Edit::SetCurveMeshNormal(v, n));
             }
         }
     }
@@ -119,9 +119,9 @@ impl Tool for CurveMeshDrag {
     /// Keeps the drag, or puts the curve-mesh edits back as they were.
     fn end(self: Box<Self>, editor: &mut EditorState, end: End) {
         if end == End::Cancel {
-            editor.edit(Edit::SetCurveMeshEdits(self.before));
+            editor.emit(Edit::SetCurveMeshEdits(self.before));
         }
-        editor.document.end_gesture();
+        editor.emit_end_gesture();
     }
 
     /// The document left the curve-mesh scheme (undo, a file opened) under the drag.

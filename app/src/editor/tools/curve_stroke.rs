@@ -82,7 +82,8 @@ impl Tool for CurveStroke {
         }
         if self.points.len() >= 3 {
             let n = editor.curve_set().curves.len();
-            editor.add_curve(DocCurve::new(format!("sketch {}", n + 1), self.points, false));
+            let curve = DocCurve::new(format!("sketch {}", n + 1), self.points, false);
+            editor.emit_run(move |e| e.add_curve(curve));
         } else {
             editor.notify("the stroke was too short for a curve: drag farther", true);
         }
@@ -127,7 +128,8 @@ impl Tool for ControlDrag {
             if let Some(p) = editor.mouse_on_plane(&pointer.view, m, n, pts[self.control]) {
                 let mut moved = controls;
                 moved.controls[self.control] = p.to_array();
-                editor.set_segment(self.curve, moved);
+                let curve = self.curve;
+                editor.emit_run(move |e| e.set_segment(curve, moved));
             }
         }
         pointer.release()
@@ -139,9 +141,10 @@ impl Tool for ControlDrag {
 
     fn end(self: Box<Self>, editor: &mut EditorState, end: End) {
         if end == End::Cancel {
-            editor.set_segment(self.curve, self.before);
+            let (curve, before) = (self.curve, self.before);
+            editor.emit_run(move |e| e.set_segment(curve, before));
         }
-        editor.document.end_gesture();
+        editor.emit_end_gesture();
     }
 
     /// The curve went (undo, a file opened) under the drag.

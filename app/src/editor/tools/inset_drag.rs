@@ -88,7 +88,7 @@ impl InsetDrag {
                 self.thickness = thickness;
                 self.refusal = None;
                 let moves = self.ring.iter().map(|&v| (v, edited.mesh.position(v))).collect();
-                editor.edit(Edit::MoveVertices(moves));
+                editor.emit(Edit::MoveVertices(moves));
             }
             Err(e) => self.refusal = Some(e.to_string()),
         }
@@ -140,7 +140,7 @@ impl Tool for InsetDrag {
             let base = self.base;
             self.set_thickness(editor, base);
         }
-        editor.document.end_gesture();
+        editor.emit_end_gesture();
     }
 
     fn is_stale(&self, editor: &EditorState) -> bool {

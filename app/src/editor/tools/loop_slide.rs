@@ -135,7 +135,7 @@ impl LoopCutTool {
         let Ok(edited) = loop_cut(&original.cage, *edge, fraction) else { return };
         *now = fraction;
         let moves = new_vertices.iter().map(|&v| (v, edited.mesh.position(v))).collect();
-        editor.edit(Edit::MoveVertices(moves));
+        editor.emit(Edit::MoveVertices(moves));
     }
 
     /// Cuts across the previewed edge, or sets the slide: the tool's next stage, or its end.
@@ -257,10 +257,10 @@ impl Tool for LoopCutTool {
     fn end(self: Box<Self>, editor: &mut EditorState, end: End) {
         if let LoopCutTool::Slide { original, .. } = *self {
             if end == End::Cancel {
-                editor.edit(Edit::Replace(original));
-                editor.prune_selection();
+                editor.emit(Edit::Replace(original));
+                editor.emit_run(EditorState::prune_selection);
             }
-            editor.document.end_gesture();
+            editor.emit_end_gesture();
         }
     }
 

@@ -136,9 +136,9 @@ impl CageStamp {
 /// closes either way.
 pub fn end_vertex_move(editor: &mut EditorState, start: Vec<(taut_core::VertexId, taut_core::DVec3)>, end: End) {
     if end == End::Cancel {
-        editor.edit(crate::editor::document::Edit::MoveVertices(start));
+        editor.emit(crate::editor::document::Edit::MoveVertices(start));
     }
-    editor.document.end_gesture();
+    editor.emit_end_gesture();
 }
 
 /// Any value as `dyn Any`, so the running tool can be asked what it is.

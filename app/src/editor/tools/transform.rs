@@ -399,7 +399,7 @@ impl EditorState {
             if self.notice.as_ref().is_none_or(|n| n.text != text) {
                 self.notify(text, true);
             }
-            self.edit(Edit::MoveVertices(start));
+            self.emit(Edit::MoveVertices(start));
             t.applied = Transform::new(t.kind, Vec::new(), t.centre, None).applied;
             return;
         }
@@ -407,7 +407,7 @@ impl EditorState {
         if self.notice.as_ref().is_some_and(|n| n.text.ends_with(PREVIEW_WAITS)) {
             self.notice = None;
         }
-        self.edit(Edit::MoveVertices(moved));
+        self.emit(Edit::MoveVertices(moved));
         t.applied = applied;
     }
 

@@ -44,7 +44,7 @@ impl Tool for VertexDrag {
             let start: Vec<(VertexId, DVec3)> = self.start.iter().map(|&(v, p)| (v, frame.to_display_f64(p))).collect();
             let moved =
                 interaction::drag_positions(&editor.view.camera, &pointer.view, &start, self.mouse_start, m, self.axis);
-            editor.edit(Edit::MoveVertices(moved.into_iter().map(|(v, p)| (v, frame.to_model(p))).collect()));
+            editor.emit(Edit::MoveVertices(moved.into_iter().map(|(v, p)| (v, frame.to_model(p))).collect()));
         }
         pointer.release()
     }
