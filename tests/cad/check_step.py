@@ -84,7 +84,6 @@ With --reference REF.json (written by the Rust tests from Taut's exact surface):
 
 import argparse
 import json
-import math
 import os
 import sys
 
@@ -93,11 +92,9 @@ EXIT_CANNOT_MEASURE = 2
 try:
     from OCP.BRep import BRep_Tool
     from OCP.BRepAdaptor import BRepAdaptor_Curve, BRepAdaptor_Curve2d, BRepAdaptor_Surface
-    from OCP.BRepBndLib import BRepBndLib
     from OCP.BRepCheck import BRepCheck_Analyzer
     from OCP.BRepGProp import BRepGProp
     from OCP.BRepTools import BRepTools
-    from OCP.Bnd import Bnd_Box
     from OCP.GeomAPI import GeomAPI_ProjectPointOnSurf
     from OCP.GeomLProp import GeomLProp_SLProps
     from OCP.GProp import GProp_GProps
@@ -123,16 +120,16 @@ except ImportError as import_error:
                      "environment tests/run-all.sh makes\n" % import_error)
     sys.exit(EXIT_CANNOT_MEASURE)
 
+# Beside this script: plain geometry, and the matching of faces to a reference.
+from step_geometry import PointGrid, angle_deg, json_safe, max_or_none  # noqa: E402
+from step_match import match_reference  # noqa: E402
+
 # Points sampled inside each edge for the normal angles.
 EDGE_SAMPLES = 16
 # Relative precision asked of the adaptive volume and area integration. OpenCascade's non-adaptive
 # default is off by 4e-4 on a rational B-spline sphere; asking 1e-9 leaves 2e-7 there (the
 # integrator's own error estimate is not to be trusted) for about a millisecond a face.
 GPROP_EPS = 1e-9
-# How far the middle sample may be from its STEP face, in match tolerances, for a match.
-MATCH_FACTOR = 100.0
-# A face whose bounding box spans more grid cells than this is checked for every query instead.
-MAX_CELLS_PER_FACE = 4096
 # Every FixShape mode OpenCascade's reader knows; all set to 0 (off) to read the file as written.
 FIX_SHAPE_MODES = [
     "FixFreeShellMode", "FixFreeFaceMode", "FixFreeWireMode", "FixSameParameterMode",
@@ -212,102 +209,6 @@ def load_reference(path):
         "sharp_edge_midpoints": [[float(c) for c in p] for p in midpoints],
         "match_tolerance": float(tolerance),
     }
-
-
-# ---------------------------------------------------------------------------------------------
-# Small geometry helpers (plain Python: the environment has no numpy)
-
-
-def distance(a, b):
-    return math.sqrt((a[0] - b[0]) ** 2 + (a[1] - b[1]) ** 2 + (a[2] - b[2]) ** 2)
-
-
-def angle_deg(n1, n2):
-    """Angle between two unit vectors, in degrees."""
-    dot = n1[0] * n2[0] + n1[1] * n2[1] + n1[2] * n2[2]
-    return math.degrees(math.acos(max(-1.0, min(1.0, dot))))
-
-
-def json_safe(value):
-    """The value with every NaN or infinite float replaced by None: JSON has no such numbers."""
-    if isinstance(value, float) and not math.isfinite(value):
-        return None
-    if isinstance(value, dict):
-        return {key: json_safe(item) for key, item in value.items()}
-    if isinstance(value, list):
-        return [json_safe(item) for item in value]
-    return value
-
-
-def max_or_none(current, value):
-    if value is None:
-        return current
-    if current is None or value > current:
-        return value
-    return current
-
-
-class PointGrid:
-    """Points in a dict of cubic cells, to find those within a radius no larger than the cell."""
-
-    def __init__(self, cell):
-        self.cell = cell
-        self.cells = {}
-
-    def key(self, p):
-        return (math.floor(p[0] / self.cell), math.floor(p[1] / self.cell),
-                math.floor(p[2] / self.cell))
-
-    def add(self, index, p):
-        self.cells.setdefault(self.key(p), []).append((index, p))
-
-    def within(self, p, radius):
-        """Indices of the points within radius (at most one cell) of p."""
-        kx, ky, kz = self.key(p)
-        found = []
-        for dx in (-1, 0, 1):
-            for dy in (-1, 0, 1):
-                for dz in (-1, 0, 1):
-                    for index, q in self.cells.get((kx + dx, ky + dy, kz + dz), ()):
-                        if distance(p, q) <= radius:
-                            found.append(index)
-        return found
-
-
-class BoxGrid:
-    """Axis-aligned boxes registered in every cubic cell they overlap, to find those holding a
-    point without looking at every box."""
-
-    def __init__(self, cell):
-        self.cell = cell
-        self.cells = {}
-        self.oversized = []
-        self.boxes = {}
-
-    def add(self, index, lo, hi):
-        self.boxes[index] = (lo, hi)
-        k_lo = [math.floor(c / self.cell) for c in lo]
-        k_hi = [math.floor(c / self.cell) for c in hi]
-        count = 1
-        for a, b in zip(k_lo, k_hi):
-            count *= b - a + 1
-        if count > MAX_CELLS_PER_FACE:
-            self.oversized.append(index)
-            return
-        for kx in range(k_lo[0], k_hi[0] + 1):
-            for ky in range(k_lo[1], k_hi[1] + 1):
-                for kz in range(k_lo[2], k_hi[2] + 1):
-                    self.cells.setdefault((kx, ky, kz), []).append(index)
-
-    def holding(self, p):
-        key = tuple(math.floor(c / self.cell) for c in p)
-        candidates = self.cells.get(key, []) + self.oversized
-        found = []
-        for index in candidates:
-            lo, hi = self.boxes[index]
-            if all(lo[i] <= p[i] <= hi[i] for i in range(3)):
-                found.append(index)
-        return found
 
 
 # ---------------------------------------------------------------------------------------------
@@ -614,105 +515,6 @@ def normal_angles(shape, uses, sharp_grid, tolerance):
                 stats["max_normal_angle_deg"] = angle
                 stats["max_normal_angle_edge_midpoint"] = list(midpoint)
     return stats, matched_sharp
-
-
-def middle_sample_index(samples):
-    """Index of the sample nearest the middle of the samples' (u, v) range."""
-    us = [s[0] for s in samples]
-    vs = [s[1] for s in samples]
-    um = 0.5 * (min(us) + max(us))
-    vm = 0.5 * (min(vs) + max(vs))
-    best, best_d = 0, None
-    for i, s in enumerate(samples):
-        d = (s[0] - um) ** 2 + (s[1] - vm) ** 2
-        if best_d is None or d < best_d:
-            best, best_d = i, d
-    return best
-
-
-def scoring_samples(samples, middle):
-    """The middle sample and up to four more spread over the list."""
-    n = len(samples)
-    picks = [middle] + [round(i * (n - 1) / 3) for i in range(4)]
-    seen = []
-    for i in picks:
-        if i not in seen:
-            seen.append(i)
-    return [samples[i] for i in seen]
-
-
-def surface_distance(surface, sample):
-    p = surface.Value(sample[0], sample[1])
-    return distance((p.X(), p.Y(), p.Z()), sample[2:5])
-
-
-def in_domain(domain, sample):
-    """Whether the sample's (u, v) lies in the face's parameter bounds. Outside them a B-spline
-    surface extends its end spans, so a neighbouring face cut from the same spans would evaluate
-    to the sample too."""
-    umin, umax, vmin, vmax = domain
-    slack_u = 1e-9 * max(1.0, umax - umin)
-    slack_v = 1e-9 * max(1.0, vmax - vmin)
-    return (umin - slack_u <= sample[0] <= umax + slack_u
-            and vmin - slack_v <= sample[1] <= vmax + slack_v)
-
-
-def face_box(face, pad):
-    box = Bnd_Box()
-    BRepBndLib.Add_s(face, box, False)
-    lo = box.CornerMin()
-    hi = box.CornerMax()
-    return ((lo.X() - pad, lo.Y() - pad, lo.Z() - pad), (hi.X() + pad, hi.Y() + pad, hi.Z() + pad))
-
-
-def match_reference(faces, reference):
-    """Matches reference faces to STEP faces and measures the samples' distances."""
-    tolerance = reference["match_tolerance"]
-    limit = MATCH_FACTOR * tolerance
-    surfaces = [BRep_Tool.Surface_s(face) for face in faces]
-    domains = [BRepTools.UVBounds_s(face) for face in faces]
-    boxes = [face_box(face, limit) for face in faces]
-
-    # A cell about the size of a typical face keeps each face in a few cells.
-    sizes = sorted(max(hi[i] - lo[i] for i in range(3)) for lo, hi in boxes)
-    cell = max(sizes[len(sizes) // 2] if sizes else 1.0, limit, 1e-9)
-    grid = BoxGrid(cell)
-    for index, (lo, hi) in enumerate(boxes):
-        grid.add(index, lo, hi)
-
-    matches_per_step_face = [0] * len(faces)
-    unmatched = []
-    max_sample_distance = None
-    for ref_index, samples in enumerate(reference["faces"]):
-        middle = middle_sample_index(samples)
-        scored = scoring_samples(samples, middle)
-        best, best_score = None, None
-        for candidate in grid.holding(samples[middle][2:5]):
-            if not in_domain(domains[candidate], samples[middle]):
-                continue
-            surface = surfaces[candidate]
-            if surface_distance(surface, samples[middle]) > limit:
-                continue
-            score = sum(surface_distance(surface, s) for s in scored) / len(scored)
-            if best_score is None or score < best_score:
-                best, best_score = candidate, score
-        if best is None:
-            unmatched.append(ref_index)
-            continue
-        matches_per_step_face[best] += 1
-        for sample in samples:
-            max_sample_distance = max_or_none(
-                max_sample_distance, surface_distance(surfaces[best], sample))
-
-    return {
-        "reference_faces": len(reference["faces"]),
-        "faces_matched": len(reference["faces"]) - len(unmatched),
-        "unmatched_reference_faces": len(unmatched),
-        "unmatched_reference_face_indices": unmatched[:20],
-        "max_sample_distance": max_sample_distance,
-        "step_faces_unmatched": sum(1 for m in matches_per_step_face if m == 0),
-        "step_faces_matched_twice": sum(1 for m in matches_per_step_face if m > 1),
-    }
 
 
 def measure(path, reference, heal):

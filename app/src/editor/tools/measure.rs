@@ -192,26 +192,11 @@ impl Tool for Measure {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::editor::defects_mode_tests::click;
     use crate::editor::gizmo_tests::pixel_of;
     use crate::editor::panel_tests::{cube_editor, frames, settle};
-    use egui::{Modifiers, PointerButton, pos2};
     use egui_kittest::kittest::Queryable;
     use taut_core::VertexId;
-
-    fn click(h: &mut egui_kittest::Harness<'static, crate::editor::panel_tests::App>, at: glam::Vec2) {
-        h.hover_at(pos2(at.x, at.y));
-        frames(h);
-        for pressed in [true, false] {
-            let e = egui::Event::PointerButton {
-                pos: pos2(at.x, at.y),
-                button: PointerButton::Primary,
-                pressed,
-                modifiers: Modifiers::NONE,
-            };
-            h.input_mut().events.push(e);
-            frames(h);
-        }
-    }
 
     fn measured<'a>(h: &'a egui_kittest::Harness<'static, crate::editor::panel_tests::App>) -> &'a Measure {
         h.state().ui.tool.get::<Measure>().expect("measuring")
