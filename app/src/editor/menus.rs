@@ -143,7 +143,7 @@ impl EditorState {
                 // The listing of the tools (`tools::TOOLS`): a new tool appears here by itself.
                 for tool in super::tools::TOOLS {
                     let text = format!("{}  {}", tool.name, shortcuts::label(tool.action));
-                    if ui.button(text).on_hover_text(shortcuts::describe(tool.action)).clicked() {
+                    if ui.button(text).on_hover_text(tool.description).clicked() {
                         self.emit_action(tool.action);
                     }
                 }

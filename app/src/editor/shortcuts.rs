@@ -50,8 +50,9 @@ pub enum Action {
     ToggleMirror,
     /// X-ray: the back of the cage drawn and picked too, or dimmed and left alone.
     ToggleXray,
-    /// D: measure distances, angles and radii of curvature.
-    Measure,
+    /// A tool of the listing (`crate::editor::tools::TOOLS`), by its name: what its entry
+    /// there says it is and does. A new tool needs no new variant here.
+    Tool(&'static str),
 }
 
 impl Action {
@@ -74,7 +75,7 @@ impl Action {
                 | Action::ToggleGizmo
                 | Action::CyclePivot
                 | Action::ToggleMirror
-                | Action::Measure
+                | Action::Tool(_)
         )
     }
 }
@@ -150,7 +151,7 @@ pub const SHORTCUTS: &[Shortcut] = &[
     shift(Key::S, Action::CyclePivot),
     shift(Key::M, Action::ToggleMirror),
     alt(Key::Z, Action::ToggleXray),
-    plain(Key::D, Action::Measure),
+    plain(Key::D, Action::Tool("measure")),
 ];
 
 impl Shortcut {
@@ -242,7 +243,10 @@ pub fn describe(action: Action) -> &'static str {
         Action::CyclePivot => "Pivot: median, bounding box, 3D cursor, active vertex in turn",
         Action::ToggleMirror => "Mirror modelling on or off (the plane last chosen in the Mesh menu's Mirror entry)",
         Action::ToggleXray => "X-ray on or off: off, the back of the cage is dimmed and cannot be picked",
-        Action::Measure => "Measure: click two points for a distance, three for an angle, the surface for its radii",
+        Action::Tool(name) => crate::editor::tools::TOOLS
+            .iter()
+            .find(|t| t.action == Action::Tool(name))
+            .map_or("A tool", |t| t.description),
     }
 }
 

@@ -65,7 +65,9 @@ fn tool_running(h: &Harness<'static, App>) -> bool {
 /// The selection a listed tool needs and what Esc leaves.
 fn needs(action: Action) -> (&'static str, AfterEsc) {
     match action {
-        Action::Transform(TransformKind::Grab) | Action::Corner | Action::Measure => ("vertex", AfterEsc::Unchanged),
+        Action::Transform(TransformKind::Grab) | Action::Corner | Action::Tool("measure") => {
+            ("vertex", AfterEsc::Unchanged)
+        }
         Action::Transform(_) => ("face", AfterEsc::Unchanged),
         Action::Crease | Action::Mesh(MeshOp::LoopCut) => ("edge", AfterEsc::Unchanged),
         Action::Mesh(op @ (MeshOp::Extrude | MeshOp::Inset)) => ("face", AfterEsc::AsTheMenu(op)),

@@ -207,6 +207,11 @@ impl EditorState {
         if action.acts_on_the_cage() && self.curves.workspace == taut_core::curve::Workspace::Curves {
             return;
         }
+        // Every listed tool starts the same way; its entry says how.
+        if super::tools::listed(action).is_some() {
+            self.start_listed_tool(action, ui_state);
+            return;
+        }
         match action {
             Action::Undo => self.undo(),
             Action::Redo => self.redo(),
@@ -238,9 +243,6 @@ impl EditorState {
             Action::ViewTop => self.view.camera.set_view(StandardView::Top),
             Action::ViewPerspective => self.view.camera.set_view(StandardView::Perspective),
             Action::ShowShortcuts => ui_state.show_shortcuts = true,
-            Action::Crease | Action::Corner | Action::Transform(_) | Action::Measure => {
-                self.start_listed_tool(action, ui_state)
-            }
             Action::CycleSelectMode => {
                 let mode = self.view.selection.mode.next();
                 select_modes::set_mode(&self.document.doc().cage, &mut self.view.selection, mode);
@@ -249,8 +251,9 @@ impl EditorState {
             Action::SelectLinked => select_modes::select_linked(&self.document.doc().cage, &mut self.view.selection),
             Action::SelectMore => select_modes::select_more(&self.document.doc().cage, &mut self.view.selection),
             Action::SelectLess => select_modes::select_less(&self.document.doc().cage, &mut self.view.selection),
-            Action::Mesh(op) if super::tools::listed(action).is_none() => self.mesh_op(op),
-            Action::Mesh(_) => self.start_listed_tool(action, ui_state),
+            Action::Mesh(op) => self.mesh_op(op),
+            // Listed above.
+            Action::Crease | Action::Corner | Action::Transform(_) | Action::Tool(_) => {}
             Action::ToggleGizmo => self.toggle_gizmo(),
             Action::CyclePivot => self.cycle_pivot(),
             Action::ToggleMirror => self.toggle_mirror(),

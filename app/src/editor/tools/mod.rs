@@ -6,8 +6,10 @@
 //! `curve_stroke`), the navigation triad's orbit (`triad`); the transform toolbar
 //! (`toolbar`).
 //!
-//! A new tool is one file plus one line in [`TOOLS`]: its key comes from the shortcut table
-//! (the one source of Help) by its action, its menu entry (Tools) from this listing.
+//! A new tool is one file plus one line in [`TOOLS`] (its action `Action::Tool("name")`, menu
+//! name, description and start); its key is a line of the shortcut table, the one source of
+//! Help. Its menu entry (Tools), its Help text and how a key or the menu starts it all come from
+//! these two listings.
 
 pub mod box_select;
 pub mod crease_drag;
@@ -44,6 +46,8 @@ pub struct ToolEntry {
     pub action: Action,
     /// Its name in the Tools menu.
     pub name: &'static str,
+    /// What it does, for Help and the menu's tooltip.
+    pub description: &'static str,
     /// Starts it.
     pub start: StartTool,
 }
@@ -53,24 +57,57 @@ pub const TOOLS: &[ToolEntry] = &[
     ToolEntry {
         action: Action::Transform(TransformKind::Grab),
         name: "Move",
+        description: "Move the selection (X, Y, Z lock an axis; type a distance)",
         start: |e, m| transform::start(e, TransformKind::Grab, m),
     },
     ToolEntry {
         action: Action::Transform(TransformKind::Rotate),
         name: "Rotate",
+        description: "Rotate the selection about the pivot (type degrees)",
         start: |e, m| transform::start(e, TransformKind::Rotate, m),
     },
     ToolEntry {
         action: Action::Transform(TransformKind::Scale),
         name: "Scale",
+        description: "Scale the selection about the pivot (type a factor)",
         start: |e, m| transform::start(e, TransformKind::Scale, m),
     },
-    ToolEntry { action: Action::Mesh(MeshOp::Extrude), name: "Extrude and move", start: extrude_move::start },
-    ToolEntry { action: Action::Mesh(MeshOp::Inset), name: "Inset and set thickness", start: inset_drag::start },
-    ToolEntry { action: Action::Mesh(MeshOp::LoopCut), name: "Loop cut and slide", start: loop_slide::start },
-    ToolEntry { action: Action::Crease, name: "Crease edges", start: crease_drag::start_crease },
-    ToolEntry { action: Action::Corner, name: "Sharpen corners", start: crease_drag::start_corner },
-    ToolEntry { action: Action::Measure, name: "Measure", start: measure::start },
+    ToolEntry {
+        action: Action::Mesh(MeshOp::Extrude),
+        name: "Extrude and move",
+        description: "Extrude the selection, then move it along its normal",
+        start: extrude_move::start,
+    },
+    ToolEntry {
+        action: Action::Mesh(MeshOp::Inset),
+        name: "Inset and set thickness",
+        description: "Inset the selected faces, then set the thickness with the mouse",
+        start: inset_drag::start,
+    },
+    ToolEntry {
+        action: Action::Mesh(MeshOp::LoopCut),
+        name: "Loop cut and slide",
+        description: "Cut a loop across the ring under the mouse, then slide it",
+        start: loop_slide::start,
+    },
+    ToolEntry {
+        action: Action::Crease,
+        name: "Crease edges",
+        description: "Set the crease sharpness of the selected edges with the mouse",
+        start: crease_drag::start_crease,
+    },
+    ToolEntry {
+        action: Action::Corner,
+        name: "Sharpen corners",
+        description: "Set the corner sharpness of the selected vertices with the mouse",
+        start: crease_drag::start_corner,
+    },
+    ToolEntry {
+        action: Action::Tool("measure"),
+        name: "Measure",
+        description: "Measure: click two points for a distance, three for an angle, the surface for its radii",
+        start: measure::start,
+    },
 ];
 
 /// The listed tool an action starts, if any.
