@@ -258,6 +258,11 @@ impl EditorState {
                     field.request_focus();
                 }
                 let enter = (field.lost_focus() || field.has_focus()) && ui.input(|i| i.key_pressed(Key::Enter));
+                if let Some(path) =
+                    super::file_menu::file_browser::browse(ui, &mut text, purpose.extensions(), self.recent.paths())
+                {
+                    chosen = Some(path);
+                }
                 ui.horizontal(|ui| {
                     if ui.button("OK").clicked() || enter {
                         chosen = Some(PathBuf::from(text.trim()));

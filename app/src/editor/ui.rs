@@ -48,6 +48,21 @@ impl PathPurpose {
         }
     }
 
+    /// The extensions (lower case) of the files the in-app browser lists for this purpose.
+    pub fn extensions(self) -> &'static [&'static str] {
+        match self {
+            PathPurpose::Open => &["taut", "obj", "gltf", "glb"],
+            PathPurpose::ImportCurve => &["json", "csv"],
+            PathPurpose::MakeCage => &["obj", "stl", "ply", "gltf", "glb"],
+            PathPurpose::ExportStep => &["step", "stp"],
+            PathPurpose::SaveAs => &["taut"],
+            PathPurpose::ExportObj => &["obj"],
+            PathPurpose::ExportGlb => &["glb"],
+            PathPurpose::Screenshot => &["png"],
+            PathPurpose::EditScript => &["json"],
+        }
+    }
+
     fn extension(self) -> &'static str {
         match self {
             PathPurpose::Open => "taut",
