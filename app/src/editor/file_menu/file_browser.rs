@@ -102,28 +102,32 @@ pub fn browse(ui: &mut egui::Ui, text: &mut String, extensions: &[&str], recent:
         });
     }
     let listing = list(&folder, extensions);
-    egui::ScrollArea::vertical().max_height(220.0).auto_shrink([false, true]).show(ui, |ui| {
-        for name in &listing.folders {
-            if ui.selectable_label(false, format!("{name}/")).clicked() {
-                *text = format!("{}{}", joined(&folder, name), std::path::MAIN_SEPARATOR);
+    // A fixed height, so the dialog does not jump about as folders of other sizes are listed.
+    egui::ScrollArea::vertical().min_scrolled_height(220.0).max_height(220.0).auto_shrink([false, false]).show(
+        ui,
+        |ui| {
+            for name in &listing.folders {
+                if ui.selectable_label(false, format!("{name}/")).clicked() {
+                    *text = format!("{}{}", joined(&folder, name), std::path::MAIN_SEPARATOR);
+                }
             }
-        }
-        for name in &listing.files {
-            let path = joined(&folder, name);
-            let response = ui.selectable_label(*text == path, name.as_str());
-            if response.double_clicked() {
-                chosen = Some(PathBuf::from(&path));
-            } else if response.clicked() {
-                *text = path;
+            for name in &listing.files {
+                let path = joined(&folder, name);
+                let response = ui.selectable_label(*text == path, name.as_str());
+                if response.double_clicked() {
+                    chosen = Some(PathBuf::from(&path));
+                } else if response.clicked() {
+                    *text = path;
+                }
             }
-        }
-        if listing.folders.is_empty() && listing.files.is_empty() {
-            ui.weak(format!("no folders and no .{} files here", extensions.join(", .")));
-        }
-        if listing.cut {
-            ui.weak(format!("only the first {MAX_ENTRIES} entries are listed: type the name"));
-        }
-    });
+            if listing.folders.is_empty() && listing.files.is_empty() {
+                ui.weak(format!("no folders and no .{} files here", extensions.join(", .")));
+            }
+            if listing.cut {
+                ui.weak(format!("only the first {MAX_ENTRIES} entries are listed: type the name"));
+            }
+        },
+    );
     chosen
 }
 
