@@ -2,28 +2,17 @@
 //! rasteriser, and clear one-line errors for bad arguments.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
+
+mod support;
+use support::{assert_clean_failure, asset};
 
 fn taut(args: &[&str]) -> Output {
-    // Mesa's software rasteriser wants a runtime directory, as a desktop session has.
-    let runtime = std::env::temp_dir().join(format!("taut-cli-render-runtime-{}", std::process::id()));
-    std::fs::create_dir_all(&runtime).unwrap();
-    Command::new(env!("CARGO_BIN_EXE_taut"))
-        .args(args)
-        .env("XDG_RUNTIME_DIR", runtime)
-        .output()
-        .expect("the taut binary runs")
-}
-
-fn asset(name: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets").join(name).to_string_lossy().into_owned()
+    support::taut_in("cli-render", args)
 }
 
 fn scratch(test: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("taut-cli-render-{}-{test}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    support::scratch_in("cli-render", test)
 }
 
 fn render(args: &[&str]) -> image::RgbaImage {
@@ -137,15 +126,6 @@ fn meshes_render_as_they_are_and_cages_when_asked() {
         (1..img.width()).filter(|&x| (img.get_pixel(x, y)[0] > 128) != (img.get_pixel(x - 1, y)[0] > 128)).count()
     };
     assert!(transitions(&smoothed) > transitions(&flat), "{} vs {}", transitions(&smoothed), transitions(&flat));
-}
-
-fn assert_clean_failure(out: &Output, expected: &str) {
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(!out.status.success(), "expected failure; stderr: {stderr}");
-    assert!(!stderr.contains("panicked"), "{stderr}");
-    let ours: Vec<&str> = stderr.lines().filter(|l| l.starts_with("error:")).collect();
-    assert_eq!(ours.len(), 1, "{stderr}");
-    assert!(ours[0].contains(expected), "expected '{expected}' in: {stderr}");
 }
 
 #[test]

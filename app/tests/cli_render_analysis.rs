@@ -4,28 +4,17 @@
 //! nothing written for bad values.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
+
+mod support;
+use support::{assert_clean_failure, asset};
 
 fn taut(args: &[&str]) -> Output {
-    // Mesa's software rasteriser wants a runtime directory, as a desktop session has.
-    let runtime = std::env::temp_dir().join(format!("taut-cli-analysis-runtime-{}", std::process::id()));
-    std::fs::create_dir_all(&runtime).unwrap();
-    Command::new(env!("CARGO_BIN_EXE_taut"))
-        .args(args)
-        .env("XDG_RUNTIME_DIR", runtime)
-        .output()
-        .expect("the taut binary runs")
-}
-
-fn asset(name: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets").join(name).to_string_lossy().into_owned()
+    support::taut_in("cli-analysis", args)
 }
 
 fn scratch(test: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("taut-cli-analysis-{}-{test}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    support::scratch_in("cli-analysis", test)
 }
 
 /// Runs `taut`, expects success, and returns its standard output and the picture.
@@ -154,15 +143,6 @@ fn help_lists_the_analysis_options() {
     {
         assert!(help.contains(option), "{option} missing from:\n{help}");
     }
-}
-
-fn assert_clean_failure(out: &Output, expected: &str) {
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(!out.status.success(), "expected failure; stderr: {stderr}");
-    assert!(!stderr.contains("panicked"), "{stderr}");
-    let ours: Vec<&str> = stderr.lines().filter(|l| l.starts_with("error:")).collect();
-    assert_eq!(ours.len(), 1, "{stderr}");
-    assert!(ours[0].contains(expected), "expected '{expected}' in: {stderr}");
 }
 
 #[test]

@@ -10,19 +10,24 @@ use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use taut_render::StandardView;
 
+/// The primary button pressed or let go at `at`, then a frame.
+pub(super) fn press(h: &mut Harness<'_, App>, at: glam::Vec2, pressed: bool) {
+    let event = egui::Event::PointerButton {
+        pos: pos2(at.x, at.y),
+        button: PointerButton::Primary,
+        pressed,
+        modifiers: Modifiers::NONE,
+    };
+    h.input_mut().events.push(event);
+    frames(h);
+}
+
+/// A click at `at`, the pointer moved there first.
 pub(super) fn click(h: &mut Harness<'_, App>, at: glam::Vec2) {
     h.hover_at(pos2(at.x, at.y));
     frames(h);
-    for pressed in [true, false] {
-        let event = egui::Event::PointerButton {
-            pos: pos2(at.x, at.y),
-            button: PointerButton::Primary,
-            pressed,
-            modifiers: Modifiers::NONE,
-        };
-        h.input_mut().events.push(event);
-        frames(h);
-    }
+    press(h, at, true);
+    press(h, at, false);
 }
 
 #[test]

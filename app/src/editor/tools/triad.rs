@@ -125,20 +125,10 @@ impl Tool for TriadOrbit {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::editor::defects_mode_tests::{click, press};
     use crate::editor::gizmo_tests::viewport;
     use crate::editor::panel_tests::{cube_editor, frames, settle};
-    use egui::{Modifiers, PointerButton, pos2};
-
-    fn press(h: &mut egui_kittest::Harness<'static, crate::editor::panel_tests::App>, at: Vec2, pressed: bool) {
-        let event = egui::Event::PointerButton {
-            pos: pos2(at.x, at.y),
-            button: PointerButton::Primary,
-            pressed,
-            modifiers: Modifiers::NONE,
-        };
-        h.input_mut().events.push(event);
-        frames(h);
-    }
+    use egui::pos2;
 
     #[test]
     fn a_click_on_an_axis_end_looks_along_it_and_a_drag_orbits_until_esc() {
@@ -152,10 +142,7 @@ mod tests {
         {
             let at = end_of(&h.state().editor.view.camera, &view, standard).unwrap();
             let before = h.state().editor.view.camera;
-            h.hover_at(pos2(at.x, at.y));
-            frames(&mut h);
-            press(&mut h, at, true);
-            press(&mut h, at, false);
+            click(&mut h, at);
             let camera = h.state().editor.view.camera;
             assert_eq!((camera.azimuth, camera.elevation), (azimuth, elevation), "{standard:?}");
             assert_eq!((camera.target, camera.distance), (before.target, before.distance), "only the direction turns");
