@@ -27,6 +27,15 @@ const MOUSE_AND_DRAG_KEYS: &[(&str, &str)] = &[
     ("Click an axis of the triad (bottom left)", "Look along that axis; a drag on the triad orbits"),
 ];
 
+/// What Help says an action does: a tool of the listing (`Action::Tool`) its own description
+/// there, every other action the shortcut table's.
+pub(crate) fn help_text(action: Action) -> &'static str {
+    match (action, super::tools::listed(action)) {
+        (Action::Tool(_), Some(tool)) => tool.description,
+        _ => shortcuts::describe(action),
+    }
+}
+
 /// A menu entry's text: its name and its first shortcut.
 fn item(action: Action) -> String {
     format!("{}  {}", shortcuts::describe(action), shortcuts::label(action))
@@ -199,7 +208,7 @@ impl EditorState {
                         }
                         seen.push(s.action);
                         ui.label(shortcuts::all_labels(s.action));
-                        ui.label(shortcuts::describe(s.action));
+                        ui.label(help_text(s.action));
                         ui.end_row();
                     }
                     for (keys, what) in super::curves_keys::help_rows() {

@@ -243,10 +243,8 @@ pub fn describe(action: Action) -> &'static str {
         Action::CyclePivot => "Pivot: median, bounding box, 3D cursor, active vertex in turn",
         Action::ToggleMirror => "Mirror modelling on or off (the plane last chosen in the Mesh menu's Mirror entry)",
         Action::ToggleXray => "X-ray on or off: off, the back of the cage is dimmed and cannot be picked",
-        Action::Tool(name) => crate::editor::tools::TOOLS
-            .iter()
-            .find(|t| t.action == Action::Tool(name))
-            .map_or("A tool", |t| t.description),
+        // Its description is in the tools' listing; Help reads it there (`menus::help_text`).
+        Action::Tool(name) => name,
     }
 }
 

@@ -84,7 +84,11 @@ fn every_listed_tool_starts_from_its_key_and_its_menu_entry_and_esc_cancels_it_c
         let subdivision = matches!(action, Action::Crease | Action::Corner);
         // The key comes from the shortcut table, which Help shows.
         let shortcut = SHORTCUTS.iter().find(|s| s.action == action).unwrap_or_else(|| panic!("{action:?} has a key"));
-        assert!(!super::shortcuts::describe(action).is_empty(), "{action:?} is described in Help");
+        let help = super::menus::help_text(action);
+        match action {
+            Action::Tool(_) => assert_eq!(help, tool.description, "{action:?}: Help says what its listing says"),
+            _ => assert!(!help.is_empty(), "{action:?} is described in Help"),
+        }
         for via_menu in [false, true] {
             let how = if via_menu { "Tools menu" } else { "key" };
             let mut h = prepared(selection, subdivision);
