@@ -88,6 +88,27 @@ pub fn check(name: &str, actual: &RgbaImage, tolerance: Tolerance) -> Result<(),
     Ok(())
 }
 
+/// The software device and renderer a test binary's pictures share (lavapipe is slow to open).
+#[allow(missing_debug_implementations)]
+pub struct Display {
+    pub gpu: taut_render::Gpu,
+    pub renderer: taut_render::Renderer,
+}
+
+/// The test binary's one software display, opened on first use. Without a GPU adapter the test
+/// fails, saying what to install.
+pub fn display() -> &'static std::sync::Mutex<Display> {
+    static DISPLAY: std::sync::OnceLock<std::sync::Mutex<Display>> = std::sync::OnceLock::new();
+    DISPLAY.get_or_init(|| {
+        let gpu = taut_render::Gpu::headless(taut_render::AdapterPreference::Software).unwrap_or_else(|e| {
+            panic!("render tests need a GPU adapter (on Debian: apt-get install mesa-vulkan-drivers libvulkan1): {e}")
+        });
+        let targets = taut_render::TargetFormats::for_adapter(&gpu.adapter, wgpu::TextureFormat::Rgba8UnormSrgb);
+        let renderer = taut_render::Renderer::new(&gpu, targets);
+        std::sync::Mutex::new(Display { gpu, renderer })
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

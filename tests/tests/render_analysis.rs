@@ -7,33 +7,14 @@
 
 use std::f64::consts::PI;
 use std::path::Path;
-use std::sync::{Mutex, OnceLock};
 use taut_core::{DVec3, Document, PolyMesh, surface};
 use taut_render::analysis::{self, LightTubes, Pull};
 use taut_render::overlay::OverlayData;
 use taut_render::passes::surface::SurfaceMode;
 use taut_render::picture::{Picture, View};
-use taut_render::{AdapterPreference, Gpu, Renderer, TargetFormats};
-use taut_tests::golden::{DEFAULT_TOLERANCE, check};
+use taut_tests::golden::{DEFAULT_TOLERANCE, Display, check, display};
 
 const SIZE: (u32, u32) = (480, 320);
-
-struct Display {
-    gpu: Gpu,
-    renderer: Renderer,
-}
-
-/// One software device for all tests of this file (lavapipe is slow to open).
-fn display() -> &'static Mutex<Display> {
-    static DISPLAY: OnceLock<Mutex<Display>> = OnceLock::new();
-    DISPLAY.get_or_init(|| {
-        let gpu = Gpu::headless(AdapterPreference::Software)
-            .unwrap_or_else(|e| panic!("render tests need a GPU adapter: {e}"));
-        let targets = TargetFormats::for_adapter(&gpu.adapter, wgpu::TextureFormat::Rgba8UnormSrgb);
-        let renderer = Renderer::new(&gpu, targets);
-        Mutex::new(Display { gpu, renderer })
-    })
-}
 
 /// The picture as `taut render` composes it, and its camera.
 fn render(picture: &Picture<'_>) -> image::RgbaImage {

@@ -6,36 +6,18 @@
 //! These tests fail, never skip, when no adapter is found: the message says what to install.
 
 use std::path::Path;
-use std::sync::{Mutex, OnceLock};
 use taut_core::curvature::{CurvatureQuantity, robust_range};
 use taut_core::nusd::Spacing;
 use taut_core::surface::{self, ColourBy, SchemeKind, SurfaceScheme};
 use taut_core::{DVec3, Document, PolyMesh, VertexId, io};
+use taut_render::DisplayFrame;
 use taut_render::colormap::{ColorMap, normalize};
 use taut_render::overlay::{self, CageControls, CageSelection, Legend, OverlayData};
 use taut_render::passes::surface::SurfaceMode;
 use taut_render::picture::{Picture, View};
-use taut_render::{AdapterPreference, DisplayFrame, Gpu, Renderer, TargetFormats};
-use taut_tests::golden::{DEFAULT_TOLERANCE, check};
+use taut_tests::golden::{DEFAULT_TOLERANCE, Display, check, display};
 
 const SIZE: (u32, u32) = (480, 320);
-
-struct Display {
-    gpu: Gpu,
-    renderer: Renderer,
-}
-
-/// One software device for all tests of this file (lavapipe is slow to open).
-fn display() -> &'static Mutex<Display> {
-    static DISPLAY: OnceLock<Mutex<Display>> = OnceLock::new();
-    DISPLAY.get_or_init(|| {
-        let gpu = Gpu::headless(AdapterPreference::Software)
-            .unwrap_or_else(|e| panic!("render tests need a GPU adapter: {e}"));
-        let targets = TargetFormats::for_adapter(&gpu.adapter, wgpu::TextureFormat::Rgba8UnormSrgb);
-        let renderer = Renderer::new(&gpu, targets);
-        Mutex::new(Display { gpu, renderer })
-    })
-}
 
 fn asset(name: &str) -> Document {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets").join(name);
