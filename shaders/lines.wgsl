@@ -20,7 +20,7 @@ struct LineOut {
 
 // Fraction of its distance to the eye by which a depth-tested line is moved towards the eye, so
 // a line lying on the surface wins the depth test (the surface pass also biases itself back).
-// Scaling about the eye leaves the line's pixels where they were.
+// Scaling about the eye leaves the line's pixels where they were (in perspective).
 const SURFACE_LINE_PULL: f32 = 2e-3;
 
 // Outside every clip volume: a quad whose six corners are all here has no area.
@@ -28,6 +28,13 @@ const DROPPED: vec4<f32> = vec4<f32>(2.0, 2.0, 2.0, 1.0);
 
 fn clip_pulled(p: vec3<f32>, pull: f32) -> vec4<f32> {
     let view = frame.view_from_world * vec4<f32>(p, 1.0);
+    // A parallel projection (w row (0, 0, 0, 1)) pulls along view z only, so the pixel stays;
+    // by as much as perspective pulls at the target (its eye stands farther back, see
+    // `Camera::eye`): the target's distance is about 3 half-heights at the default field of view.
+    if (frame.clip_from_view[3][3] > 0.5) {
+        let half_height = 1.0 / frame.clip_from_view[1][1];
+        return frame.clip_from_view * vec4<f32>(view.xy, view.z + pull * 3.0 * half_height, 1.0);
+    }
     return frame.clip_from_view * vec4<f32>(view.xyz * (1.0 - pull), 1.0);
 }
 

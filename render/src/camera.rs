@@ -3,13 +3,24 @@
 //! Z is up. The camera looks at `target` from `distance` away; `azimuth` turns it around Z
 //! (0° looks from −Y towards +Y, the front view; 90° from +X, the right view) and `elevation`
 //! lifts it (90° is the top view).
+//!
+//! The projection is perspective or orthographic ([`Camera::orthographic`], numpad 5 in the
+//! editor). Orthographic keeps the scale perspective has at the target (half the view's height is
+//! `distance · tan(fov_y / 2)` in both), so toggling does not jump; its eye is moved back along
+//! the view direction ([`Camera::eye`]) so nothing of the model is behind it, which keeps every
+//! depth test, near-plane cut and "in front of the eye" check of perspective valid unchanged.
 
 use glam::{Mat4, Vec3};
 
 /// How much of the viewport's tighter side [`Camera::frame_points`] fills.
 pub const FRAME_FILL: f32 = 0.9;
 
-/// An orbiting perspective camera.
+/// How far past the target, in display units, an orthographic eye stands at least: the editor
+/// and the pictures draw the model within the unit box around the origin
+/// ([`crate::DisplayFrame`]), so this leaves it all in front whatever the zoom.
+const ORTHO_CLEARANCE: f32 = 20.0;
+
+/// An orbiting camera, perspective or orthographic.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Camera {
     pub target: Vec3,
@@ -18,8 +29,11 @@ pub struct Camera {
     pub azimuth: f32,
     /// Degrees above the XY plane, in [−90, 90].
     pub elevation: f32,
-    /// Vertical field of view, degrees.
+    /// Vertical field of view, degrees; in orthographic projection it still sets the scale
+    /// (what a perspective view would show at the target's depth).
     pub fov_y: f32,
+    /// Parallel projection: lines parallel in the model stay parallel on screen.
+    pub orthographic: bool,
 }
 
 /// The views a designer reaches with one key.
@@ -36,7 +50,7 @@ pub enum StandardView {
 
 impl Default for Camera {
     fn default() -> Self {
-        Camera { target: Vec3::ZERO, distance: 5.0, azimuth: 30.0, elevation: 25.0, fov_y: 35.0 }
+        Camera { target: Vec3::ZERO, distance: 5.0, azimuth: 30.0, elevation: 25.0, fov_y: 35.0, orthographic: false }
     }
 }
 
@@ -47,9 +61,27 @@ impl Camera {
         Vec3::new(az.sin() * el.cos(), -az.cos() * el.cos(), el.sin())
     }
 
-    /// Eye position.
+    /// Eye position. Orthographic: far enough back that the whole display box is in front of
+    /// it (only the direction matters to a parallel projection).
     pub fn eye(&self) -> Vec3 {
-        self.target + self.distance * self.backward()
+        self.target + self.eye_distance() * self.backward()
+    }
+
+    /// How far the eye is from the target.
+    fn eye_distance(&self) -> f32 {
+        if self.orthographic { self.distance + self.target.length() + ORTHO_CLEARANCE } else { self.distance }
+    }
+
+    /// Half the view's height at the target, in world units: the scale both projections share.
+    pub fn half_height(&self) -> f32 {
+        self.distance * (self.fov_y.to_radians() * 0.5).tan()
+    }
+
+    /// The world size of one pixel of a viewport `height` pixels high, at `depth` in front of the
+    /// eye (orthographic: the same at every depth).
+    pub fn pixel_size(&self, depth: f32, height: f32) -> f32 {
+        let at_depth = if self.orthographic { self.distance } else { depth };
+        2.0 * at_depth * (self.fov_y.to_radians() * 0.5).tan() / height.max(1.0)
     }
 
     /// Screen right, in world space.
@@ -67,8 +99,16 @@ impl Camera {
         glam::camera::rh::view::look_at_mat4(self.eye(), self.target, self.up())
     }
 
-    /// Perspective with a near and far plane that follow the distance; depth in [0, 1].
+    /// The projection, with a near and far plane that follow the distance; depth in [0, 1].
     pub fn clip_from_view(&self, aspect: f32) -> Mat4 {
+        if self.orthographic {
+            let (h, eye) = (self.half_height().max(1e-9), self.eye_distance());
+            let w = h * aspect.max(1e-6);
+            // The whole display box lies between these: the eye stands the clearance behind it.
+            let near = ORTHO_CLEARANCE * 0.5;
+            let far = eye + self.distance * 100.0 + ORTHO_CLEARANCE;
+            return glam::camera::rh::proj::directx::orthographic(-w, w, -h, h, near, far);
+        }
         let near = (self.distance * 0.01).max(1e-6);
         // wgpu's clip space: depth in [0, 1], y up (glam's `directx` convention).
         glam::camera::rh::proj::directx::perspective(
@@ -88,7 +128,7 @@ impl Camera {
     /// Moves target and eye in the view plane by a number of pixels of a viewport `height`
     /// pixels high, so the point under the cursor follows the cursor.
     pub fn pan(&mut self, dx_pixels: f32, dy_pixels: f32, height: f32) {
-        let per_pixel = 2.0 * self.distance * (self.fov_y.to_radians() * 0.5).tan() / height.max(1.0);
+        let per_pixel = self.pixel_size(self.distance, height);
         self.target += (-dx_pixels * self.right() + dy_pixels * self.up()) * per_pixel;
     }
 
@@ -102,7 +142,10 @@ impl Camera {
     pub fn frame(&mut self, min: Vec3, max: Vec3) {
         let radius = ((max - min).length() * 0.5).max(1e-6);
         self.target = (min + max) * 0.5;
-        self.distance = 1.1 * radius / (self.fov_y.to_radians() * 0.5).sin();
+        let half_angle = self.fov_y.to_radians() * 0.5;
+        // Perspective: the sphere's tangent cone; orthographic: its silhouette, a circle.
+        let fit = if self.orthographic { half_angle.tan() } else { half_angle.sin() };
+        self.distance = 1.1 * radius / fit;
     }
 
     /// Frames `points` seen from the current direction so they fill [`FRAME_FILL`] of a viewport
@@ -125,6 +168,12 @@ impl Camera {
         self.target = centre + right * (r0 + r1) * 0.5 + up * (u0 + u1) * 0.5;
         let tan_v = (self.fov_y.to_radians() * 0.5).tan() * FRAME_FILL;
         let tan_h = tan_v * aspect.max(1e-3);
+        if self.orthographic {
+            // No depth: the centred extent alone sets the scale.
+            let (half_x, half_y) = ((r1 - r0) * 0.5, (u1 - u0) * 0.5);
+            self.distance = (half_x / tan_h).max(half_y / tan_v).max(1e-6);
+            return;
+        }
         // Perspective makes the near side look larger: fit the distance, then move the target so
         // the projected extent is centred, and fit again.
         let fit = |target: Vec3| {
@@ -187,20 +236,22 @@ mod tests {
 
     #[test]
     fn target_projects_to_the_centre_and_frame_fits_the_box() {
-        let mut c = Camera::default();
-        let (lo, hi) = (Vec3::new(-1.0, 2.0, 0.0), Vec3::new(3.0, 4.0, 5.0));
-        c.frame(lo, hi);
-        let clip = c.clip_from_view(1.6) * c.view_from_world();
-        let centre = clip.project_point3((lo + hi) * 0.5);
-        assert!(centre.truncate().length() < 1e-5);
-        for corner in 0..8 {
-            let p = Vec3::new(
-                if corner & 1 == 0 { lo.x } else { hi.x },
-                if corner & 2 == 0 { lo.y } else { hi.y },
-                if corner & 4 == 0 { lo.z } else { hi.z },
-            );
-            let q = clip.project_point3(p);
-            assert!(q.x.abs() <= 1.0 && q.y.abs() <= 1.0 && (0.0..=1.0).contains(&q.z), "{corner}: {q}");
+        for orthographic in [false, true] {
+            let mut c = Camera { orthographic, ..Camera::default() };
+            let (lo, hi) = (Vec3::new(-1.0, 2.0, 0.0), Vec3::new(3.0, 4.0, 5.0));
+            c.frame(lo, hi);
+            let clip = c.clip_from_view(1.6) * c.view_from_world();
+            let centre = clip.project_point3((lo + hi) * 0.5);
+            assert!(centre.truncate().length() < 1e-5);
+            for corner in 0..8 {
+                let p = Vec3::new(
+                    if corner & 1 == 0 { lo.x } else { hi.x },
+                    if corner & 2 == 0 { lo.y } else { hi.y },
+                    if corner & 4 == 0 { lo.z } else { hi.z },
+                );
+                let q = clip.project_point3(p);
+                assert!(q.x.abs() <= 1.0 && q.y.abs() <= 1.0 && (0.0..=1.0).contains(&q.z), "{corner}: {q}");
+            }
         }
     }
 
@@ -212,19 +263,21 @@ mod tests {
             .flat_map(|i| (0..=4).map(move |k| Vec3::new(-3.0 + 0.3 * i as f32, 0.0, -0.5 + 0.25 * k as f32)))
             .collect();
         for (azimuth, aspect) in [(0.0, 1.6), (35.0, 1.6), (0.0, 0.5)] {
-            let mut c = Camera { azimuth, elevation: 10.0, ..Default::default() };
-            c.frame_points(&points, aspect);
-            let clip = c.clip_from_view(aspect) * c.view_from_world();
-            let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
-            for &p in &points {
-                let q = clip.project_point3(p);
-                lo = lo.min(q);
-                hi = hi.max(q);
+            for orthographic in [false, true] {
+                let mut c = Camera { azimuth, elevation: 10.0, orthographic, ..Default::default() };
+                c.frame_points(&points, aspect);
+                let clip = c.clip_from_view(aspect) * c.view_from_world();
+                let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+                for &p in &points {
+                    let q = clip.project_point3(p);
+                    lo = lo.min(q);
+                    hi = hi.max(q);
+                }
+                assert!(lo.x >= -0.901 && hi.x <= 0.901 && lo.y >= -0.901 && hi.y <= 0.901, "{lo} {hi}");
+                let fill = (hi.x - lo.x).max(hi.y - lo.y) / 2.0;
+                assert!(fill > 0.88, "fills {fill} at azimuth {azimuth}, aspect {aspect}");
+                assert!(((hi.x + lo.x) / 2.0).abs() < 0.05 && ((hi.y + lo.y) / 2.0).abs() < 0.05, "centred");
             }
-            assert!(lo.x >= -0.901 && hi.x <= 0.901 && lo.y >= -0.901 && hi.y <= 0.901, "{lo} {hi}");
-            let fill = (hi.x - lo.x).max(hi.y - lo.y) / 2.0;
-            assert!(fill > 0.88, "fills {fill} at azimuth {azimuth}, aspect {aspect}");
-            assert!(((hi.x + lo.x) / 2.0).abs() < 0.05 && ((hi.y + lo.y) / 2.0).abs() < 0.05, "centred");
         }
     }
 

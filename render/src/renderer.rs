@@ -208,7 +208,7 @@ mod tests {
 
     /// Looking at the XZ plane from −Y.
     fn front_camera() -> Camera {
-        Camera { target: Vec3::ZERO, distance: 4.0, azimuth: 0.0, elevation: 0.0, fov_y: 35.0 }
+        Camera { target: Vec3::ZERO, distance: 4.0, azimuth: 0.0, elevation: 0.0, fov_y: 35.0, orthographic: false }
     }
 
     /// The pixel `p` lands in, with the matrices the frame uniform uses.
@@ -331,7 +331,6 @@ mod tests {
     fn overlays_draw_where_the_camera_puts_them() {
         let gpu = gpu();
         let surface = square(&gpu);
-        let camera = front_camera();
         let (red, green, blue, yellow, magenta) = (
             [1.0, 0.0, 0.0, 1.0],
             [0.0, 1.0, 0.0, 1.0],
@@ -364,14 +363,20 @@ mod tests {
             legend: Some(Legend { map: ColorMap::Diverging, min: -0.5, max: 1.5, title: "Mean H".into() }),
         };
         let msaa = TargetFormats::for_adapter(&gpu.adapter, wgpu::TextureFormat::Rgba8UnormSrgb);
-        for targets in [msaa, TargetFormats { samples: 1, ..msaa }] {
+        // Both projections: orthographic pulls lines on the surface along the view, not about
+        // the eye, and must still keep them on their pixels.
+        let (perspective, orthographic) = (front_camera(), Camera { orthographic: true, ..front_camera() });
+        for (camera, targets) in
+            [(perspective, msaa), (perspective, TargetFormats { samples: 1, ..msaa }), (orthographic, msaa)]
+        {
             let mut renderer = Renderer::new(&gpu, targets);
             let plain = Scene::new(camera, Some(&surface), SurfaceMode::Shaded);
             let reference = render_image(&gpu, &mut renderer, &plain, W, H).unwrap();
             let image = render_image(&gpu, &mut renderer, &plain.with_overlays(&overlays), W, H).unwrap();
-            save(&image, &format!("taut-overlays-{}x.png", targets.samples));
+            let projection = if camera.orthographic { "ortho" } else { "persp" };
+            save(&image, &format!("taut-overlays-{}x-{projection}.png", targets.samples));
             let at = |p: [f32; 3]| project(&camera, Vec3::from(p));
-            let samples = targets.samples;
+            let samples = format!("{}x {projection}", targets.samples);
 
             assert!(close(pixel(&image, at([0.0, 0.5, 0.6])), [255, 0, 0], 2), "{samples}x: on-top line");
             for x in [-0.3, 0.0, 0.3] {

@@ -83,7 +83,8 @@ pub fn project(camera: &Camera, rect: &ViewportRect, p: DVec3) -> Option<(Vec2, 
     View::new(camera, rect).project(p).map(|(pixel, depth)| (pixel.as_vec2(), depth as f32))
 }
 
-/// The ray under a pixel: it starts at the eye and its direction has unit length. Every point
+/// The ray under a pixel: it starts at the eye (orthographic: on the near plane, along the view
+/// direction) and its direction has unit length. Every point
 /// that [`project`] sends to `pixel` lies on it, in front of the origin.
 // The references the picking and drag tests check against.
 #[cfg_attr(not(test), allow(dead_code))]
@@ -300,6 +301,8 @@ struct View {
     forward: DVec3,
     /// Distance of the near plane from the eye.
     near: f64,
+    /// Parallel projection: rays start on the near plane, not at the eye.
+    orthographic: bool,
     min: DVec2,
     size: DVec2,
 }
@@ -319,6 +322,7 @@ impl View {
             eye: world_from_view.w_axis.truncate(),
             forward: -world_from_view.z_axis.truncate().normalize(),
             near: near.abs(),
+            orthographic: camera.orthographic,
             min: rect.min.as_dvec2(),
             size: rect.size.as_dvec2().max(DVec2::splat(1e-6)),
         }
@@ -346,8 +350,12 @@ impl View {
     fn ray(&self, pixel: DVec2) -> (DVec3, DVec3) {
         let t = (pixel - self.min) / self.size;
         let ndc = DVec3::new(2.0 * t.x - 1.0, 1.0 - 2.0 * t.y, 0.0);
-        // The point on the near plane, seen from the eye at the view-space origin.
+        // The point on the near plane, in view space (the eye at the origin).
         let on_near = self.view_from_clip.project_point3(ndc);
+        if self.orthographic {
+            // Parallel rays: each starts on the near plane and runs along the view direction.
+            return (self.world_from_view.transform_point3(on_near), self.forward);
+        }
         (self.eye, self.world_from_view.transform_vector3(on_near).normalize())
     }
 
@@ -360,7 +368,7 @@ impl View {
     /// at least the near distance in front of the eye, so the ray meets it ahead).
     fn hit_view_plane(&self, anchor: DVec3, pixel: DVec2) -> DVec3 {
         let (origin, direction) = self.ray(pixel);
-        origin + direction * (self.depth_of(anchor) / direction.dot(self.forward))
+        origin + direction * ((self.depth_of(anchor) - self.depth_of(origin)) / direction.dot(self.forward))
     }
 
     /// Pixels moved on screen per world unit moved from `p` along `direction`.

@@ -8,7 +8,14 @@ fn rect() -> ViewportRect {
 }
 
 fn camera() -> Camera {
-    Camera { target: Vec3::new(0.5, -0.25, 0.3), distance: 6.0, azimuth: 30.0, elevation: 25.0, fov_y: 35.0 }
+    Camera {
+        target: Vec3::new(0.5, -0.25, 0.3),
+        distance: 6.0,
+        azimuth: 30.0,
+        elevation: 25.0,
+        fov_y: 35.0,
+        orthographic: false,
+    }
 }
 
 /// Independent pinhole model from the camera's frame and field of view (no matrices):
@@ -336,4 +343,63 @@ fn zoom_notches_compose() {
     assert!((zoom_factor(0.5) * zoom_factor(0.5) - zoom_factor(1.0)).abs() < 1e-6);
     assert_eq!(zoom_factor(f32::NAN), 1.0);
     assert!(zoom_factor(1e9).is_finite() && zoom_factor(1e9) > 0.0);
+}
+
+/// Independent parallel projection from the camera's frame and scale (no matrices): the pixel of
+/// `p`, where half the view's height is `distance · tan(fov / 2)` whatever the depth.
+fn parallel(c: &Camera, r: &ViewportRect, p: DVec3) -> DVec2 {
+    let v = p - c.target.as_dvec3();
+    let h = c.distance as f64 * (0.5 * c.fov_y as f64).to_radians().tan();
+    let aspect = r.size.x as f64 / r.size.y as f64;
+    let ndc = DVec2::new(v.dot(c.right().as_dvec3()) / (h * aspect), v.dot(c.up().as_dvec3()) / h);
+    r.min.as_dvec2() + DVec2::new(ndc.x + 1.0, 1.0 - ndc.y) * 0.5 * r.size.as_dvec2()
+}
+
+#[test]
+fn orthographic_projection_is_parallel_and_its_rays_run_along_the_view() {
+    let r = rect();
+    let c = Camera { orthographic: true, ..camera() };
+    let forward = -c.backward().as_dvec3();
+    for p in [DVec3::new(1.0, 0.5, -0.2), DVec3::new(-1.5, 1.0, 1.2), DVec3::new(0.2, -2.0, 0.0)] {
+        let (got, depth) = project(&c, &r, p).expect("the whole display box is in front");
+        assert!(got.as_dvec2().distance(parallel(&c, &r, p)) < 2e-3, "{p}: {got}");
+        assert!((0.0..1.0).contains(&depth));
+        // Nearer and farther along the view: the same pixel, another depth.
+        for along in [-1.5, 2.5] {
+            let (moved, moved_depth) = project(&c, &r, p + forward * along).unwrap();
+            assert!(moved.distance(got) < 2e-3, "{p} moved {along}: {moved} vs {got}");
+            assert_eq!(moved_depth > depth, along > 0.0);
+        }
+        // The ray under the pixel runs along the view and passes through the point.
+        let (origin, direction) = unproject_ray(&c, &r, got);
+        assert!(direction.distance(forward) < 1e-6, "{direction}");
+        assert!(distance_to_line(p, (origin, direction)) < 1e-3, "{p}");
+        assert!((p - origin).dot(direction) > 0.0, "the point is ahead of the ray's start");
+    }
+    // Perspective and orthographic agree at the target's depth, so toggling does not jump.
+    let across = c.target.as_dvec3() + 0.7 * c.right().as_dvec3() - 0.4 * c.up().as_dvec3();
+    let persp = Camera { orthographic: false, ..c };
+    assert!(pixel_of(&c, &r, across).distance(pixel_of(&persp, &r, across)) < 2e-3);
+}
+
+#[test]
+fn orthographic_drags_follow_the_cursor_in_the_view_plane_and_along_an_axis() {
+    let (r, start) = (rect(), selection());
+    let c = Camera { orthographic: true, ..camera() };
+    let grab = pixel_of(&c, &r, centroid(&start));
+    for delta in [Vec2::new(37.0, -21.0), Vec2::new(-250.0, 180.0)] {
+        let moved = drag_positions(&c, &r, &start, grab, grab + delta, None);
+        let offset = moved[0].1 - start[0].1;
+        // Checked against the parallel reference, not against the code's own projection.
+        assert!(parallel(&c, &r, centroid(&moved)).distance((grab + delta).as_dvec2()) < 2e-3, "{delta}");
+        assert!(offset.dot(c.backward().as_dvec3()).abs() < 1e-6 * offset.length().max(1.0), "in the view plane");
+    }
+    // Along X the centroid moves to the point of the axis line whose projection is nearest the
+    // cursor: the cursor's offset from it on screen is perpendicular to the axis's screen image.
+    let now = grab + Vec2::new(45.0, -30.0);
+    let moved = centroid(&drag_positions(&c, &r, &start, grab, now, Some(Axis::X)));
+    let screen_axis = parallel(&c, &r, moved + DVec3::X) - parallel(&c, &r, moved);
+    let gap = now.as_dvec2() - parallel(&c, &r, moved);
+    assert!(gap.dot(screen_axis.normalize()).abs() < 1e-2, "{gap} along {screen_axis}");
+    assert!((moved - centroid(&start)).x.abs() > 1e-3);
 }

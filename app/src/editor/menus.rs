@@ -159,10 +159,18 @@ impl EditorState {
             });
         }
         ui.menu_button("View", |ui| {
-            for action in [Action::ViewFront, Action::ViewRight, Action::ViewTop, Action::ViewPerspective] {
+            for action in [Action::ViewFront, Action::ViewRight, Action::ViewTop, Action::ViewThreeQuarter] {
                 if ui.button(item(action)).clicked() {
                     self.emit_action(action);
                 }
+            }
+            let ortho = format!("Orthographic  {}", shortcuts::label(Action::ToggleOrthographic));
+            if ui
+                .checkbox(&mut self.view.camera.orthographic.clone(), ortho)
+                .on_hover_text("On: parallel projection, as a drawing. Off: perspective, as the eye sees")
+                .clicked()
+            {
+                self.emit_action(Action::ToggleOrthographic);
             }
             ui.separator();
             if ui.button(item(Action::FrameAll)).clicked() {

@@ -27,7 +27,10 @@ pub enum Action {
     ViewFront,
     ViewRight,
     ViewTop,
-    ViewPerspective,
+    /// The three-quarter view a new document opens in.
+    ViewThreeQuarter,
+    /// Numpad 5: orthographic (parallel) or perspective projection.
+    ToggleOrthographic,
     ShowShortcuts,
     /// Subdivision schemes: drag the crease sharpness of the selected edges with the mouse.
     Crease,
@@ -128,7 +131,8 @@ pub const SHORTCUTS: &[Shortcut] = &[
     plain(Key::Num1, Action::ViewFront),
     plain(Key::Num3, Action::ViewRight),
     plain(Key::Num7, Action::ViewTop),
-    plain(Key::Num5, Action::ViewPerspective),
+    plain(Key::Num0, Action::ViewThreeQuarter),
+    plain(Key::Num5, Action::ToggleOrthographic),
     plain(Key::F1, Action::ShowShortcuts),
     shift(Key::E, Action::Crease),
     shift(Key::V, Action::Corner),
@@ -219,7 +223,8 @@ pub fn describe(action: Action) -> &'static str {
         Action::ViewFront => "Front view",
         Action::ViewRight => "Right view",
         Action::ViewTop => "Top view",
-        Action::ViewPerspective => "Perspective view",
+        Action::ViewThreeQuarter => "Three-quarter view",
+        Action::ToggleOrthographic => "Orthographic / perspective",
         Action::ShowShortcuts => "Keyboard shortcuts",
         Action::Crease => "Crease the selected edges (move the mouse, click or Enter to set, Esc cancels)",
         Action::Corner => {

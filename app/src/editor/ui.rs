@@ -256,7 +256,13 @@ impl EditorState {
             Action::ViewFront => self.view.camera.set_view(StandardView::Front),
             Action::ViewRight => self.view.camera.set_view(StandardView::Right),
             Action::ViewTop => self.view.camera.set_view(StandardView::Top),
-            Action::ViewPerspective => self.view.camera.set_view(StandardView::Perspective),
+            Action::ViewThreeQuarter => self.view.camera.set_view(StandardView::Perspective),
+            Action::ToggleOrthographic => {
+                let camera = &mut self.view.camera;
+                camera.orthographic = !camera.orthographic;
+                let name = if camera.orthographic { "Orthographic" } else { "Perspective" };
+                self.notify(format!("{name} projection"), false);
+            }
             Action::ShowShortcuts => ui_state.show_shortcuts = true,
             Action::CycleSelectMode => {
                 let mode = self.view.selection.mode.next();

@@ -98,6 +98,7 @@ impl EditorState {
             &self.view.camera,
             &view,
             over_triad || ui_state.tool.get::<triad::TriadOrbit>().is_some(),
+            mouse,
         );
         if self.busy() {
             ui.ctx().request_repaint();
@@ -121,6 +122,13 @@ impl EditorState {
         if response.drag_started_by(PointerButton::Primary) && origin.is_some_and(|o| triad::contains(&view, o)) {
             ui_state.tool.start(self, triad::start_orbit(self));
             ui_state.tool.pointer(self, pointer);
+            return;
+        }
+        if response.clicked_by(PointerButton::Primary)
+            && let Some(m) = mouse
+            && triad::over_projection_button(&view, m)
+        {
+            self.emit_action(crate::editor::shortcuts::Action::ToggleOrthographic);
             return;
         }
         if response.clicked_by(PointerButton::Primary)

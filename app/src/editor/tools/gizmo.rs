@@ -170,6 +170,8 @@ impl GizmoLayout {
         let eye = camera.eye().as_dvec3();
         let forward = (camera.target.as_dvec3() - eye).normalize();
         let depth = (pivot - eye).dot(forward);
+        // Orthographic: a pixel is the same size at every depth, the size it has at the target.
+        let depth = if camera.orthographic { f64::from(camera.distance) } else { depth };
         let per_px = 2.0 * depth * (f64::from(camera.fov_y).to_radians() * 0.5).tan() / f64::from(view.size.y.max(1.0));
         let length = f64::from(GIZMO_RADIUS_PX) * per_px;
         let towards_eye = (eye - pivot).normalize();

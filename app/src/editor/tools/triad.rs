@@ -65,10 +65,34 @@ pub fn contains(view: &ViewportRect, mouse: Vec2) -> bool {
     mouse.distance(centre(view)) <= TRIAD_RADIUS + END_RADIUS
 }
 
-/// Draws the triad, the far ends first.
-pub fn draw(painter: &egui::Painter, camera: &Camera, view: &ViewportRect, hovered: bool) {
+/// The projection's name above the triad ("Persp" or "Ortho"), which a click toggles as numpad 5
+/// does (Blender's navigation gizmo has the same switch).
+pub fn projection_button(view: &ViewportRect) -> egui::Rect {
+    let c = centre(view);
+    let top = c.y - TRIAD_RADIUS - END_RADIUS - 4.0;
+    egui::Rect::from_min_max(Pos2::new(c.x - 22.0, top - 16.0), Pos2::new(c.x + 22.0, top))
+}
+
+/// Whether `mouse` is over [`projection_button`].
+pub fn over_projection_button(view: &ViewportRect, mouse: Vec2) -> bool {
+    projection_button(view).contains(Pos2::new(mouse.x, mouse.y))
+}
+
+/// Draws the triad, the far ends first, and the projection's name above it.
+pub fn draw(painter: &egui::Painter, camera: &Camera, view: &ViewportRect, hovered: bool, mouse: Option<Vec2>) {
     let c = centre(view);
     let pos = |p: Vec2| Pos2::new(p.x, p.y);
+    let button = projection_button(view);
+    let over_button = mouse.is_some_and(|m| over_projection_button(view, m));
+    painter.rect_filled(button, 4.0, Color32::from_white_alpha(if over_button { 40 } else { 14 }));
+    let name = if camera.orthographic { "Ortho" } else { "Persp" };
+    painter.text(
+        button.center(),
+        egui::Align2::CENTER_CENTER,
+        name,
+        egui::FontId::proportional(11.0),
+        Color32::LIGHT_GRAY,
+    );
     let ring = if hovered { Color32::from_white_alpha(40) } else { Color32::from_white_alpha(14) };
     painter.circle_filled(pos(c), TRIAD_RADIUS + END_RADIUS, ring);
     let mut ends = ends(camera, view);
@@ -165,6 +189,34 @@ mod tests {
         press(&mut h, c + Vec2::new(48.0, 0.0), false);
         assert_eq!(h.state().editor.view.camera, before, "Esc puts the view back");
         assert!(h.state().editor.view.selection.vertices == vec![taut_core::VertexId(7)], "the selection is untouched");
+    }
+
+    #[test]
+    fn five_and_the_button_over_the_triad_switch_between_perspective_and_orthographic() {
+        let mut h = cube_editor();
+        settle(&mut h);
+        frames(&mut h);
+        let view = viewport(&h);
+        let before = h.state().editor.view.camera;
+        assert!(!before.orthographic, "a new document opens in perspective");
+        h.key_press(egui::Key::Num5);
+        frames(&mut h);
+        let camera = h.state().editor.view.camera;
+        assert!(camera.orthographic, "5 switches to orthographic");
+        assert_eq!(Camera { orthographic: false, ..camera }, before, "and changes nothing else");
+        // What lies at the target stays under the same pixel.
+        let target = camera.target.as_dvec3();
+        let persp = interaction::project(&before, &view, target).unwrap().0;
+        let ortho = interaction::project(&camera, &view, target).unwrap().0;
+        assert!(persp.distance(ortho) < 1e-3);
+        let button = projection_button(&view).center();
+        click(&mut h, Vec2::new(button.x, button.y));
+        assert!(!h.state().editor.view.camera.orthographic, "the button over the triad switches back");
+        assert_eq!(h.state().editor.view.selection.vertices, vec![taut_core::VertexId(7)], "the click selects nothing");
+        // Shift+5 is not a shortcut: the projection stays.
+        h.key_press_modifiers(egui::Modifiers::SHIFT, egui::Key::Num5);
+        frames(&mut h);
+        assert!(!h.state().editor.view.camera.orthographic);
     }
 
     #[test]
