@@ -8,6 +8,8 @@ struct Frame {
     camera_position: vec4<f32>,
     // Viewport size in physical pixels (x, y), and 1 / size (z, w).
     viewport: vec4<f32>,
+    // The clipping plane: what lies where dot(xyz, p) > w is cut away (xyz = 0: nothing is).
+    clip_plane: vec4<f32>,
 };
 
 @group(0) @binding(0) var<uniform> frame: Frame;
@@ -26,4 +28,9 @@ fn pixel_from_clip(c: vec4<f32>) -> vec2<f32> {
 fn clip_from_pixel(px: vec2<f32>, z: f32, w: f32) -> vec4<f32> {
     let ndc = vec2<f32>(px.x * frame.viewport.z * 2.0 - 1.0, 1.0 - px.y * frame.viewport.w * 2.0);
     return vec4<f32>(ndc * w, z, w);
+}
+
+// How far `p` lies on the clipping plane's cut side (positive: cut away).
+fn clip_distance(p: vec3<f32>) -> f32 {
+    return dot(frame.clip_plane.xyz, p) - frame.clip_plane.w;
 }

@@ -40,8 +40,25 @@ fn clip_pulled(p: vec3<f32>, pull: f32) -> vec4<f32> {
 
 fn line_vertex(vertex: u32, line: LineInstance, pull: f32, on_top: bool) -> LineOut {
     var out: LineOut;
-    var ca = clip_pulled(line.a, pull);
-    var cb = clip_pulled(line.b, pull);
+    var a = line.a;
+    var b = line.b;
+    // Lines on the surface are cut by the clipping plane as the surface is; on-top ones (the
+    // cage, gizmos, measurements) are not.
+    if (!on_top) {
+        let da = clip_distance(a);
+        let db = clip_distance(b);
+        if (da > 0.0 && db > 0.0) {
+            out.clip = DROPPED;
+            return out;
+        }
+        if (da > 0.0) {
+            a = mix(a, b, da / (da - db));
+        } else if (db > 0.0) {
+            b = mix(b, a, db / (db - da));
+        }
+    }
+    var ca = clip_pulled(a, pull);
+    var cb = clip_pulled(b, pull);
     // Keep the part in front of the near plane (z = 0 in wgpu's clip space, where w > 0): a
     // segment reaching behind the camera is cut there, one wholly behind draws nothing.
     if (ca.z < 0.0 && cb.z < 0.0) {

@@ -81,6 +81,9 @@ fn lighting(n: vec3<f32>, v: vec3<f32>) -> f32 {
 
 @fragment
 fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
+    if (clip_distance(in.world_position) > 0.0) {
+        discard;
+    }
     // Towards the eye; a parallel projection (w row (0, 0, 0, 1)) looks along view −z everywhere.
     var v = normalize(-in.view_position);
     if (frame.clip_from_view[3][3] > 0.5) {

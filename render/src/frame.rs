@@ -4,6 +4,9 @@ use crate::camera::Camera;
 use bytemuck::{Pod, Zeroable};
 use wgpu::util::DeviceExt;
 
+/// A clipping plane that cuts nothing.
+pub const NO_CLIP: [f32; 4] = [0.0, 0.0, 0.0, 1.0];
+
 /// Mirror of WGSL `Frame` in `shaders/common.wgsl`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
@@ -12,6 +15,8 @@ pub struct FrameUniform {
     pub clip_from_view: [[f32; 4]; 4],
     pub camera_position: [f32; 4],
     pub viewport: [f32; 4],
+    /// The clipping plane `(n, d)`: what lies where `n·p > d` is cut away; `n = 0` cuts nothing.
+    pub clip_plane: [f32; 4],
 }
 
 impl FrameUniform {
@@ -24,6 +29,7 @@ impl FrameUniform {
             clip_from_view: camera.clip_from_view(aspect).to_cols_array_2d(),
             camera_position: [eye.x, eye.y, eye.z, 1.0],
             viewport: [width as f32, height as f32, 1.0 / width.max(1) as f32, 1.0 / height.max(1) as f32],
+            clip_plane: NO_CLIP,
         }
     }
 }

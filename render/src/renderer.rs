@@ -28,6 +28,9 @@ pub struct Scene<'a> {
     /// Another ghost beside the first, in its own colour (the editor's original mesh of a fitted
     /// cage, while the compare view shows the other scheme as the first).
     pub second_ghost: Option<(&'a GpuSurface, [f32; 4])>,
+    /// The clipping plane `(n, d)` in display coordinates: the surfaces and the lines on them are
+    /// cut away where `n·p > d` (the on-top overlays are not).
+    pub clip_plane: Option<glam::Vec4>,
 }
 
 impl<'a> Scene<'a> {
@@ -42,6 +45,7 @@ impl<'a> Scene<'a> {
             viewport: None,
             ghost: None,
             second_ghost: None,
+            clip_plane: None,
         }
     }
 
@@ -125,7 +129,11 @@ impl Renderer {
             }
             None => [0, 0, attachments.width, attachments.height],
         };
-        self.frame.update(queue, &FrameUniform::new(&scene.camera, width, height));
+        let mut uniform = FrameUniform::new(&scene.camera, width, height);
+        if let Some(plane) = scene.clip_plane {
+            uniform.clip_plane = plane.to_array();
+        }
+        self.frame.update(queue, &uniform);
         self.surface.set_mode(queue, scene.mode);
         if let Some((_, color)) = scene.ghost {
             self.surface.set_ghost(queue, color);
@@ -223,6 +231,10 @@ mod tests {
         [p[0], p[1], p[2]]
     }
 
+    fn linear_to_srgb(c: f32) -> f32 {
+        if c <= 0.003_130_8 { 12.92 * c } else { 1.055 * c.powf(1.0 / 2.4) - 0.055 }
+    }
+
     fn close(a: [u8; 3], b: [u8; 3], tolerance: u8) -> bool {
         a.iter().zip(&b).all(|(x, y)| x.abs_diff(*y) <= tolerance)
     }
@@ -287,6 +299,46 @@ mod tests {
         let scene = Scene { ghost: Some((&behind, GHOST)), ..Scene::new(camera, Some(&surface), SurfaceMode::Shaded) };
         let hidden = pixel(&render_image(&gpu, &mut renderer, &scene, W, H).unwrap(), centre);
         assert!(close(hidden, base, 2), "a ghost behind the surface shows: {hidden:?} vs {base:?}");
+    }
+
+    /// The clipping plane cuts the surface and the lines on it, in both projections; the
+    /// on-top lines stay whole.
+    #[test]
+    fn the_clipping_plane_cuts_the_surface_and_its_lines_but_not_the_overlays_on_top() {
+        let gpu = gpu();
+        let surface = square(&gpu);
+        let targets = TargetFormats::for_adapter(&gpu.adapter, wgpu::TextureFormat::Rgba8UnormSrgb);
+        let mut renderer = Renderer::new(&gpu, targets);
+        let (green, red) = ([0.0, 1.0, 0.0, 1.0], [1.0, 0.0, 0.0, 1.0]);
+        let overlays = OverlayData {
+            surface_lines: vec![line([-0.8, 0.0, 0.3], [0.8, 0.0, 0.3], green, 3.0)],
+            on_top_lines: vec![line([-0.8, 0.0, -0.3], [0.8, 0.0, -0.3], red, 3.0)],
+            ..Default::default()
+        };
+        for camera in [front_camera(), Camera { orthographic: true, ..front_camera() }] {
+            let plain = Scene::new(camera, Some(&surface), SurfaceMode::Shaded).with_overlays(&overlays);
+            let whole = render_image(&gpu, &mut renderer, &plain, W, H).unwrap();
+            // Cut away x > 0.25.
+            let cut = Scene { clip_plane: Some(glam::Vec4::new(1.0, 0.0, 0.0, 0.25)), ..plain };
+            let image = render_image(&gpu, &mut renderer, &cut, W, H).unwrap();
+            save(&image, &format!("taut-clip-{}.png", camera.orthographic));
+            let background = [0.16f32, 0.17, 0.19].map(|c| (255.0 * linear_to_srgb(c)).round() as u8);
+            let at = |p: [f32; 3]| project(&camera, Vec3::from(p));
+            let kept = at([-0.5, 0.0, 0.7]);
+            assert!(close(pixel(&image, kept), pixel(&whole, kept), 2), "the kept side is drawn as before");
+            let gone = at([0.6, 0.0, 0.7]);
+            assert!(
+                close(pixel(&image, gone), background, 3),
+                "the cut side shows the background: {:?}",
+                pixel(&image, gone)
+            );
+            assert!(close(pixel(&image, at([-0.5, 0.0, 0.3])), [0, 255, 0], 2), "the surface line's kept part");
+            assert!(close(pixel(&image, at([0.6, 0.0, 0.3])), background, 3), "the surface line is cut");
+            assert!(close(pixel(&image, at([0.6, 0.0, -0.3])), [255, 0, 0], 2), "the on-top line is whole");
+            // Near the plane: kept just before it, cut just past it.
+            assert!(close(pixel(&image, at([0.2, 0.0, 0.7])), pixel(&whole, at([0.2, 0.0, 0.7])), 2));
+            assert!(close(pixel(&image, at([0.3, 0.0, 0.7])), background, 3));
+        }
     }
 
     /// Two ghosts at once, each in its own colour (the compare view's and the editor's original

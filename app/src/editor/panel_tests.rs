@@ -19,7 +19,7 @@ use taut_core::surface::Phase;
 use taut_core::{DVec3, VertexId};
 
 /// The state the harness owns: the editor and its UI state, as the window holds them.
-pub(super) struct App {
+pub(crate) struct App {
     pub(super) editor: EditorState,
     pub(super) ui: UiState,
 }

@@ -83,7 +83,10 @@ impl EditorState {
 
         if ui_state.tool.pointer(self, &pointer) {
             self.gizmo_overlay(ui, rect, &view, ui_state);
-        } else if self.curve_mesh_viewport(&pointer, &mut ui_state.tool) {
+        } else if self.curve_mesh_viewport(&pointer, &mut ui_state.tool)
+            || self.clip_handle_viewport(&pointer, &mut ui_state.tool)
+        {
+            // The curve mesh's drags, or the clipping plane's handle, took the press.
         } else if self.gizmo_viewport(ui, &response, &view, &cage, mouse, &mut ui_state.tool) {
             if ui_state.tool.is_running() {
                 ui_state.tool.pointer(self, &pointer);
@@ -91,6 +94,10 @@ impl EditorState {
         } else {
             self.select_and_drag(&pointer, &cage, ui_state);
             self.gizmo_overlay(ui, rect, &view, ui_state);
+        }
+        if !ui_state.tool.is_running() {
+            let hot = mouse.is_some_and(|m| self.over_clip_handle(&view, m));
+            self.draw_clip_handle(&ui.painter_at(rect), &view, hot);
         }
         let over_triad = mouse.is_some_and(|m| triad::contains(&view, m));
         triad::draw(
@@ -124,6 +131,7 @@ impl EditorState {
             ui_state.tool.pointer(self, pointer);
             return;
         }
+
         if response.clicked_by(PointerButton::Primary)
             && let Some(m) = mouse
             && triad::over_projection_button(&view, m)

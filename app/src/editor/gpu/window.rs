@@ -268,6 +268,7 @@ impl Running {
                 viewport: self.ui.viewport_px,
                 ghost: self.ghost.shown(&self.editor),
                 second_ghost: self.original_ghost.shown(&self.editor),
+                clip_plane: self.editor.clip_plane(),
                 ..Scene::new(self.editor.view.camera, self.surface_gpu.surface(), self.editor.surface_mode())
             },
         };
@@ -356,8 +357,9 @@ impl Running {
     fn screenshot(&mut self, path: &std::path::Path) {
         let [_, _, w, h] = self.ui.viewport_px.unwrap_or([0, 0, self.config.width, self.config.height]);
         let overlays = self.editor.workspace_overlays();
-        let scene = self.patches.scene(&self.editor, self.surface_gpu.surface(), &overlays).unwrap_or_else(|| {
-            Scene::new(self.editor.view.camera, self.surface_gpu.surface(), self.editor.surface_mode())
+        let scene = self.patches.scene(&self.editor, self.surface_gpu.surface(), &overlays).unwrap_or_else(|| Scene {
+            clip_plane: self.editor.clip_plane(),
+            ..Scene::new(self.editor.view.camera, self.surface_gpu.surface(), self.editor.surface_mode())
                 .with_overlays(&overlays)
         });
         // An off-screen picture needs a format the read-back understands.

@@ -58,6 +58,8 @@ pub struct Display {
     pub comb_density: usize,
     /// Section curves with their combs, when on.
     pub sections: Option<crate::editor::workspaces::surface::sections::SectionSettings>,
+    /// The clipping plane, when on.
+    pub clip: Option<crate::editor::workspaces::surface::clipping::ClipSettings>,
     /// The draft and highlight views' settings.
     pub analysis: crate::editor::workspaces::surface::analysis_views::AnalysisSettings,
 }
@@ -79,6 +81,7 @@ impl Default for Display {
             comb_length: 0.12,
             comb_density: 1,
             sections: None,
+            clip: None,
             analysis: Default::default(),
         }
     }
@@ -455,10 +458,11 @@ impl EditorState {
             };
             let controls = CageControls::of(doc);
             let (lines, points) = overlay::cage_overlay(&doc.cage, controls, &selection, frame);
-            data.on_top_lines = lines;
-            data.points = points;
+            data.on_top_lines.extend(lines);
+            data.points.extend(points);
             self.mirror_overlay(&mut data);
         }
+        self.clip_overlays(&mut data);
         data.legend = self.curve_mesh_legend().or_else(|| self.legend());
         data
     }

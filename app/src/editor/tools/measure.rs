@@ -113,12 +113,8 @@ impl EditorState {
             let s = if den > 1e-300 { ((ud * direction.dot(w)) - ww * u.dot(w)) / den } else { 0.5 };
             return Some((frame.to_model(p + s.clamp(0.0, 1.0) * u), None));
         }
-        let mesh = self.surface_mesh()?;
-        let mut shown = mesh.clone();
-        shown.positions_mut().iter_mut().for_each(|p| *p = frame.to_display_f64(*p));
-        let t = crate::editor::pivot::ray_cast(&shown, origin, direction)?;
-        let point = frame.to_model(origin + t * direction);
-        Some((point, principal_radii(mesh, point)))
+        let point = self.surface_under(view, mouse)?;
+        Some((point, principal_radii(self.surface_mesh()?, point)))
     }
 }
 

@@ -3,7 +3,8 @@
 //! (`snapping`) and the pivot (`pivot`); E (`extrude_move`), I (`inset_drag`), Ctrl+R
 //! (`loop_slide`); the crease and corner drags, Shift+E and Shift+V (`crease_drag`); the drags a
 //! press starts in the viewport (`vertex_drag`, `box_select`, `curve_mesh_drag`, and the Curves workspace's
-//! `curve_stroke`), the navigation triad's orbit (`triad`); the transform toolbar
+//! `curve_stroke`), the navigation triad's orbit (`triad`), the clipping plane's handle
+//! (`clip_plane_drag`); the transform toolbar
 //! (`toolbar`).
 //!
 //! A new tool is one file plus one line in [`TOOLS`] (its action `Action::Tool("name")`, menu
@@ -12,6 +13,7 @@
 //! these two listings.
 
 pub mod box_select;
+pub mod clip_plane_drag;
 pub mod crease_drag;
 pub mod curve_mesh_drag;
 pub mod curve_stroke;

@@ -65,6 +65,12 @@ pub fn pivot_point(pivot: Pivot, points: &[DVec3], cursor: DVec3, active: Option
 /// The first hit of the ray `origin + t·direction` (t > 0) with the faces of `mesh` (fan
 /// triangles): the parameter `t`, or `None` when it misses.
 pub fn ray_cast(mesh: &PolyMesh, origin: DVec3, direction: DVec3) -> Option<f64> {
+    ray_cast_where(mesh, origin, direction, |_| true)
+}
+
+/// [`ray_cast`] among the hits `keep` accepts (by ray parameter): the first hit the clipping
+/// plane leaves.
+pub fn ray_cast_where(mesh: &PolyMesh, origin: DVec3, direction: DVec3, keep: impl Fn(f64) -> bool) -> Option<f64> {
     let p = mesh.positions();
     let mut best: Option<f64> = None;
     for [a, b, c] in mesh.triangles() {
@@ -86,7 +92,7 @@ pub fn ray_cast(mesh: &PolyMesh, origin: DVec3, direction: DVec3) -> Option<f64>
             continue;
         }
         let t = e2.dot(r) / det;
-        if t > 0.0 && t.is_finite() && best.is_none_or(|b| t < b) {
+        if t > 0.0 && t.is_finite() && best.is_none_or(|b| t < b) && keep(t) {
             best = Some(t);
         }
     }

@@ -76,14 +76,7 @@ impl EditorState {
                     sum / n
                 })
                 .collect(),
-            SnapTarget::Surface => {
-                let mesh = self.surface_mesh()?;
-                let mut shown = mesh.clone();
-                shown.positions_mut().iter_mut().for_each(|p| *p = frame.to_display_f64(*p));
-                let (origin, direction) = interaction::unproject_ray(&self.view.camera, view, mouse);
-                let t = crate::editor::pivot::ray_cast(&shown, origin, direction)?;
-                return Some(frame.to_model(origin + t * direction));
-            }
+            SnapTarget::Surface => return self.surface_under(view, mouse),
         };
         candidates
             .into_iter()

@@ -149,8 +149,9 @@ impl EditorState {
                     .on_hover_text("Model units between the planes; 0 spreads them over the surface");
             }
         }
-        ui.separator();
         let mut compare = d.compare;
+        self.clip_controls(ui);
+        ui.separator();
         ui.label(format!("compare with {}", other.display_name()));
         ui.horizontal(|ui| {
             ui.radio_value(&mut compare, CompareMode::Off, "off").on_hover_text("Only this scheme's surface");

@@ -1,8 +1,9 @@
 //! The Surface workspace: the cage panels, the Mesh menu's operations, selection modes, mirror,
-//! X-ray, the curve-mesh scheme's controls, the colour legend and the draft and highlight views'
-//! settings.
+//! X-ray, the curve-mesh scheme's controls, the colour legend, the draft and highlight views'
+//! settings, sections and the clipping plane.
 
 pub mod analysis_views;
+pub mod clipping;
 pub mod curve_mesh_edit;
 pub mod curve_mesh_panel;
 pub mod display_panel;
