@@ -12,9 +12,17 @@
 //!   topology refinement, level-by-level interpolation with limit positions, and its flattened
 //!   stencil tables.
 //!
+//! - Blender's Subdivision Surface modifier (OpenSubdiv, CPU) on the same Catmull–Clark cage in
+//!   the same run (`peers/blender_subsurf.py` through `blender -b`): fresh (the modifier added
+//!   and evaluated: what a topology edit costs) against ours fresh (`Refinement::new` and a full
+//!   evaluation with limit positions and normals), and after one vertex moves against our drag
+//!   update. Blender has no Loop modifier, so the Loop cage has no Blender row. Without Blender
+//!   (`apt-get install blender`, or `TAUT_BLENDER=path`) the row says so instead of a ratio.
+//!
 //! Targets on 2 cores: re-evaluation under 5 ms and no slower than the independent
-//! implementation. Times are the shortest of 25 runs. Run with
-//! `cargo bench -p taut-core --bench subdiv`; `TAUT_BENCH_QUICK=1` runs fewer repeats.
+//! implementation; fresh 4× and after a move 15× faster than Blender. Times are the shortest of
+//! 25 runs. Run with `cargo bench -p taut-core --bench subdiv`; `TAUT_BENCH_QUICK=1` runs fewer
+//! repeats.
 
 use opensubdiv_rs::far::{
     PrimvarRefiner, StencilTableFactory, StencilTableOptions, TopologyDescriptor, TopologyRefiner,
@@ -98,10 +106,24 @@ fn their_refiner(cage: &PolyMesh, scheme: Scheme, levels: usize) -> TopologyRefi
     refiner
 }
 
-fn bench(label: &str, cage: &PolyMesh, scheme: Scheme, repeats: usize) {
+/// Our fresh surface and our drag update, for the Blender row.
+struct Ours {
+    fresh: Duration,
+    update: Duration,
+    vertices: usize,
+    faces: usize,
+}
+
+fn bench(label: &str, cage: &PolyMesh, scheme: Scheme, repeats: usize) -> Ours {
     let levels = 3;
     let build = best(repeats, || {
         black_box(Refinement::new(cage, scheme, &[], levels).unwrap());
+    });
+    let fresh = best(repeats, || {
+        let r = Refinement::new(cage, scheme, &[], levels).unwrap();
+        let mut out = RefinedPositions::default();
+        r.evaluate(cage.positions(), &mut out).unwrap();
+        black_box(&out);
     });
     let r = Refinement::new(cage, scheme, &[], levels).unwrap();
     let finest = r.mesh(levels);
@@ -246,13 +268,77 @@ fn bench(label: &str, cage: &PolyMesh, scheme: Scheme, repeats: usize) {
         update.as_secs_f64() / theirs_tables_eval.as_secs_f64()
     );
     black_box((&out, &dst, &dst_limit, VertexId(0)));
+    println!("  fresh (topology, stencils, evaluation with limit positions and normals): {:.1} ms", ms(fresh));
+    Ours { fresh, update, vertices: nv, faces: nf }
+}
+
+/// Blender's modifier on `cage` in this run, through `peers/blender_subsurf.py`.
+fn blender_row(cage: &PolyMesh, levels: usize, repeats: usize, ours: &Ours) {
+    let blender = std::env::var_os("TAUT_BLENDER").unwrap_or_else(|| "blender".into());
+    let dir = std::env::temp_dir().join(format!("taut-bench-blender-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let obj = dir.join("cage.obj");
+    let mut text = String::new();
+    for p in cage.positions() {
+        text += &format!("v {} {} {}\n", p.x, p.y, p.z);
+    }
+    for face in cage.polygons() {
+        let ids: Vec<String> = face.iter().map(|v| (v + 1).to_string()).collect();
+        text += &format!("f {}\n", ids.join(" "));
+    }
+    std::fs::write(&obj, text).unwrap();
+    let script = concat!(env!("CARGO_MANIFEST_DIR"), "/benches/peers/blender_subsurf.py");
+    let run = std::process::Command::new(&blender)
+        .args(["-b", "--factory-startup", "--python", script, "--"])
+        .arg(&obj)
+        .args([levels.to_string(), repeats.to_string()])
+        .output();
+    let _ = std::fs::remove_dir_all(&dir);
+    let output = match run {
+        Ok(o) if o.status.success() => String::from_utf8_lossy(&o.stdout).into_owned(),
+        Ok(o) => {
+            println!(
+                "  Blender's modifier: not measured, {blender:?} failed: {}",
+                String::from_utf8_lossy(&o.stderr).trim()
+            );
+            return;
+        }
+        Err(e) => {
+            println!(
+                "  Blender's modifier: not measured, cannot run {blender:?} ({e}): apt-get install blender, or set TAUT_BLENDER"
+            );
+            return;
+        }
+    };
+    let Some(line) = output.lines().rev().find(|l| l.starts_with('{')) else {
+        println!("  Blender's modifier: not measured, no result in its output");
+        return;
+    };
+    let number = |key: &str| -> f64 {
+        let at = line.find(&format!("\"{key}\": ")).map(|i| i + key.len() + 4).expect(key);
+        line[at..].split([',', '}']).next().unwrap().trim().parse().expect(key)
+    };
+    let (fresh, moved) = (number("fresh_ms"), number("moved_ms"));
+    let (vertices, faces) = (number("vertices") as usize, number("faces") as usize);
+    assert_eq!((vertices, faces), (ours.vertices, ours.faces), "Blender refined to another size");
+    println!(
+        "  Blender {}'s modifier (same cage, {faces} faces): fresh {fresh:.1} ms, ours {:.1} ms: ours is {:.2}x as fast \
+         (target 4x); after one vertex moves {moved:.1} ms, our drag update {:.3} ms: {:.0}x as fast (target 15x)",
+        line.split("\"blender\": \"").nth(1).and_then(|t| t.split('"').next()).unwrap_or("?"),
+        ms(ours.fresh),
+        fresh / ms(ours.fresh),
+        ms(ours.update),
+        moved / ms(ours.update)
+    );
 }
 
 fn main() {
     let quick = std::env::var_os("TAUT_BENCH_QUICK").is_some();
     let repeats = if quick { 3 } else { 25 };
     println!("threads: {}", rayon::current_num_threads());
-    bench("Catmull–Clark, 64 × 32 torus", &torus(64, 32), Scheme::CatmullClark, repeats);
+    let cage = torus(64, 32);
+    let ours = bench("Catmull–Clark, 64 × 32 torus", &cage, Scheme::CatmullClark, repeats);
+    blender_row(&cage, 3, repeats.min(10), &ours);
     let triangles = triangulate(&torus(46, 22), Triangulation::ShortestDiagonal).unwrap();
     bench("Loop, triangulated 46 × 22 torus", &triangles, Scheme::Loop, repeats);
 }
