@@ -1,6 +1,6 @@
 //! The Surface workspace: the cage panels, the Mesh menu's operations, selection modes, mirror,
 //! X-ray, the curve-mesh scheme's controls, the colour legend and the draft and highlight views'
-//! settings.
+//! settings, and the reference images.
 
 pub mod analysis_views;
 pub mod curve_mesh_edit;
@@ -10,6 +10,7 @@ pub mod legend;
 pub mod mesh_ops;
 pub mod mirror;
 pub mod panels;
+pub mod reference_images;
 pub mod sections;
 pub mod select_modes;
 pub mod xray;
