@@ -148,3 +148,37 @@ fn a_document_naming_a_picture_outside_its_folder_opens_says_so_and_reads_nothin
     assert!(messages.iter().all(|m| !m.contains('\n')), "one line each: {messages:?}");
     assert!(has_label(&harness, "points outside the document's folder"), "the panel says why beside the image");
 }
+
+/// Dragging the opacity slider fades the picture as it moves and is one undo step.
+#[test]
+fn dragging_the_opacity_slider_is_one_undo_step() {
+    let mut doc = primitives::cube();
+    doc.reference_images.push(ReferenceImage::new("front.png", ReferencePlane::Front, 2.0));
+    let folder = temp_dir("refimg-opacity");
+    write_png(&folder.join("front.png"), 4, 4);
+    let mut harness = editor_in(&folder, doc);
+    let opacity = |h: &Harness<'_, App>| h.state().editor.document.doc().reference_images[0].opacity;
+    let rail = super::panel_tests::widget_beside_label(&harness, "opacity", Role::Slider);
+    let start = super::panel_tests::slider_point(rail, 1.0);
+    harness.hover_at(start);
+    harness.run_steps(1);
+    harness.drag_at(start);
+    harness.run_steps(1);
+    let mut seen = Vec::new();
+    let mut last = start;
+    for k in 1..=6 {
+        last = super::panel_tests::slider_point(rail, 1.0 - 0.1 * k as f32);
+        harness.hover_at(last);
+        harness.run_steps(1);
+        seen.push(opacity(&harness));
+    }
+    harness.drop_at(last);
+    harness.run_steps(2);
+    let faded = opacity(&harness);
+    assert!((0.3..0.5).contains(&faded), "dragged to about 0.4, got {faded} ({seen:?})");
+    assert!(seen.windows(2).all(|w| w[1] <= w[0]) && seen[0] < 1.0, "the picture fades as it moves: {seen:?}");
+    harness.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+    harness.run_steps(2);
+    assert_eq!(opacity(&harness), 1.0, "one Ctrl+Z undoes the whole drag");
+    assert!(!harness.state().editor.document.can_undo(), "the drag was more than one undo step");
+}
