@@ -75,8 +75,8 @@ fn a_front_picture_lies_on_its_plane_blends_at_its_opacity_and_uploads_once() {
     let mut image = ReferenceImage::new("quadrants.png", ReferencePlane::Front, 2.0);
     let frame = crate::DisplayFrame::IDENTITY;
     let quads = [ReferenceQuad::new(&image, &picture, &frame)];
-    let shot = render_image(&gpu, &mut renderer, &Scene { reference_images: &quads, ..black(camera, None) }, W, H)
-        .unwrap();
+    let shot =
+        render_image(&gpu, &mut renderer, &Scene { reference_images: &quads, ..black(camera, None) }, W, H).unwrap();
     let at = |x: f32, z: f32| project(&camera, glam::Vec3::new(x, 0.0, z));
     assert!(near(pixel(&shot, at(-0.5, 0.5)), RED, 2), "top left {:?}", pixel(&shot, at(-0.5, 0.5)));
     assert!(near(pixel(&shot, at(0.5, 0.5)), GREEN, 2), "top right {:?}", pixel(&shot, at(0.5, 0.5)));
@@ -88,16 +88,16 @@ fn a_front_picture_lies_on_its_plane_blends_at_its_opacity_and_uploads_once() {
     // Half opacity over black: half the linear red, 188 in sRGB.
     image.opacity = 0.5;
     let quads = [ReferenceQuad::new(&image, &picture, &frame)];
-    let half = render_image(&gpu, &mut renderer, &Scene { reference_images: &quads, ..black(camera, None) }, W, H)
-        .unwrap();
+    let half =
+        render_image(&gpu, &mut renderer, &Scene { reference_images: &quads, ..black(camera, None) }, W, H).unwrap();
     assert!(near(pixel(&half, at(-0.5, 0.5)), [188, 0, 0], 3), "{:?}", pixel(&half, at(-0.5, 0.5)));
     assert_eq!(renderer.reference_uploads(), 1, "the same picture is uploaded once");
     // Turned a quarter counter-clockwise, the red quadrant is at the bottom left.
     image.opacity = 1.0;
     image.rotation = 90.0;
     let quads = [ReferenceQuad::new(&image, &picture, &frame)];
-    let turned = render_image(&gpu, &mut renderer, &Scene { reference_images: &quads, ..black(camera, None) }, W, H)
-        .unwrap();
+    let turned =
+        render_image(&gpu, &mut renderer, &Scene { reference_images: &quads, ..black(camera, None) }, W, H).unwrap();
     assert!(near(pixel(&turned, at(-0.5, -0.5)), RED, 2), "{:?}", pixel(&turned, at(-0.5, -0.5)));
     // Not drawn: nothing of it is kept; another picture is another upload.
     let other = quadrants("other.png");

@@ -27,11 +27,8 @@ fn saved_cube_editor(name: &str, doc: taut_core::Document) -> (Harness<'static, 
 fn editor_in(folder: &Path, doc: taut_core::Document) -> Harness<'static, App> {
     let path = folder.join("cage.taut");
     doc.save(&path).unwrap();
-    let editor = EditorState::new(
-        super::document::EditorDocument::open(&path).unwrap(),
-        RecentFiles::in_folder(folder),
-        None,
-    );
+    let editor =
+        EditorState::new(super::document::EditorDocument::open(&path).unwrap(), RecentFiles::in_folder(folder), None);
     let ui = UiState { no_native_dialogs: true, ..Default::default() };
     let mut harness = Harness::builder()
         .with_size(egui::vec2(1280.0, 1600.0))

@@ -13,9 +13,9 @@ use crate::editor::state::EditorState;
 use crate::editor::ui::{PathPurpose, UiState};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
+use taut_core::DVec3;
 use taut_core::document::reference_images::relative_to_folder;
 use taut_core::document::{Edit, ReferenceImage, ReferencePlane};
-use taut_core::DVec3;
 use taut_render::reference_images::{Picture, ReferenceQuad, load_picture, picture_key};
 
 /// The extensions the picture browser lists.
@@ -93,11 +93,7 @@ impl ReferencePictures {
     }
 
     /// The visible images that have a picture, as the renderer draws them.
-    pub fn quads<'a>(
-        &'a self,
-        images: &[ReferenceImage],
-        frame: &taut_render::DisplayFrame,
-    ) -> Vec<ReferenceQuad<'a>> {
+    pub fn quads<'a>(&'a self, images: &[ReferenceImage], frame: &taut_render::DisplayFrame) -> Vec<ReferenceQuad<'a>> {
         images
             .iter()
             .filter(|i| i.visible && i.opacity > 0.0)
@@ -234,7 +230,8 @@ impl EditorState {
         let mut responses = Vec::new();
         ui.horizontal(|ui| {
             ui.label("centre");
-            for (value, axis) in [(&mut edited.centre.x, "x "), (&mut edited.centre.y, "y "), (&mut edited.centre.z, "z ")]
+            for (value, axis) in
+                [(&mut edited.centre.x, "x "), (&mut edited.centre.y, "y "), (&mut edited.centre.z, "z ")]
             {
                 responses.push(
                     ui.add(egui::DragValue::new(value).speed(0.01).prefix(axis))
