@@ -16,7 +16,7 @@ use std::path::{Path, PathBuf};
 use taut_core::DVec3;
 use taut_core::document::reference_images::relative_to_folder;
 use taut_core::document::{Edit, ReferenceImage, ReferencePlane};
-use taut_render::reference_images::{Picture, ReferenceQuad, load_picture, picture_key};
+use taut_render::reference_images::{Picture, PictureKey, ReferenceQuad, load_picture, picture_key};
 
 /// The extensions the picture browser lists.
 pub const PICTURE_EXTENSIONS: &[&str] = &["png", "jpg", "jpeg"];
@@ -25,7 +25,9 @@ pub const PICTURE_EXTENSIONS: &[&str] = &["png", "jpg", "jpeg"];
 #[derive(Clone, Debug)]
 enum Entry {
     Shown(Picture),
-    Refused(String),
+    /// Why there is no picture, and the file it was read from when it was found (a broken
+    /// picture is not decoded again each frame, only when its file changes).
+    Refused(String, Option<PictureKey>),
 }
 
 /// The decoded pictures of the document's reference images, by the image's path as stored:
@@ -50,23 +52,27 @@ impl ReferencePictures {
         let mut told = Vec::new();
         for image in images {
             let entry = match folder {
-                None => Entry::Refused(format!(
-                    "reference image {} is not shown: save the document, as its path is relative to the document's folder",
-                    image.path
-                )),
+                None => Entry::Refused(
+                    format!(
+                        "reference image {} is not shown: save the document, as its path is relative to the document's folder",
+                        image.path
+                    ),
+                    None,
+                ),
                 Some(folder) => match picture_key(image, folder) {
-                    Err(message) => Entry::Refused(message),
+                    Err(message) => Entry::Refused(message, None),
                     Ok(key) => match self.entries.get(&image.path) {
                         Some(Entry::Shown(picture)) if picture.key == key => continue,
-                        _ => match load_picture(key, &image.path) {
+                        Some(Entry::Refused(_, Some(tried))) if *tried == key => continue,
+                        _ => match load_picture(key.clone(), &image.path) {
                             Ok(picture) => Entry::Shown(picture),
-                            Err(message) => Entry::Refused(message),
+                            Err(message) => Entry::Refused(message, Some(key)),
                         },
                     },
                 },
             };
-            if let Entry::Refused(message) = &entry
-                && !matches!(self.entries.get(&image.path), Some(Entry::Refused(m)) if m == message)
+            if let Entry::Refused(message, _) = &entry
+                && !matches!(self.entries.get(&image.path), Some(Entry::Refused(m, _)) if m == message)
                 && folder.is_some()
             {
                 told.push(message.clone());
@@ -87,7 +93,7 @@ impl ReferencePictures {
     /// Why an image's picture is not shown, if it is not.
     pub fn problem(&self, path: &str) -> Option<&str> {
         match self.entries.get(path) {
-            Some(Entry::Refused(message)) => Some(message),
+            Some(Entry::Refused(message, _)) => Some(message),
             _ => None,
         }
     }
@@ -297,5 +303,41 @@ impl EditorState {
                 Err(message) => self.notify(format!("could not copy the reference image: {message}"), true),
             },
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn set_modified(path: &Path, seconds: u64) {
+        let file = std::fs::OpenOptions::new().write(true).open(path).unwrap();
+        file.set_modified(std::time::UNIX_EPOCH + std::time::Duration::from_secs(seconds)).unwrap();
+    }
+
+    /// A picture is read once per file version: a broken one is told once and not decoded again
+    /// each frame, and read again when its file changes.
+    #[test]
+    fn pictures_are_read_again_only_when_their_file_changes() {
+        let folder = crate::editor::document::tests::temp_dir("refimg-store");
+        let path = folder.join("p.png");
+        std::fs::write(&path, b"\x89PNG\r\n\x1a\n broken").unwrap();
+        set_modified(&path, 1_000_000);
+        let images = [ReferenceImage::new("p.png", ReferencePlane::Front, 1.0)];
+        let mut store = ReferencePictures::default();
+        let told = store.refresh(&images, Some(&folder));
+        assert!(told.len() == 1 && told[0].contains("cannot decode it"), "{told:?}");
+        // A good picture in place of the broken one, with the same time: not read again.
+        image::RgbaImage::from_pixel(2, 2, image::Rgba([1, 2, 3, 255])).save(&path).unwrap();
+        set_modified(&path, 1_000_000);
+        assert!(store.refresh(&images, Some(&folder)).is_empty(), "told once");
+        assert!(store.picture("p.png").is_none(), "the same file version was decoded again");
+        set_modified(&path, 2_000_000);
+        assert!(store.refresh(&images, Some(&folder)).is_empty());
+        assert_eq!(store.picture("p.png").map(|p| p.pixels.dimensions()), Some((2, 2)), "a changed file is read");
+        assert!(store.problem("p.png").is_none());
+        // Unsaved (no folder): nothing is read, and the panel says why.
+        assert!(store.refresh(&images, None).is_empty());
+        assert!(store.picture("p.png").is_none() && store.problem("p.png").unwrap().contains("save the document"));
     }
 }
