@@ -299,7 +299,11 @@ fn draw(
         .map_err(|e| e.to_string())?;
     let targets = TargetFormats::for_adapter(&gpu.adapter, wgpu::TextureFormat::Rgba8UnormSrgb);
     let mut renderer = Renderer::new(&gpu, targets);
-    let image = picture.render(&gpu, &mut renderer, &data).map_err(|e| match e {
+    let references = match drawn {
+        Drawn::Surface { doc, .. } => reference_pictures(doc, &args.input),
+        Drawn::Mesh(_) => Vec::new(),
+    };
+    let image = picture.render_with_references(&gpu, &mut renderer, &data, &references).map_err(|e| match e {
         RenderError::Output(m) if m.starts_with("the camera distance") => {
             format!("--camera {}: {m}", args.camera.as_deref().unwrap_or_default())
         }
@@ -313,6 +317,27 @@ fn draw(
         gpu.description()
     );
     Ok(())
+}
+
+/// The document's visible reference images with their pictures, read as the editor reads them
+/// (only from the document's folder); one that cannot be read is told in one line and left out.
+fn reference_pictures(
+    doc: &Document,
+    input: &std::path::Path,
+) -> Vec<(taut_core::document::ReferenceImage, taut_render::reference_images::Picture)> {
+    use taut_render::reference_images::{load_picture, picture_key};
+    let folder = input.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(std::path::Path::new("."));
+    doc.reference_images
+        .iter()
+        .filter(|image| image.visible)
+        .filter_map(|image| match picture_key(image, folder).and_then(|key| load_picture(key, &image.path)) {
+            Ok(picture) => Some((image.clone(), picture)),
+            Err(message) => {
+                note(message);
+                None
+            }
+        })
+        .collect()
 }
 
 /// Prints what the analysis view shows in numbers: the draft classes' shares of the area.

@@ -171,3 +171,41 @@ fn sections_draw_one_closed_curve_per_plane_through_a_closed_surface_with_combs(
         assert!(!png.exists());
     }
 }
+
+/// A document's reference images are drawn behind the surface, read only from beside the
+/// document: one named outside its folder is told in a note and left out, and the picture is
+/// still written.
+#[test]
+fn reference_images_are_drawn_and_those_outside_the_folder_refused() {
+    use taut_core::document::{ReferenceImage, ReferencePlane};
+    let dir = scratch("reference-images");
+    let mut doc = taut_core::Document::load(Path::new(&asset("default.taut"))).unwrap();
+    image::RgbaImage::from_pixel(8, 8, image::Rgba([0, 255, 0, 255])).save(dir.join("green.png")).unwrap();
+    // A bright red picture outside: were it read, red would show.
+    let outer = dir.parent().unwrap().join("reference-images-outside.png");
+    image::RgbaImage::from_pixel(8, 8, image::Rgba([255, 0, 0, 255])).save(&outer).unwrap();
+    doc.reference_images = vec![
+        // Far larger than the model, facing the camera: it fills the picture's background.
+        ReferenceImage::new("green.png", ReferencePlane::View, 1000.0),
+        ReferenceImage {
+            in_front: true,
+            ..ReferenceImage::new("../reference-images-outside.png", ReferencePlane::View, 1000.0)
+        },
+    ];
+    let input = dir.join("with-references.taut");
+    doc.save(&input).unwrap();
+    let output = dir.join("with-references.png");
+    let (input, output) = (input.to_string_lossy().into_owned(), output.to_string_lossy().into_owned());
+    let out = taut(&["render", &input, "-o", &output, "--size", "160x120", "--software"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        stdout.contains("note: reference image ../reference-images-outside.png points outside the document's folder"),
+        "{stdout}"
+    );
+    let picture = image::open(&output).unwrap().to_rgba8();
+    let corner = picture.get_pixel(2, 2);
+    assert!(corner[1] > 240 && corner[0] < 20 && corner[2] < 20, "the green picture fills the corner: {corner:?}");
+    let centre = picture.get_pixel(80, 60);
+    assert!(centre[1] < 240 || centre[0] > 20, "the model hides the picture behind it: {centre:?}");
+}

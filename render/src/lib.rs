@@ -19,6 +19,7 @@ pub mod offscreen;
 pub mod overlay;
 pub mod passes;
 pub mod picture;
+pub mod reference_images;
 pub mod renderer;
 
 pub use buffers::{Changes, GpuSurface, SurfaceBuffers, SurfaceVertex};

@@ -1,13 +1,15 @@
 //! One picture of a surface, composed as `taut render` and the golden-image tests both draw it:
 //! the surface in the display coordinates of its own bounding box ([`DisplayFrame`]), framed to
 //! fill the picture left of the legend's margin (or placed by an explicit camera), with its
-//! normals, colour values and overlays.
+//! normals, colour values, overlays and the document's reference images.
 
 use crate::display::DisplayFrame;
 use crate::overlay::OverlayData;
 use crate::passes::overlay2d::legend_margin;
 use crate::passes::surface::SurfaceMode;
+use crate::reference_images::ReferenceQuad;
 use crate::{Camera, Gpu, GpuSurface, RenderError, Renderer, Scene, SurfaceBuffers, offscreen};
+use taut_core::document::ReferenceImage;
 use taut_core::{DVec3, PolyMesh};
 
 /// Where the camera looks from.
@@ -82,6 +84,24 @@ impl Picture<'_> {
         renderer: &mut Renderer,
         overlays: &OverlayData,
     ) -> Result<image::RgbaImage, RenderError> {
+        self.render_with_references(gpu, renderer, overlays, &[])
+    }
+
+    /// [`render`](Self::render) with the document's reference images (each with its decoded
+    /// picture) behind or over the surface.
+    pub fn render_with_references(
+        &self,
+        gpu: &Gpu,
+        renderer: &mut Renderer,
+        overlays: &OverlayData,
+        references: &[(ReferenceImage, crate::reference_images::Picture)],
+    ) -> Result<image::RgbaImage, RenderError> {
+        let frame = self.frame();
+        let quads: Vec<ReferenceQuad<'_>> = references
+            .iter()
+            .filter(|(image, _)| image.visible)
+            .map(|(image, picture)| ReferenceQuad::new(image, picture, &frame))
+            .collect();
         let mut buffers = SurfaceBuffers::default();
         buffers.update_with(self.mesh, self.normals, &self.frame());
         if let Some(values) = self.values {
@@ -90,7 +110,10 @@ impl Picture<'_> {
         let gpu_surface = GpuSurface::new(&gpu.device, &buffers);
         let margin = overlays.legend.as_ref().map_or(0, |l| legend_margin(l, self.width, self.height));
         let camera = self.camera(margin)?;
-        let scene = Scene::new(camera, Some(&gpu_surface), self.mode).with_overlays(overlays);
+        let scene = Scene {
+            reference_images: &quads,
+            ..Scene::new(camera, Some(&gpu_surface), self.mode).with_overlays(overlays)
+        };
         offscreen::render_image(gpu, renderer, &scene, self.width, self.height)
     }
 }

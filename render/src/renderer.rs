@@ -1,5 +1,6 @@
-//! [`Renderer`]: every pass, and the order they draw a [`Scene`] in: the surface, the
-//! depth-tested lines on it, the lines on top, the points, and the 2D overlay (the legend).
+//! [`Renderer`]: every pass, and the order they draw a [`Scene`] in: the reference images behind
+//! the model, the surface, the depth-tested lines on it, the ghosts, the reference images in front
+//! of the model, the lines on top, the points, and the 2D overlay (the legend).
 
 use crate::camera::Camera;
 use crate::frame::{FrameBinding, FrameUniform};
@@ -7,6 +8,7 @@ use crate::overlay::OverlayData;
 use crate::passes::lines::LinesPass;
 use crate::passes::overlay2d::Overlay2dPass;
 use crate::passes::points::PointsPass;
+use crate::passes::reference_images::ReferenceImagesPass;
 use crate::passes::surface::{SurfaceMode, SurfacePass};
 use crate::{Gpu, GpuSurface, TargetFormats};
 
@@ -31,6 +33,8 @@ pub struct Scene<'a> {
     /// The clipping plane `(n, d)` in display coordinates: the surfaces and the lines on them are
     /// cut away where `n·p > d` (the on-top overlays are not).
     pub clip_plane: Option<glam::Vec4>,
+    /// Pictures behind or over the model ([`crate::reference_images`]).
+    pub reference_images: &'a [crate::reference_images::ReferenceQuad<'a>],
 }
 
 impl<'a> Scene<'a> {
@@ -46,6 +50,7 @@ impl<'a> Scene<'a> {
             ghost: None,
             second_ghost: None,
             clip_plane: None,
+            reference_images: &[],
         }
     }
 
@@ -97,6 +102,7 @@ pub struct Renderer {
     lines: LinesPass,
     points: PointsPass,
     overlay2d: Overlay2dPass,
+    reference_images: ReferenceImagesPass,
 }
 
 impl Renderer {
@@ -106,7 +112,8 @@ impl Renderer {
         let lines = LinesPass::new(&gpu.device, &targets, &frame.layout);
         let points = PointsPass::new(&gpu.device, &targets, &frame.layout);
         let overlay2d = Overlay2dPass::new(&gpu.device, &gpu.queue, &targets, &frame.layout);
-        Renderer { targets, frame, surface, lines, points, overlay2d }
+        let reference_images = ReferenceImagesPass::new(&gpu.device, &targets, &frame.layout);
+        Renderer { targets, frame, surface, lines, points, overlay2d, reference_images }
     }
 
     /// Records one frame of `scene` into `encoder`, drawing into `target` (the window's
@@ -146,6 +153,7 @@ impl Renderer {
         self.lines.prepare(device, queue, &overlays.surface_lines, &overlays.on_top_lines);
         self.points.prepare(device, queue, &overlays.points);
         self.overlay2d.prepare(device, queue, overlays.legend.as_ref(), width, height);
+        self.reference_images.prepare(device, queue, scene.reference_images);
         let [r, g, b, a] = scene.background;
         let (view, resolve_target) = match &attachments.msaa {
             Some(msaa) => (msaa, Some(target)),
@@ -173,10 +181,11 @@ impl Renderer {
         });
         pass.set_viewport(x as f32, y as f32, width as f32, height as f32, 0.0, 1.0);
         pass.set_scissor_rect(x, y, width, height);
-        if let Some(surface) = scene.surface {
-            self.surface.draw(&mut pass, &self.frame.bind_group, surface);
-        }
         let frame = &self.frame.bind_group;
+        self.reference_images.draw(&mut pass, frame, false);
+        if let Some(surface) = scene.surface {
+            self.surface.draw(&mut pass, frame, surface);
+        }
         self.lines.draw_surface_lines(&mut pass, frame);
         if let Some((ghost, _)) = scene.ghost {
             self.surface.draw_ghost(&mut pass, frame, ghost);
@@ -184,6 +193,7 @@ impl Renderer {
         if let Some((ghost, _)) = scene.second_ghost {
             self.surface.draw_second_ghost(&mut pass, frame, ghost);
         }
+        self.reference_images.draw(&mut pass, frame, true);
         self.lines.draw_on_top_lines(&mut pass, frame);
         self.points.draw(&mut pass, frame);
         self.overlay2d.draw(&mut pass, frame);
@@ -192,6 +202,11 @@ impl Renderer {
     /// How many instance buffers the lines and points passes created so far (for tests).
     pub fn overlay_buffer_creations(&self) -> (u64, u64) {
         (self.lines.buffer_creations(), self.points.buffer_creations())
+    }
+
+    /// How many reference pictures were uploaded so far (for tests).
+    pub fn reference_uploads(&self) -> u64 {
+        self.reference_images.uploads()
     }
 }
 

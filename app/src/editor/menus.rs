@@ -262,6 +262,7 @@ impl EditorState {
         self.messages_window(ctx, ui_state);
         self.new_primitive_dialog(ctx, ui_state);
         self.step_export_dialogs(ctx, ui_state);
+        self.reference_copy_dialog(ctx, ui_state);
         if let Some((purpose, mut text)) = ui_state.path_dialog.take() {
             let mut keep = true;
             let mut chosen = None;

@@ -47,6 +47,8 @@ mod navigation;
 #[cfg(test)]
 mod panel_tests;
 #[cfg(test)]
+mod reference_images_tests;
+#[cfg(test)]
 mod scheme_tests;
 pub mod shortcuts;
 #[cfg(test)]

@@ -29,6 +29,8 @@ pub enum PathPurpose {
     MakeCage,
     /// File ▸ Save edit script…: the session's edits for `taut edit --script`.
     EditScript,
+    /// A picture for the Reference images panel.
+    ReferenceImage,
 }
 
 impl PathPurpose {
@@ -45,6 +47,7 @@ impl PathPurpose {
             }
             PathPurpose::MakeCage => "Make a cage from a mesh (.obj, .stl, .ply, .gltf, .glb)",
             PathPurpose::EditScript => "Save this session's edits as a script for taut edit (.json)",
+            PathPurpose::ReferenceImage => "Add a reference image (.png, .jpg, .jpeg)",
         }
     }
 
@@ -60,6 +63,7 @@ impl PathPurpose {
             PathPurpose::ExportGlb => &["glb"],
             PathPurpose::Screenshot => &["png"],
             PathPurpose::EditScript => &["json"],
+            PathPurpose::ReferenceImage => super::workspaces::surface::reference_images::PICTURE_EXTENSIONS,
         }
     }
 
@@ -74,6 +78,7 @@ impl PathPurpose {
             PathPurpose::ImportCurve => "json",
             PathPurpose::MakeCage => "obj",
             PathPurpose::EditScript => "json",
+            PathPurpose::ReferenceImage => "png",
         }
     }
 }
@@ -134,6 +139,8 @@ pub struct UiState {
     pub(super) new_primitive: Option<super::new_primitive::NewPrimitive>,
     /// File ▸ Export surface as STEP…: its options and "Replace it?".
     pub step_export: super::step_export::StepExportUi,
+    /// A reference picture chosen outside the document's folder, waiting for "copy it there?".
+    pub reference_copy: Option<PathBuf>,
 }
 
 impl EditorState {
@@ -151,6 +158,7 @@ impl EditorState {
     /// Draws the whole UI for one frame and handles its input.
     fn lay_out(&mut self, ui_root: &mut egui::Ui, ui_state: &mut UiState) {
         let ctx = ui_root.ctx().clone();
+        self.refresh_reference_images();
         // The selection this state began with, for undo and redo to put back.
         self.note_selection();
         self.shortcuts(&ctx, ui_state);
@@ -178,6 +186,8 @@ impl EditorState {
                 self.solver_panel(ui, ui_state);
                 ui.separator();
                 self.display_panel(ui);
+                ui.separator();
+                self.reference_images_panel(ui, ui_state);
                 self.cage_fit_panel(ui);
             });
         });
@@ -197,6 +207,7 @@ impl EditorState {
             || ui_state.recovery.is_some()
             || ui_state.new_primitive.is_some()
             || ui_state.step_export.is_open()
+            || ui_state.reference_copy.is_some()
         {
             return;
         }
@@ -349,6 +360,7 @@ impl EditorState {
                 PathPurpose::Open => dialog.add_filter("Cages and meshes", &["taut", "obj", "gltf", "glb"]),
                 PathPurpose::ImportCurve => dialog.add_filter("Point files", &["json", "csv"]),
                 PathPurpose::MakeCage => dialog.add_filter("Meshes", &["obj", "stl", "ply", "gltf", "glb"]),
+                PathPurpose::ReferenceImage => dialog.add_filter("Pictures", purpose.extensions()),
                 PathPurpose::ExportStep => {
                     let suggested = PathBuf::from(self.suggested_path(purpose));
                     let name = suggested.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
@@ -356,7 +368,10 @@ impl EditorState {
                 }
                 other => dialog.add_filter(other.extension(), &[other.extension()]),
             };
-            let picking = matches!(purpose, PathPurpose::Open | PathPurpose::MakeCage | PathPurpose::ImportCurve);
+            let picking = matches!(
+                purpose,
+                PathPurpose::Open | PathPurpose::MakeCage | PathPurpose::ImportCurve | PathPurpose::ReferenceImage
+            );
             let picked = if picking { dialog.pick_file() } else { dialog.save_file() };
             if let Some(path) = picked {
                 self.path_chosen(purpose, path, ui_state);
@@ -373,6 +388,11 @@ impl EditorState {
     pub(super) fn suggested_path(&self, purpose: PathPurpose) -> String {
         if purpose == PathPurpose::MakeCage {
             return self.cage.dialog.as_ref().map(|d| d.path.clone()).unwrap_or_default();
+        }
+        if purpose == PathPurpose::ReferenceImage {
+            // The browser opens in the document's folder, where the pictures belong.
+            let folder = self.document_folder().and_then(|f| f.canonicalize().ok());
+            return folder.map(|f| format!("{}{}", f.display(), std::path::MAIN_SEPARATOR)).unwrap_or_default();
         }
         let named = self.document.path().or(self.document.source());
         let (Some(path), true) = (named, !matches!(purpose, PathPurpose::Open | PathPurpose::ImportCurve)) else {
@@ -403,6 +423,7 @@ impl EditorState {
             }
             PathPurpose::ImportCurve => self.import_curve(&path),
             PathPurpose::EditScript => self.save_edit_script(&super::state::with_extension_if_missing(&path, "json")),
+            PathPurpose::ReferenceImage => self.reference_picked(path, ui_state),
             PathPurpose::MakeCage => {
                 self.open_cage_dialog();
                 if let Some(dialog) = &mut self.cage.dialog {

@@ -11,7 +11,8 @@
 //! onto the moved cage's curve mesh ([`crate::gregory::carry`]), or is refused when it cannot.
 
 use crate::document::curve_mesh_edits::is_curve_mesh_edit;
-use crate::document::{Document, SchemeKind, SubdivSettings, check_sharpness, check_tension};
+use crate::document::reference_images::checked_relative;
+use crate::document::{Document, ReferenceImage, SchemeKind, SubdivSettings, check_sharpness, check_tension};
 use crate::gregory::CurveMeshEdits;
 use crate::mesh::{EdgeId, VertexId};
 use crate::nusd::SolverSettings;
@@ -80,6 +81,13 @@ pub enum Edit {
     /// A cage-modelling operation ([`crate::document::modelling`]): performed on the cage, the document's
     /// properties carried to the new cage, and checked as a new cage is.
     Mesh(crate::document::modelling::MeshEdit),
+    /// Adds a reference image at the end of the list; its path must stay inside the document's
+    /// folder ([`crate::document::reference_images::checked_relative`]).
+    AddReferenceImage(ReferenceImage),
+    /// Removes the reference image at an index.
+    RemoveReferenceImage(usize),
+    /// Replaces the reference image at an index (its placement, look or file).
+    SetReferenceImage(usize, ReferenceImage),
 }
 
 impl Edit {
@@ -106,6 +114,9 @@ impl Edit {
             Edit::SetMirror(Some(_)) => "Mirror On",
             Edit::SetMirror(None) => "Mirror Off",
             Edit::Mesh(op) => op.name(),
+            Edit::AddReferenceImage(_) => "Add Reference Image",
+            Edit::RemoveReferenceImage(_) => "Remove Reference Image",
+            Edit::SetReferenceImage(..) => "Edit Reference Image",
         }
     }
 }
@@ -235,6 +246,30 @@ impl Document {
             | Edit::RebuildCurveMesh => self.check_curve_mesh_edit(edit),
             Edit::SetMirror(plane) => Document::check_mirror(*plane),
             Edit::Mesh(op) => self.check_edit(&Edit::Replace(Box::new(op.run(self)?.doc))),
+            Edit::AddReferenceImage(image) => {
+                image.validate()?;
+                checked_relative(&image.path).map(|_| ())
+            }
+            Edit::RemoveReferenceImage(index) => self.check_reference_index(*index),
+            Edit::SetReferenceImage(index, image) => {
+                self.check_reference_index(*index)?;
+                image.validate()?;
+                // An image a file brought in with a refused path can still be hidden, moved or
+                // faded; only a new path must be safe.
+                if image.path != self.reference_images[*index].path {
+                    checked_relative(&image.path)?;
+                }
+                Ok(())
+            }
+        }
+    }
+
+    fn check_reference_index(&self, index: usize) -> Result<()> {
+        let n = self.reference_images.len();
+        if index < n {
+            Ok(())
+        } else {
+            Err(Error::Input(format!("there is no reference image {index}: the document has {n}")))
         }
     }
 
@@ -283,6 +318,8 @@ impl Document {
             Edit::SetMirror(plane) => self.mirror != *plane,
             // Every operation that is not refused changes the cage.
             Edit::Mesh(_) => true,
+            Edit::AddReferenceImage(_) | Edit::RemoveReferenceImage(_) => true,
+            Edit::SetReferenceImage(index, image) => self.reference_images[*index] != *image,
         }
     }
 
@@ -345,6 +382,11 @@ impl Document {
                     *self = done.doc;
                 }
             }
+            Edit::AddReferenceImage(image) => self.reference_images.push(image),
+            Edit::RemoveReferenceImage(index) => {
+                self.reference_images.remove(index);
+            }
+            Edit::SetReferenceImage(index, image) => self.reference_images[index] = image,
         }
     }
 }

@@ -16,14 +16,18 @@
 //! The optional key `curves` holds the Curves workspace's curves, segments and Coons patches
 //! ([`CurveSet`]); it is written only when there are some, so files without curves are as before.
 //! The optional key `mirror` holds the mirror option ([`crate::document::symmetry`]), absent when off.
+//! The optional key `reference_images` lists the pictures the designer models over
+//! ([`crate::document::reference_images`]), absent when there are none.
 
 pub mod curve_mesh_edits;
 pub mod edit;
 pub mod modelling;
+pub mod reference_images;
 mod scheme;
 pub mod symmetry;
 
 pub use edit::Edit;
+pub use reference_images::{ReferenceImage, ReferencePlane};
 
 use crate::curve::CurveSet;
 use crate::curve::set::CurvesFile;
@@ -74,6 +78,8 @@ pub struct Document {
     pub mirror: Option<crate::mesh::edit::MirrorPlane>,
     /// The mirror partners last found for this document or a clone of it.
     pub(crate) mirror_cache: crate::document::symmetry::PartnerCache,
+    /// Pictures drawn behind or over the model ([`crate::document::reference_images`]).
+    pub reference_images: Vec<ReferenceImage>,
 }
 
 impl Document {
@@ -96,6 +102,7 @@ impl Document {
             curve_cache: CurveMeshCache::default(),
             mirror: None,
             mirror_cache: Default::default(),
+            reference_images: Vec::new(),
         }
     }
 
@@ -160,6 +167,7 @@ impl Document {
             curve_cache: CurveMeshCache::default(),
             mirror: self.mirror,
             mirror_cache: Default::default(),
+            reference_images: self.reference_images.clone(),
         };
         let carried = doc.carry_curve_mesh_edits(self, Some(p))?;
         doc.validate()?;
@@ -260,6 +268,7 @@ impl Document {
         self.subdiv.validate()?;
         self.curves.validate()?;
         Document::check_mirror(self.mirror)?;
+        self.reference_images.iter().try_for_each(ReferenceImage::validate)?;
         self.check_curve_mesh_edits()
     }
 
@@ -316,6 +325,7 @@ impl Document {
             curves: self.curves.to_file(),
             curve_mesh: (!self.curve_mesh.is_empty()).then(|| self.curve_mesh.clone()),
             mirror: self.mirror.map(Into::into),
+            reference_images: self.reference_images.clone(),
         };
         serde_json::to_string_pretty(&file).expect("a document always serialises")
     }
@@ -389,6 +399,7 @@ impl Document {
         }
         doc.curve_mesh = file.curve_mesh.unwrap_or_default().normalized();
         doc.mirror = file.mirror.map(Into::into);
+        doc.reference_images = file.reference_images;
         doc.validate().map_err(|e| Error::format(origin, e.to_string()))?;
         if !doc.curve_mesh.is_empty() {
             // The edits must fit the curve mesh this cage builds; the build is kept for the editor.
@@ -424,6 +435,7 @@ impl PartialEq for Document {
             && self.curves == other.curves
             && self.curve_mesh == other.curve_mesh
             && self.mirror == other.mirror
+            && self.reference_images == other.reference_images
     }
 }
 
@@ -482,6 +494,8 @@ struct TautFile {
     curve_mesh: Option<CurveMeshEdits>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     mirror: Option<crate::document::symmetry::MirrorFile>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    reference_images: Vec<ReferenceImage>,
 }
 
 #[derive(Serialize, Deserialize)]

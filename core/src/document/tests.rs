@@ -84,3 +84,93 @@ fn bad_documents_are_explained() {
         assert!(err.contains(expected), "expected '{expected}' in: {err}");
     }
 }
+
+fn reference(path: &str) -> ReferenceImage {
+    ReferenceImage {
+        path: path.into(),
+        plane: ReferencePlane::Side,
+        centre: DVec3::new(0.1, -2.0, 1.0 / 3.0),
+        width: 12.5,
+        rotation: -30.0,
+        opacity: 0.35,
+        in_front: true,
+        visible: false,
+    }
+}
+
+#[test]
+fn reference_images_round_trip_and_old_files_have_none() {
+    let plain = tetra().to_json();
+    assert!(!plain.contains("reference_images"), "no key without images");
+    assert!(Document::from_json(&plain, Path::new("old.taut")).unwrap().reference_images.is_empty());
+    let mut doc = tetra();
+    doc.apply(Edit::AddReferenceImage(reference("pics/side view.jpg"))).unwrap();
+    doc.apply(Edit::AddReferenceImage(ReferenceImage::new("front.png", ReferencePlane::View, 2.0))).unwrap();
+    let text = doc.to_json();
+    let back = Document::from_json(&text, Path::new("mem.taut")).unwrap();
+    assert_eq!(back.reference_images, doc.reference_images);
+    assert_eq!(back.to_json(), text);
+    // The optional values may be left out of a hand-written file.
+    let short = r#"{"format": "taut-cage", "version": 2, "positions": [[0,0,0],[1,0,0],[0,1,0]], "faces": [[0,1,2]],
+        "reference_images": [{"path": "a.png", "plane": "top", "centre": [0, 0, 0], "width": 3}]}"#;
+    let image = &Document::from_json(short, Path::new("short.taut")).unwrap().reference_images[0];
+    assert_eq!((image.opacity, image.visible, image.in_front, image.rotation), (1.0, true, false, 0.0));
+}
+
+#[test]
+fn hostile_reference_images_are_refused_in_one_line() {
+    let mut doc = tetra();
+    doc.reference_images.push(reference("a.png"));
+    let good = doc.to_json();
+    let cases = [
+        (good.replace("12.5", "-1.0"), "width must be a finite number > 0"),
+        (good.replace("12.5", "0.0"), "width must be a finite number > 0"),
+        (good.replace("0.35", "1.5"), "opacity must be between 0 and 1"),
+        (good.replace("0.35", "-0.1"), "opacity must be between 0 and 1"),
+        (good.replace("12.5", "1e999"), "not a valid .taut file"),
+        (good.replace("12.5", "NaN"), "not a valid .taut file"),
+        (good.replace("\"side\"", "\"diagonal\""), "unknown variant"),
+        (good.replace("\"a.png\"", "\"\""), "needs the path of a file"),
+        (good.replace("\"visible\"", "\"bogus\": 1, \"visible\""), "unknown field"),
+    ];
+    for (text, expected) in cases {
+        let err = Document::from_json(&text, Path::new("x.taut")).unwrap_err().to_string();
+        assert!(err.contains(expected) && !err.contains('\n'), "expected '{expected}' in: {err}");
+    }
+    // A path that leaves the folder is kept (the designer sees and removes it) but never resolves.
+    for path in ["../outside.png", "/etc/passwd"] {
+        let text = good.replace("\"a.png\"", &format!("{path:?}"));
+        let opened = Document::from_json(&text, Path::new("x.taut")).unwrap();
+        assert_eq!(opened.reference_images[0].path, path);
+        assert!(opened.reference_images[0].resolve(Path::new(".")).is_err());
+    }
+}
+
+#[test]
+fn reference_image_edits_are_checked_and_undoable_values() {
+    let mut doc = tetra();
+    let before = doc.clone();
+    for bad in ["../up.png", "/abs.png", "a/../../b.png"] {
+        let err = doc.apply(Edit::AddReferenceImage(reference(bad))).unwrap_err().to_string();
+        assert!(err.contains("not read"), "{bad}: {err}");
+    }
+    let mut nan = reference("a.png");
+    nan.centre.x = f64::NAN;
+    assert!(doc.apply(Edit::AddReferenceImage(nan)).unwrap_err().to_string().contains("centre"));
+    assert_eq!(doc, before, "a refused edit changes nothing");
+    assert!(doc.apply(Edit::AddReferenceImage(reference("a.png"))).unwrap());
+    let mut faded = reference("a.png");
+    faded.opacity = 0.9;
+    assert!(doc.apply(Edit::SetReferenceImage(0, faded.clone())).unwrap());
+    assert!(!doc.apply(Edit::SetReferenceImage(0, faded)).unwrap(), "the same values change nothing");
+    assert!(doc.apply(Edit::SetReferenceImage(3, reference("a.png"))).unwrap_err().to_string().contains("has 1"));
+    // An image a file brought in from outside can still be changed, but not given a new bad path.
+    doc.reference_images[0].path = "../outside.png".into();
+    let mut hidden = doc.reference_images[0].clone();
+    hidden.visible = true;
+    assert!(doc.apply(Edit::SetReferenceImage(0, hidden.clone())).unwrap());
+    hidden.path = "../other.png".into();
+    assert!(doc.apply(Edit::SetReferenceImage(0, hidden)).is_err());
+    assert!(doc.apply(Edit::RemoveReferenceImage(0)).unwrap());
+    assert!(doc.reference_images.is_empty());
+}

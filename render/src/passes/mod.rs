@@ -5,6 +5,7 @@
 pub mod lines;
 pub mod overlay2d;
 pub mod points;
+pub mod reference_images;
 pub mod surface;
 
 use bytemuck::Pod;

@@ -261,14 +261,18 @@ impl Running {
         let mut overlays = self.editor.workspace_overlays();
         // The window's legend is drawn by egui in the viewport's strip (see `legend.rs`).
         overlays.legend = None;
+        // Reference pictures behind or over the model, in both workspaces (curves are traced over them).
+        let references =
+            self.editor.references.quads(&self.editor.document.doc().reference_images, &self.editor.view.display_frame);
         let scene = match self.patches.scene(&self.editor, self.surface_gpu.surface(), &overlays) {
-            Some(scene) => Scene { viewport: self.ui.viewport_px, ..scene },
+            Some(scene) => Scene { viewport: self.ui.viewport_px, reference_images: &references, ..scene },
             None => Scene {
                 overlays: Some(&overlays),
                 viewport: self.ui.viewport_px,
                 ghost: self.ghost.shown(&self.editor),
                 second_ghost: self.original_ghost.shown(&self.editor),
                 clip_plane: self.editor.clip_plane(),
+                reference_images: &references,
                 ..Scene::new(self.editor.view.camera, self.surface_gpu.surface(), self.editor.surface_mode())
             },
         };
@@ -357,11 +361,14 @@ impl Running {
     fn screenshot(&mut self, path: &std::path::Path) {
         let [_, _, w, h] = self.ui.viewport_px.unwrap_or([0, 0, self.config.width, self.config.height]);
         let overlays = self.editor.workspace_overlays();
+        let references =
+            self.editor.references.quads(&self.editor.document.doc().reference_images, &self.editor.view.display_frame);
         let scene = self.patches.scene(&self.editor, self.surface_gpu.surface(), &overlays).unwrap_or_else(|| Scene {
             clip_plane: self.editor.clip_plane(),
             ..Scene::new(self.editor.view.camera, self.surface_gpu.surface(), self.editor.surface_mode())
                 .with_overlays(&overlays)
         });
+        let scene = Scene { reference_images: &references, ..scene };
         // An off-screen picture needs a format the read-back understands.
         let targets = TargetFormats::for_adapter(&self.gpu.adapter, wgpu::TextureFormat::Rgba8UnormSrgb);
         let mut renderer = Renderer::new(&self.gpu, targets);

@@ -236,6 +236,9 @@ pub struct EditorState {
     pub(crate) sections: std::cell::RefCell<crate::editor::workspaces::surface::sections::SectionCache>,
     /// What the panels, menus and keys asked for this frame ([`crate::editor::session::commands`]).
     pub(crate) commands: Vec<crate::editor::session::commands::Command>,
+    /// The decoded pictures of the document's reference images
+    /// ([`crate::editor::workspaces::surface::reference_images`]).
+    pub references: crate::editor::workspaces::surface::reference_images::ReferencePictures,
 }
 
 impl EditorState {
@@ -268,6 +271,7 @@ impl EditorState {
             visibility: Default::default(),
             sections: Default::default(),
             commands: Vec::new(),
+            references: Default::default(),
         };
         state.load_curves_view();
         state.frame_all();
