@@ -260,3 +260,90 @@ fn exact_curves_stay_where_they_are() {
         }
     }
 }
+
+/// The smallest standard deviation any unbiased estimate of α can have (the Cramér–Rao bound)
+/// from `n` points of `segment`, evenly spaced in arc length with the end points exact and the
+/// others off by Gaussian noise of standard deviation `sigma` in x and y. The curve through the
+/// two end points has three parameters (α, turning, log ratio of the end radii); only the normal
+/// component of a point's displacement is information (along the curve the point may slide).
+/// Written from the segment's public sampling alone, independently of the estimator.
+fn cramer_rao_alpha(segment: &AestheticSegment, n: usize, sigma: f64) -> f64 {
+    let fractions: Vec<f64> = (0..n).map(|i| i as f64 / (n - 1) as f64).collect();
+    let base = segment.points_at_fractions(&fractions);
+    let (p0, p1) = (base[0], base[n - 1]);
+    // The segment of parameters θ, moved by the similarity that puts its ends on p0 and p1.
+    let through_ends = |theta: [f64; 3]| -> Vec<DVec3> {
+        let s = AestheticSegment::in_standard_position(theta[0], theta[1], theta[2], 1.0).unwrap();
+        let q = s.points_at_fractions(&fractions);
+        let (d, t) = (q[n - 1] - q[0], p1 - p0);
+        let den = d.x * d.x + d.y * d.y;
+        let (re, im) = ((t.x * d.x + t.y * d.y) / den, (t.y * d.x - t.x * d.y) / den);
+        q.iter()
+            .map(|p| {
+                let z = *p - q[0];
+                p0 + DVec3::new(z.x * re - z.y * im, z.x * im + z.y * re, 0.0)
+            })
+            .collect()
+    };
+    let theta = [segment.alpha(), segment.turning(), segment.log_radius_ratio()];
+    let h = 1e-5;
+    let gradients: Vec<Vec<DVec3>> = (0..3)
+        .map(|k| {
+            let (mut up, mut down) = (theta, theta);
+            up[k] += h;
+            down[k] -= h;
+            through_ends(up).iter().zip(through_ends(down)).map(|(a, b)| (*a - b) / (2.0 * h)).collect()
+        })
+        .collect();
+    let mut fisher = [[0.0f64; 3]; 3];
+    for i in 1..n - 1 {
+        let tangent = (base[i + 1] - base[i - 1]).normalize();
+        let normal = DVec3::new(-tangent.y, tangent.x, 0.0);
+        let g: [f64; 3] = std::array::from_fn(|k| gradients[k][i].dot(normal));
+        for a in 0..3 {
+            for b in 0..3 {
+                fisher[a][b] += g[a] * g[b];
+            }
+        }
+    }
+    let m = fisher;
+    let det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+        + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+    sigma * ((m[1][1] * m[2][2] - m[1][2] * m[2][1]) / det).sqrt()
+}
+
+/// α estimation at the issue's noise (0.5 % of the length): one piece for a single segment,
+/// every time, and an error no larger on average than the data allow. The issue asked for ±0.25
+/// at 60 points; the Cramér–Rao bound there is 0.61–0.70 (0.33–0.38 at 200 points, 0.15–0.17 at
+/// 1,000), so no estimator reaches it: ±0.25 takes about 350 points at this noise, or noise of
+/// 0.2 % at 60 points. What the test holds the estimate to instead is efficiency: its RMS error
+/// over the draws within 1.25 times the bound (measured 0.75–0.85 times; the segment search once
+/// settled in the wrong valley of α on some draws, 1.7–1.9 times the bound at 200 points).
+#[test]
+fn alpha_is_estimated_as_well_as_the_noise_allows() {
+    let share = 0.005;
+    let mut failures = Vec::new();
+    for alpha in ALPHAS {
+        let segment = AestheticSegment::in_standard_position(alpha, PI, 1.0, 1.0).unwrap();
+        let length = segment.length();
+        for n in [60, 200] {
+            let bound = cramer_rao_alpha(&segment, n, share * length);
+            let exact = segment.sample(n);
+            let mut errors = Vec::new();
+            for draw in 0..8 {
+                let noisy = with_noise(&exact, share * length, false, 500 + draw + 13 * n as u64);
+                let estimate =
+                    estimate_alpha(&PointSequence::new(noisy, false), Some(DVec3::Z), &EstimateSettings::default())
+                        .unwrap();
+                assert_eq!(estimate.pieces.len(), 1, "α = {alpha}, {n} points, draw {draw}: split without cause");
+                errors.push(estimate.pieces[0].alpha - alpha);
+            }
+            let rms = (errors.iter().map(|e| e * e).sum::<f64>() / errors.len() as f64).sqrt();
+            println!("α = {alpha}, {n} points: RMS error {rms:.3}, Cramér–Rao bound {bound:.3}, errors {errors:.2?}");
+            if rms > 1.25 * bound {
+                failures.push(format!("α = {alpha}, {n} points: RMS {rms:.3} against the bound {bound:.3}"));
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{failures:#?}");
+}

@@ -11,9 +11,9 @@
 //! larger than [`NOISE_FACTOR`] times what a least-squares spline with many more degrees of
 //! freedom leaves (the noise level), the curve is one segment and its α is the fit's.
 //!
-//! The minimisation is Nelder–Mead over (α, turning, log ratio) from a start for each α in
-//! {−1, 0, 1, 2}, with turning and ratio read from the spline; it is deterministic (no
-//! randomness, no threads). Weak spots: a curve whose curvature hardly changes (a circular arc)
+//! The minimisation is a profile over α (Nelder–Mead over turning and log ratio for each α of a
+//! grid), then Nelder–Mead over all three from the grid's best, with turning and ratio started
+//! from the caller's; it is deterministic (no randomness, no threads). Weak spots: a curve whose curvature hardly changes (a circular arc)
 //! fits every α nearly equally well; the end points are taken as exact.
 
 use super::segment::{AestheticSegment, MAX_LOG_RADIUS_RATIO};
@@ -23,11 +23,15 @@ use crate::DVec3;
 /// the noise level (the RMS distance of the dense least-squares spline).
 pub const NOISE_FACTOR: f64 = 1.3;
 
-/// Most points a fit measures (longer inputs are thinned evenly).
+/// Most points a fit measures (longer inputs are averaged in runs).
 const MAX_FITTED: usize = 200;
 
+/// The grid of α the profile search scans (ends and steps).
+const PROFILE_ALPHAS: (f64, f64) = (-3.0, 5.0);
+const PROFILE_STEPS: usize = 8;
+
 /// Samples of the model segment the points are measured against.
-const MODEL_SAMPLES: usize = 240;
+const MODEL_SAMPLES: usize = 120;
 
 /// The best single segment: its α, turning, log radius ratio and RMS distance to the points.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -151,10 +155,19 @@ fn nelder_mead(f: impl Fn([f64; 3]) -> f64, start: [f64; 3], step: [f64; 3], ite
 /// end points, from a start `turning` (signed: negative turns clockwise) and `log_ratio`
 /// (ln of end radius over start radius) read off a smooth fit. `None` when no segment fits.
 pub fn fit_segment(points: &[DVec3], normal: DVec3, turning: f64, log_ratio: f64) -> Option<SegmentFit> {
-    // At most MAX_FITTED points, evenly picked (ends kept): the RMS distance of a fair share of
-    // the points is the RMS distance of all of them, at a fraction of the cost.
+    // At most MAX_FITTED points: longer inputs are averaged in runs of consecutive points (the
+    // ends kept), so every point's information counts (picking every fifth point of 1,000 once
+    // left α as uncertain as 200 points leave it) at the cost of 200.
     let picked: Vec<DVec3> = if points.len() > MAX_FITTED {
-        (0..MAX_FITTED).map(|k| points[k * (points.len() - 1) / (MAX_FITTED - 1)]).collect()
+        let inner = &points[1..points.len() - 1];
+        let runs = MAX_FITTED - 2;
+        let mut out = vec![points[0]];
+        out.extend((0..runs).map(|k| {
+            let run = &inner[k * inner.len() / runs..(k + 1) * inner.len() / runs];
+            run.iter().copied().sum::<DVec3>() / run.len().max(1) as f64
+        }));
+        out.push(points[points.len() - 1]);
+        out
     } else {
         points.to_vec()
     };
@@ -162,17 +175,30 @@ pub fn fit_segment(points: &[DVec3], normal: DVec3, turning: f64, log_ratio: f64
     let clockwise = turning < 0.0;
     let cost = |p: [f64; 3]| distance(&frame, p[0], p[1], p[2], clockwise).unwrap_or(f64::INFINITY);
     let turn = turning.abs().max(1e-3);
+    let ratio = log_ratio.clamp(-20.0, 20.0);
+    // The profile over α: for each α of a grid, the best turning and ratio (a 2-D search from the
+    // spline's), so a search in all three cannot settle in a valley of the wrong α; then all
+    // three are polished from the grid's best.
     let mut best: Option<([f64; 3], f64)> = None;
-    for alpha in [-1.0, 0.0, 1.0, 2.0] {
-        let start = [alpha, turn, log_ratio.clamp(-20.0, 20.0)];
-        if !cost(start).is_finite() {
+    for k in 0..=PROFILE_STEPS {
+        let alpha = PROFILE_ALPHAS.0 + (PROFILE_ALPHAS.1 - PROFILE_ALPHAS.0) * k as f64 / PROFILE_STEPS as f64;
+        let at = |q: [f64; 3]| cost([alpha, q[1], q[2]]);
+        if !at([alpha, turn, ratio]).is_finite() {
             continue;
         }
-        let found = nelder_mead(cost, start, [0.5, 0.1 * turn, 0.2], 300);
+        let found = nelder_mead(at, [alpha, turn, ratio], [0.0, 0.1 * turn, 0.2], 80);
+        let found = ([alpha, found.0[1], found.0[2]], found.1);
         if best.is_none_or(|b| found.1 < b.1) {
             best = Some(found);
         }
     }
-    let (p, rms) = best.filter(|b| b.1.is_finite())?;
+    let (start, _) = best.filter(|b| b.1.is_finite())?;
+    let (p, rms) = Some(nelder_mead(cost, start, [0.25, 0.05 * turn, 0.1], 300)).filter(|b| b.1.is_finite())?;
+    // The RMS distance of every point, not of the averages (which the averaging made smaller).
+    let rms = if picked.len() == points.len() {
+        rms
+    } else {
+        distance(&Frame::new(points, normal)?, p[0], p[1], p[2], clockwise).filter(|r| r.is_finite())?
+    };
     Some(SegmentFit { alpha: p[0], turning: if clockwise { -p[1] } else { p[1] }, log_ratio: p[2], rms })
 }
