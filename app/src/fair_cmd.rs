@@ -20,6 +20,7 @@ use taut_core::DVec3;
 use taut_core::aesthetic::filter::{DEFAULT_DATA_WEIGHT, DEFAULT_MAX_PASSES, DEFAULT_TOLERANCE, DEFAULT_WINDOW};
 use taut_core::aesthetic::{
     Alpha, CurveFilter, DataTerm, EstimateSettings, FilterSettings, curvature_graph, estimate_alpha,
+    prefit::PrefitModel,
 };
 use taut_core::curve::{Plane, PointSequence};
 use taut_core::io::{self, points};
@@ -169,6 +170,16 @@ pub fn run(args: &FairArgs) -> Result<(), String> {
             curve.len(),
             fit.noise
         );
+        match fit.model {
+            PrefitModel::Smoothed => {}
+            PrefitModel::Segment { alpha } => println!(
+                "pre-fit: one log-aesthetic segment (α {alpha:.3}) through the end points explains the points to the \
+                 noise level; they start on it"
+            ),
+            PrefitModel::Circle { radius } => println!(
+                "pre-fit: one circle (radius {radius:.6e}) explains the points to the noise level; they start on it"
+            ),
+        }
     }
     let started = std::time::Instant::now();
     let status = filter.run_to_convergence().map_err(|e| format!("{input}: {e}"))?;

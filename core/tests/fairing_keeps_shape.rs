@@ -123,12 +123,13 @@ fn full_grid() -> bool {
     std::env::var("TAUT_FULL_FAIRING_GRID").is_ok_and(|v| v == "1")
 }
 
-/// The bound on the mean ratio. Twenty points are the open gap: the pre-fit chosen by GCV on so
-/// few points ends about half as far as the input, and the filter held to it gains little, so
-/// the mean over six draws lies between 0.3 and 0.55 (circles 0.51 to 0.55; see
-/// `docs/log-aesthetic.md`); the issue asks for 0.5 there too.
+/// The bound on the mean ratio. Twenty points are the tight case: the pre-fit by one
+/// log-aesthetic segment (open) or circle (closed) brought their means from 0.3–0.55 down to
+/// 0.20–0.50 (circles 0.45), one case of the 24 at 0.500 (α = 2 given, 1 % noise, six draws), so
+/// the bound there is 0.55 to leave that case room; the issue asks for 0.5, which every other
+/// case meets (see `docs/log-aesthetic.md`).
 fn bound(n: usize) -> f64 {
-    if n <= 20 { 0.6 } else { 0.5 }
+    if n <= 20 { 0.55 } else { 0.5 }
 }
 
 /// The point counts of a grid: the default keeps the file within about 30 s in the test profile;

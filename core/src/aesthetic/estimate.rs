@@ -123,39 +123,14 @@ fn curvature_and_derivative(d: &[BSpline; 3], t: f64, normal: Option<DVec3>) -> 
 }
 
 /// The whole curve as one log-aesthetic segment, when one fits the points as closely as the
-/// noise lets a smooth spline: `None` otherwise (or when the curve does not turn).
-///
-/// The segment search starts from the turning and the end curvatures of the points smoothed by
-/// the GCV pre-fit ([`super::prefit`]), read from its polyline's angles: a least-squares spline
-/// with a fifth as many controls as points follows the noise on a few hundred points, and its
-/// curvature's wiggles once turned a spiral's half turn counter-clockwise into −2.6 radians, so
-/// the search began mirrored and found nothing.
+/// noise lets a smooth spline: `None` otherwise (or when the curve does not turn). The search
+/// starts from the GCV pre-fit's points ([`super::segment_fit::fit_smoothed`]).
 fn single_segment(points: &[DVec3], parameters: &[f64], spline: &BSpline, normal: DVec3) -> Option<AlphaPiece> {
     let smooth = super::prefit::prefit(points, false, None).points;
-    // Signed turning of each polyline corner about the normal, and the length around it.
-    let mut angles = Vec::with_capacity(smooth.len());
-    let mut lengths = Vec::with_capacity(smooth.len());
-    for w in smooth.windows(3) {
-        let (a, b) = (w[1] - w[0], w[2] - w[1]);
-        angles.push(a.cross(b).dot(normal).atan2(a.dot(b)));
-        lengths.push(0.5 * (a.length() + b.length()));
-    }
-    let turning: f64 = angles.iter().sum();
-    if turning.is_nan() || turning.abs() <= 1e-6 || angles.len() < 5 {
-        return None;
-    }
-    // Mean curvature over the first and last fifth: turning over length there.
-    let fifth = (angles.len() / 5).max(1);
-    let curvature = |range: std::ops::Range<usize>| {
-        let (turn, length) = range.fold((0.0, 0.0), |(t, l), k| (t + angles[k], l + lengths[k]));
-        (turn / length.max(f64::MIN_POSITIVE)).abs()
-    };
-    let (start, end) = (curvature(0..fifth), curvature(angles.len() - fifth..angles.len()));
-    let log_ratio = if start > 0.0 && end > 0.0 { (start / end).ln() } else { 0.0 };
     let noise = (points.iter().zip(parameters).map(|(p, &t)| p.distance_squared(spline.point(t))).sum::<f64>()
         / points.len() as f64)
         .sqrt();
-    let fit = super::segment_fit::fit_segment(points, normal, turning, log_ratio)?;
+    let fit = super::segment_fit::fit_smoothed(points, &smooth, normal, None)?;
     let chord = points[0].distance(points[points.len() - 1]);
     (fit.rms <= super::segment_fit::NOISE_FACTOR * noise + 1e-9 * chord).then_some(AlphaPiece {
         start: 0.0,

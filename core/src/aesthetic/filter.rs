@@ -100,7 +100,7 @@
 use super::filter_geometry::{Geometry, Local, PARALLEL_FROM, Shape, Spatial, Window, window_span};
 use super::filter_planar::{PlanarCurve, Rules};
 use super::law::{LineSums, law_value, radius_from_law};
-use super::prefit::{Prefit, prefit};
+use super::prefit::{Prefit, prefit, prefit_planar};
 use crate::curve::{Plane, PointSequence};
 use crate::{DVec3, Error, Result};
 use rayon::prelude::*;
@@ -307,7 +307,16 @@ impl CurveFilter {
                 term.weight, term.smoothing
             )));
         }
-        let prefit = settings.data_term.map(|term| prefit(&points, curve.closed, term.smoothing));
+        let prefit = settings.data_term.map(|term| match &plane {
+            Some(plane) => {
+                let uniform = match &settings.alpha {
+                    Alpha::Uniform(a) => Some(*a),
+                    Alpha::PerPoint(_) => None,
+                };
+                prefit_planar(&points, curve.closed, plane.normal, uniform, term.smoothing)
+            }
+            None => prefit(&points, curve.closed, term.smoothing),
+        });
         let points = prefit.as_ref().map_or(points, |p| p.points.clone());
         let sequence = PointSequence::new(points, curve.closed);
         sequence.validate(least)?;

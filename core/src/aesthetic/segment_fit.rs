@@ -64,15 +64,37 @@ impl Frame {
     }
 }
 
-/// The RMS distance from the points (in order along the curve) to the model with these
-/// parameters, mirrored when `clockwise`; `None` where no such segment exists.
-fn distance(frame: &Frame, alpha: f64, turning: f64, log_ratio: f64, clockwise: bool) -> Option<f64> {
+/// The model segment with these parameters in the frame's coordinates (its chord on the
+/// points'), mirrored when `clockwise`, as `samples` points evenly spaced in arc length; `None`
+/// where no such segment exists.
+fn model(
+    frame: &Frame,
+    alpha: f64,
+    turning: f64,
+    log_ratio: f64,
+    clockwise: bool,
+    samples: usize,
+) -> Option<Vec<(f64, f64)>> {
+    let fractions: Vec<f64> = (0..samples.max(2)).map(|i| i as f64 / (samples.max(2) - 1) as f64).collect();
+    model_at(frame, alpha, turning, log_ratio, clockwise, &fractions)
+}
+
+/// The model segment's points at these fractions of its length (the last fraction 1), in the
+/// frame's coordinates as [`model`].
+fn model_at(
+    frame: &Frame,
+    alpha: f64,
+    turning: f64,
+    log_ratio: f64,
+    clockwise: bool,
+    fractions: &[f64],
+) -> Option<Vec<(f64, f64)>> {
     if !(turning > 0.0 && log_ratio.abs() < MAX_LOG_RADIUS_RATIO && (-6.0..=8.0).contains(&alpha)) {
         return None;
     }
     let segment = AestheticSegment::in_standard_position(alpha, turning, log_ratio, 1.0)?;
-    let samples = segment.sample(MODEL_SAMPLES);
-    let end = *samples.last()?;
+    let samples = segment.points_at_fractions(fractions);
+    let end = segment.point_at(segment.length());
     let (ex, ey) = (end.x, end.y);
     let norm = ex * ex + ey * ey;
     if norm.is_nan() || norm <= 0.0 || !norm.is_finite() {
@@ -81,28 +103,58 @@ fn distance(frame: &Frame, alpha: f64, turning: f64, log_ratio: f64, clockwise: 
     // Complex multiplication by chord / end maps the model's end onto (chord, 0).
     let (a, b) = (frame.chord * ex / norm, -frame.chord * ey / norm);
     let sign = if clockwise { -1.0 } else { 1.0 };
-    let model: Vec<(f64, f64)> = samples.iter().map(|p| (a * p.x - b * p.y, sign * (a * p.y + b * p.x))).collect();
-    // Points and model both run along the curve: search near the point's share of the way.
+    Some(samples.iter().map(|p| (a * p.x - b * p.y, sign * (a * p.y + b * p.x))).collect())
+}
+
+/// For each of the frame's points (in order along the curve), the nearest point of the model
+/// polyline, searched near the point's share of the way, and its squared distance.
+fn feet(frame: &Frame, model: &[(f64, f64)]) -> Vec<((f64, f64), f64)> {
     let n = frame.points.len();
     let m = model.len();
     let reach = (m / 4).max(8);
-    let mut sum = 0.0;
-    for (i, &(x, y)) in frame.points.iter().enumerate() {
-        let guess = i * (m - 1) / (n - 1).max(1);
-        let (lo, hi) = (guess.saturating_sub(reach), (guess + reach).min(m - 1));
-        let mut best = f64::INFINITY;
-        for k in lo..hi {
-            let ((ax, ay), (bx, by)) = (model[k], model[k + 1]);
-            let (dx, dy) = (bx - ax, by - ay);
-            let len2 = dx * dx + dy * dy;
-            let t = if len2 > 0.0 { (((x - ax) * dx + (y - ay) * dy) / len2).clamp(0.0, 1.0) } else { 0.0 };
-            let (px, py) = (ax + t * dx - x, ay + t * dy - y);
-            best = best.min(px * px + py * py);
-        }
-        sum += best;
-    }
-    let rms = (sum / n as f64).sqrt();
+    frame
+        .points
+        .iter()
+        .enumerate()
+        .map(|(i, &(x, y))| {
+            let guess = i * (m - 1) / (n - 1).max(1);
+            let (lo, hi) = (guess.saturating_sub(reach), (guess + reach).min(m - 1));
+            let mut best = ((x, y), f64::INFINITY);
+            for k in lo..hi {
+                let ((ax, ay), (bx, by)) = (model[k], model[k + 1]);
+                let (dx, dy) = (bx - ax, by - ay);
+                let len2 = dx * dx + dy * dy;
+                let t = if len2 > 0.0 { (((x - ax) * dx + (y - ay) * dy) / len2).clamp(0.0, 1.0) } else { 0.0 };
+                let foot = (ax + t * dx, ay + t * dy);
+                let d2 = (foot.0 - x).powi(2) + (foot.1 - y).powi(2);
+                if d2 < best.1 {
+                    best = (foot, d2);
+                }
+            }
+            best
+        })
+        .collect()
+}
+
+/// The RMS distance from the points (in order along the curve) to the model with these
+/// parameters, mirrored when `clockwise`; `None` where no such segment exists.
+fn distance(frame: &Frame, alpha: f64, turning: f64, log_ratio: f64, clockwise: bool) -> Option<f64> {
+    let model = model(frame, alpha, turning, log_ratio, clockwise, MODEL_SAMPLES)?;
+    let sum: f64 = feet(frame, &model).iter().map(|f| f.1).sum();
+    let rms = (sum / frame.points.len() as f64).sqrt();
     rms.is_finite().then_some(rms)
+}
+
+/// The points of the fitted segment (`fit` from [`fit_segment`] on `points` and `normal`) at the
+/// given fractions of its length, placed as the fit placed it on the points.
+pub fn points_on(points: &[DVec3], normal: DVec3, fit: &SegmentFit, fractions: &[f64]) -> Option<Vec<DVec3>> {
+    let frame = Frame::new(points, normal)?;
+    let clockwise = fit.turning < 0.0;
+    let model = model_at(&frame, fit.alpha, fit.turning.abs(), fit.log_ratio, clockwise, fractions)?;
+    let (first, last) = (points[0], points[points.len() - 1]);
+    let e1 = (last - first) / frame.chord;
+    let e2 = normal.normalize().cross(e1);
+    Some(model.into_iter().map(|(x, y)| first + x * e1 + y * e2).collect())
 }
 
 /// Nelder–Mead on `f` from `start` with initial steps `step`; at most `iterations` steps.
@@ -153,8 +205,15 @@ fn nelder_mead(f: impl Fn([f64; 3]) -> f64, start: [f64; 3], step: [f64; 3], ite
 
 /// The single log-aesthetic segment closest to `points` (planar, about `normal`) through their
 /// end points, from a start `turning` (signed: negative turns clockwise) and `log_ratio`
-/// (ln of end radius over start radius) read off a smooth fit. `None` when no segment fits.
-pub fn fit_segment(points: &[DVec3], normal: DVec3, turning: f64, log_ratio: f64) -> Option<SegmentFit> {
+/// (ln of end radius over start radius) read off a smooth fit; with `alpha` given, only the
+/// segments of that α are searched. `None` when no segment fits.
+pub fn fit_segment(
+    points: &[DVec3],
+    normal: DVec3,
+    turning: f64,
+    log_ratio: f64,
+    alpha: Option<f64>,
+) -> Option<SegmentFit> {
     // At most MAX_FITTED points: longer inputs are averaged in runs of consecutive points (the
     // ends kept), so every point's information counts (picking every fifth point of 1,000 once
     // left α as uncertain as 200 points leave it) at the cost of 200.
@@ -180,8 +239,13 @@ pub fn fit_segment(points: &[DVec3], normal: DVec3, turning: f64, log_ratio: f64
     // spline's), so a search in all three cannot settle in a valley of the wrong α; then all
     // three are polished from the grid's best.
     let mut best: Option<([f64; 3], f64)> = None;
-    for k in 0..=PROFILE_STEPS {
-        let alpha = PROFILE_ALPHAS.0 + (PROFILE_ALPHAS.1 - PROFILE_ALPHAS.0) * k as f64 / PROFILE_STEPS as f64;
+    let grid: Vec<f64> = match alpha {
+        Some(a) => vec![a],
+        None => (0..=PROFILE_STEPS)
+            .map(|k| PROFILE_ALPHAS.0 + (PROFILE_ALPHAS.1 - PROFILE_ALPHAS.0) * k as f64 / PROFILE_STEPS as f64)
+            .collect(),
+    };
+    for alpha in grid {
         let at = |q: [f64; 3]| cost([alpha, q[1], q[2]]);
         if !at([alpha, turn, ratio]).is_finite() {
             continue;
@@ -193,7 +257,15 @@ pub fn fit_segment(points: &[DVec3], normal: DVec3, turning: f64, log_ratio: f64
         }
     }
     let (start, _) = best.filter(|b| b.1.is_finite())?;
-    let (p, rms) = Some(nelder_mead(cost, start, [0.25, 0.05 * turn, 0.1], 300)).filter(|b| b.1.is_finite())?;
+    let polished = match alpha {
+        Some(a) => {
+            let at = |q: [f64; 3]| cost([a, q[1], q[2]]);
+            let (q, rms) = nelder_mead(at, start, [0.0, 0.05 * turn, 0.1], 300);
+            ([a, q[1], q[2]], rms)
+        }
+        None => nelder_mead(cost, start, [0.25, 0.05 * turn, 0.1], 300),
+    };
+    let (p, rms) = Some(polished).filter(|b| b.1.is_finite())?;
     // The RMS distance of every point, not of the averages (which the averaging made smaller).
     let rms = if picked.len() == points.len() {
         rms
@@ -201,4 +273,33 @@ pub fn fit_segment(points: &[DVec3], normal: DVec3, turning: f64, log_ratio: f64
         distance(&Frame::new(points, normal)?, p[0], p[1], p[2], clockwise).filter(|r| r.is_finite())?
     };
     Some(SegmentFit { alpha: p[0], turning: if clockwise { -p[1] } else { p[1] }, log_ratio: p[2], rms })
+}
+
+/// [`fit_segment`] started from the turning and the end curvatures of `smooth`, the points
+/// smoothed (the GCV pre-fit), read from its polyline's angles: a least-squares spline with a
+/// fifth as many controls as points follows the noise on a few hundred points, and its
+/// curvature's wiggles once turned a spiral's half turn counter-clockwise into −2.6 radians, so
+/// the search began mirrored and found nothing. `None` when the curve does not turn.
+pub fn fit_smoothed(points: &[DVec3], smooth: &[DVec3], normal: DVec3, alpha: Option<f64>) -> Option<SegmentFit> {
+    // Signed turning of each polyline corner about the normal, and the length around it.
+    let mut angles = Vec::with_capacity(smooth.len());
+    let mut lengths = Vec::with_capacity(smooth.len());
+    for w in smooth.windows(3) {
+        let (a, b) = (w[1] - w[0], w[2] - w[1]);
+        angles.push(a.cross(b).dot(normal).atan2(a.dot(b)));
+        lengths.push(0.5 * (a.length() + b.length()));
+    }
+    let turning: f64 = angles.iter().sum();
+    if turning.is_nan() || turning.abs() <= 1e-6 || angles.len() < 5 {
+        return None;
+    }
+    // Mean curvature over the first and last fifth: turning over length there.
+    let fifth = (angles.len() / 5).max(1);
+    let curvature = |range: std::ops::Range<usize>| {
+        let (turn, length) = range.fold((0.0, 0.0), |(t, l), k| (t + angles[k], l + lengths[k]));
+        (turn / length.max(f64::MIN_POSITIVE)).abs()
+    };
+    let (start, end) = (curvature(0..fifth), curvature(angles.len() - fifth..angles.len()));
+    let log_ratio = if start > 0.0 && end > 0.0 { (start / end).ln() } else { 0.0 };
+    fit_segment(points, normal, turning, log_ratio, alpha)
 }
