@@ -200,6 +200,10 @@ impl EditorState {
         ui.add_enabled(!f.estimate, egui::Slider::new(&mut f.alpha, -3.0..=3.0).text("α"));
         ui.add(egui::Slider::new(&mut f.window, 1..=10).text("window m"))
             .on_hover_text("Each point is moved by the curve through 2m + 1 points around it");
+        ui.add_enabled(!f.space, egui::Checkbox::new(&mut f.keep_shape, "keep the shape")).on_hover_text(
+            "Take the noise out and keep the curve where its points were (off: the paper's filter alone, \
+             which moves a noisy curve)",
+        );
         ui.checkbox(&mut f.space, "space curve (with torsion)")
             .on_hover_text("Keep the curve in 3D and make the radius of torsion follow μ^β = g s + h");
         ui.add_enabled(f.space, egui::Slider::new(&mut f.torsion_beta, -3.0..=3.0).text("torsion β"));

@@ -219,6 +219,9 @@ fn the_live_filter_lowers_the_lcg_residual_and_undo_restores_the_curve_bit_for_b
     harness.state_mut().editor.select_curve(Some(0));
     harness.state_mut().editor.curves.filter.estimate = false;
     harness.state_mut().editor.curves.filter.alpha = 1.0;
+    // The paper's filter, which drives the LCG to a line whatever it costs in position (the
+    // shape-keeping one is checked below).
+    harness.state_mut().editor.curves.filter.keep_shape = false;
     harness.run_steps(1);
     harness.get_by_label("Run").click();
     harness.run_steps(1);
@@ -496,4 +499,54 @@ fn home_frames_the_curves_and_period_the_selected_one() {
         label_containing(&harness, "in the Curves workspace: the selected curve or patch").is_some(),
         "Help lists the key"
     );
+}
+
+/// Runs the filter on curve 0 to its end (or 300 frames) and returns the committed points.
+fn fair_curve_zero(harness: &mut Harness<'_, App>) -> Vec<DVec3> {
+    harness.state_mut().editor.select_curve(Some(0));
+    harness.state_mut().editor.curves.filter.estimate = false;
+    harness.state_mut().editor.curves.filter.alpha = 1.0;
+    harness.run_steps(1);
+    harness.get_by_label("Run").click();
+    harness.run_steps(1);
+    assert!(harness.state().editor.curves.run.is_some(), "Run starts the filter: {:?}", harness.state().editor.notice);
+    let mut frames = 0;
+    while harness.state().editor.curves_busy() && frames < 300 {
+        harness.run_steps(1);
+        frames += 1;
+    }
+    if harness.state().editor.curves_busy() {
+        harness.get_by_label("Stop").click();
+        harness.run_steps(1);
+    }
+    harness.state().editor.curve_set().curves[0].points.clone()
+}
+
+#[test]
+fn keep_the_shape_takes_the_noise_out_where_the_points_were_and_the_paper_filter_does_not() {
+    // The exact log spiral the noisy points were taken from, finely: distances to it.
+    let exact = noisy_spiral(6000, 0.0);
+    let distance = |p: DVec3| {
+        exact
+            .windows(2)
+            .map(|w| {
+                let t = ((p - w[0]).dot(w[1] - w[0]) / (w[1] - w[0]).length_squared()).clamp(0.0, 1.0);
+                (w[0] + t * (w[1] - w[0])).distance(p)
+            })
+            .fold(f64::INFINITY, f64::min)
+    };
+    let mean = |points: &[DVec3]| points.iter().map(|p| distance(*p)).sum::<f64>() / points.len() as f64;
+    let noisy = noisy_spiral(120, 0.005);
+    let mut faired = Vec::new();
+    for keep_shape in [true, false] {
+        let mut harness = curves_editor(vec![DocCurve::new("noisy", noisy.clone(), false)]);
+        assert!(harness.state().editor.curves.filter.keep_shape, "keeping the shape is the default");
+        harness.state_mut().editor.curves.filter.keep_shape = keep_shape;
+        faired.push(mean(&fair_curve_zero(&mut harness)));
+    }
+    let before = mean(&noisy);
+    let (kept, paper) = (faired[0], faired[1]);
+    println!("mean distance to the true spiral: noisy {before:.4}, kept {kept:.4}, paper {paper:.4}");
+    assert!(kept < 0.5 * before, "keep the shape: {before} → {kept}");
+    assert!(paper > kept, "the paper's filter moves the curve more: {paper} against {kept}");
 }

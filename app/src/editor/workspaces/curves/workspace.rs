@@ -99,11 +99,15 @@ pub struct FilterControls {
     pub space: bool,
     /// β of the torsion law, for the space-curve filter.
     pub torsion_beta: f64,
+    /// Keep the curve where its points were (the shape-keeping fairing: a pre-fit and a data
+    /// term, as `taut fair` does for plane curves); off, the paper's filter alone, which moves a
+    /// noisy curve. The space-curve filter is always the paper's.
+    pub keep_shape: bool,
 }
 
 impl Default for FilterControls {
     fn default() -> Self {
-        FilterControls { estimate: true, alpha: 1.0, window: 3, space: false, torsion_beta: 1.0 }
+        FilterControls { estimate: true, alpha: 1.0, window: 3, space: false, torsion_beta: 1.0, keep_shape: true }
     }
 }
 
@@ -473,7 +477,8 @@ impl EditorState {
         } else {
             Alpha::Uniform(c.alpha)
         };
-        CurveFilter::new(seq, FilterSettings { window: c.window, alpha, torsion_beta, ..FilterSettings::default() })
+        let base = if c.keep_shape && !c.space { FilterSettings::keeping_shape() } else { FilterSettings::default() };
+        CurveFilter::new(seq, FilterSettings { window: c.window, alpha, torsion_beta, ..base })
     }
 
     /// Stops the filter, keeping what it did as one undo step.
