@@ -14,9 +14,10 @@ pub struct StepFlags {
     /// the cage's units [default: 1e-4 of the cage's bounding-box diagonal].
     #[arg(long, value_name = "DISTANCE")]
     pub tolerance: Option<f64>,
-    /// STEP output: the length unit the file declares for the cage's coordinates: mm, cm, m or in.
-    #[arg(long, default_value = "mm", value_parser = parse_unit)]
-    pub units: LengthUnit,
+    /// STEP output: the length unit the file declares for the cage's coordinates: mm, cm, m or in
+    /// [default: the document's own (a `.taut` says; millimetres otherwise)].
+    #[arg(long, value_parser = parse_unit)]
+    pub units: Option<LengthUnit>,
 }
 
 fn parse_unit(s: &str) -> Result<LengthUnit, String> {
@@ -81,12 +82,7 @@ fn plural(n: usize, what: &str) -> String {
 
 /// The unit as the command line's `--units` takes it.
 pub fn unit_name(unit: LengthUnit) -> &'static str {
-    match unit {
-        LengthUnit::Millimetre => "mm",
-        LengthUnit::Centimetre => "cm",
-        LengthUnit::Metre => "m",
-        LengthUnit::Inch => "in",
-    }
+    unit.symbol()
 }
 
 /// Fits the document's surface within `tolerance` (`None`: 1e-4 of the cage's bounding-box
@@ -126,7 +122,7 @@ pub fn export_step(
 /// Fits the document's surface and writes it to `output` as STEP (atomically; nothing is
 /// written on an error), printing what was done.
 pub fn write_step(doc: &Document, output: &Path, flags: &StepFlags) -> Result<(), String> {
-    let summary = export_step(doc, output, flags.tolerance, flags.units)?;
+    let summary = export_step(doc, output, flags.tolerance, flags.units.unwrap_or(doc.units))?;
     for line in &summary.notes {
         println!("{line}");
     }

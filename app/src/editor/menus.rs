@@ -90,6 +90,16 @@ impl EditorState {
             if ui.button(item(Action::SaveAs)).clicked() {
                 self.emit_action(Action::SaveAs);
             }
+            ui.menu_button(format!("Units ({})", self.document.doc().units.symbol()), |ui| {
+                ui.label("What one model unit is: lengths are shown with it and STEP files declare it");
+                for unit in taut_core::document::LengthUnit::ALL {
+                    let now = self.document.doc().units == unit;
+                    if ui.radio(now, format!("{} ({})", unit.name(), unit.symbol())).clicked() && !now {
+                        self.emit(taut_core::document::edit::Edit::SetUnits(unit));
+                    }
+                }
+            });
+            ui.separator();
             if ui.button("Export surface as OBJ…").clicked() {
                 self.ask_path(PathPurpose::ExportObj, ui_state);
             }

@@ -245,3 +245,26 @@ fn a_mirrored_half_exports_the_whole_solid() {
     assert_eq!(h.state().editor.document.doc().cage.face_count(), 5, "the document keeps its half");
     let _ = std::fs::remove_dir_all(dir);
 }
+
+#[test]
+fn file_units_set_the_documents_unit_as_one_undo_step_and_the_step_export_follows() {
+    let mut h = catmull_clark_cube();
+    assert_eq!(h.state().editor.document.doc().units, LengthUnit::Millimetre);
+    open_file_menu(&mut h);
+    h.get_by_label("Units (mm)").click();
+    frames(&mut h);
+    h.get(By::new().role(Role::RadioButton).label("inches (in)")).click();
+    frames(&mut h);
+    assert_eq!(h.state().editor.document.doc().units, LengthUnit::Inch);
+    // The export's options start in the document's unit.
+    h.key_press(egui::Key::Escape);
+    frames(&mut h);
+    open_file_menu(&mut h);
+    h.get_by_label(MENU_ENTRY).click();
+    h.run_steps(2);
+    assert_eq!(h.state().ui.step_export.dialog.map(|d| d.0.units), Some(LengthUnit::Inch));
+    h.state_mut().ui.step_export.dialog = None;
+    h.state_mut().editor.undo();
+    frames(&mut h);
+    assert_eq!(h.state().editor.document.doc().units, LengthUnit::Millimetre, "undo puts the unit back");
+}

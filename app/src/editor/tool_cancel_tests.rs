@@ -177,7 +177,7 @@ fn the_cage_panel_moves_the_median_of_a_face_to_a_typed_value_in_one_undo_step()
     let mut h = prepared("face", false);
     let before = h.state().editor.document.doc().clone();
     let top: Vec<taut_core::VertexId> = before.cage.vertices().filter(|&v| before.cage.position(v).z > 0.0).collect();
-    h.get_by_label("median of 4 vertices");
+    h.get_by_label("median of 4 vertices (mm)");
     // The Z field: the drag value labelled Z; a click opens it for typing.
     h.get(By::new().role(Role::SpinButton).label("Z")).focus();
     frames(&mut h);

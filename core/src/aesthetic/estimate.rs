@@ -131,6 +131,11 @@ fn single_segment(points: &[DVec3], parameters: &[f64], spline: &BSpline, normal
         / points.len() as f64)
         .sqrt();
     let fit = super::segment_fit::fit_smoothed(points, &smooth, normal, None)?;
+    // A segment whose curvature hardly changes is a circular arc, which every α fits equally:
+    // there is no α to read (the paper's graph below says so, as it does for such pieces).
+    if fit.log_ratio.abs() < MIN_CURVATURE_RATIO.ln() {
+        return None;
+    }
     let chord = points[0].distance(points[points.len() - 1]);
     (fit.rms <= super::segment_fit::NOISE_FACTOR * noise + 1e-9 * chord).then_some(AlphaPiece {
         start: 0.0,

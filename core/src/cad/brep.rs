@@ -64,28 +64,8 @@ pub struct BrepShell {
     pub closed: bool,
 }
 
-/// Length units written into the file.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub enum LengthUnit {
-    #[default]
-    Millimetre,
-    Centimetre,
-    Metre,
-    Inch,
-}
-
-impl std::str::FromStr for LengthUnit {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
-        match s {
-            "mm" => Ok(LengthUnit::Millimetre),
-            "cm" => Ok(LengthUnit::Centimetre),
-            "m" => Ok(LengthUnit::Metre),
-            "in" => Ok(LengthUnit::Inch),
-            _ => Err(format!("unknown unit '{s}' (use mm, cm, m or in)")),
-        }
-    }
-}
+/// Length units written into the file: the document's own ([`crate::document::units`]).
+pub use crate::document::units::LengthUnit;
 
 /// Vertices, edges, faces and shells, with one length unit.
 #[derive(Clone, Debug, Default, PartialEq)]

@@ -78,6 +78,8 @@ pub enum Edit {
     RebuildCurveMesh,
     /// Turns the mirror option on with a plane, or off ([`crate::document::symmetry`]).
     SetMirror(Option<crate::mesh::edit::MirrorPlane>),
+    /// What one model unit is (lengths stay as they are: this says what they mean).
+    SetUnits(crate::document::LengthUnit),
     /// A cage-modelling operation ([`crate::document::modelling`]): performed on the cage, the document's
     /// properties carried to the new cage, and checked as a new cage is.
     Mesh(crate::document::modelling::MeshEdit),
@@ -113,6 +115,7 @@ impl Edit {
             Edit::RebuildCurveMesh => "Rebuild Curve Mesh",
             Edit::SetMirror(Some(_)) => "Mirror On",
             Edit::SetMirror(None) => "Mirror Off",
+            Edit::SetUnits(_) => "Units",
             Edit::Mesh(op) => op.name(),
             Edit::AddReferenceImage(_) => "Add Reference Image",
             Edit::RemoveReferenceImage(_) => "Remove Reference Image",
@@ -245,6 +248,7 @@ impl Document {
             | Edit::SetCurveMeshEdits(_)
             | Edit::RebuildCurveMesh => self.check_curve_mesh_edit(edit),
             Edit::SetMirror(plane) => Document::check_mirror(*plane),
+            Edit::SetUnits(_) => Ok(()),
             Edit::Mesh(op) => self.check_edit(&Edit::Replace(Box::new(op.run(self)?.doc))),
             Edit::AddReferenceImage(image) => {
                 image.validate()?;
@@ -316,6 +320,7 @@ impl Document {
             | Edit::SetCurveMeshEdits(_)
             | Edit::RebuildCurveMesh => self.changed_by_curve_mesh_edit(edit),
             Edit::SetMirror(plane) => self.mirror != *plane,
+            Edit::SetUnits(units) => self.units != *units,
             // Every operation that is not refused changes the cage.
             Edit::Mesh(_) => true,
             Edit::AddReferenceImage(_) | Edit::RemoveReferenceImage(_) => true,
@@ -376,6 +381,7 @@ impl Document {
             | Edit::SetCurveMeshEdits(_)
             | Edit::RebuildCurveMesh => {}
             Edit::SetMirror(plane) => self.mirror = plane,
+            Edit::SetUnits(units) => self.units = units,
             // Turned into its new document by `apply` before it gets here.
             Edit::Mesh(op) => {
                 if let Ok(done) = op.run(self) {

@@ -25,9 +25,11 @@ pub mod modelling;
 pub mod reference_images;
 mod scheme;
 pub mod symmetry;
+pub mod units;
 
 pub use edit::Edit;
 pub use reference_images::{ReferenceImage, ReferencePlane};
+pub use units::LengthUnit;
 
 use crate::curve::CurveSet;
 use crate::curve::set::CurvesFile;
@@ -80,6 +82,8 @@ pub struct Document {
     pub(crate) mirror_cache: crate::document::symmetry::PartnerCache,
     /// Pictures drawn behind or over the model ([`crate::document::reference_images`]).
     pub reference_images: Vec<ReferenceImage>,
+    /// What one model unit is ([`crate::document::units`]).
+    pub units: LengthUnit,
 }
 
 impl Document {
@@ -103,6 +107,7 @@ impl Document {
             mirror: None,
             mirror_cache: Default::default(),
             reference_images: Vec::new(),
+            units: LengthUnit::default(),
         }
     }
 
@@ -168,6 +173,7 @@ impl Document {
             mirror: self.mirror,
             mirror_cache: Default::default(),
             reference_images: self.reference_images.clone(),
+            units: self.units,
         };
         let carried = doc.carry_curve_mesh_edits(self, Some(p))?;
         doc.validate()?;
@@ -326,6 +332,7 @@ impl Document {
             curve_mesh: (!self.curve_mesh.is_empty()).then(|| self.curve_mesh.clone()),
             mirror: self.mirror.map(Into::into),
             reference_images: self.reference_images.clone(),
+            units: (self.units != LengthUnit::default()).then_some(self.units),
         };
         serde_json::to_string_pretty(&file).expect("a document always serialises")
     }
@@ -400,6 +407,7 @@ impl Document {
         doc.curve_mesh = file.curve_mesh.unwrap_or_default().normalized();
         doc.mirror = file.mirror.map(Into::into);
         doc.reference_images = file.reference_images;
+        doc.units = file.units.unwrap_or_default();
         doc.validate().map_err(|e| Error::format(origin, e.to_string()))?;
         if !doc.curve_mesh.is_empty() {
             // The edits must fit the curve mesh this cage builds; the build is kept for the editor.
@@ -436,6 +444,7 @@ impl PartialEq for Document {
             && self.curve_mesh == other.curve_mesh
             && self.mirror == other.mirror
             && self.reference_images == other.reference_images
+            && self.units == other.units
     }
 }
 
@@ -496,6 +505,8 @@ struct TautFile {
     mirror: Option<crate::document::symmetry::MirrorFile>,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     reference_images: Vec<ReferenceImage>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    units: Option<LengthUnit>,
 }
 
 #[derive(Serialize, Deserialize)]

@@ -268,6 +268,10 @@ pub enum DocumentStep {
     SetMirror {
         plane: Option<crate::mesh::edit::MirrorPlane>,
     },
+    /// The document's length unit (`"mm"`, `"cm"`, `"m"` or `"in"`).
+    SetUnits {
+        units: crate::document::LengthUnit,
+    },
     /// NUSD's solver settings, every field (as a `.taut` file writes them).
     SetSolverSettings {
         settings: crate::nusd::SolverSettings,
@@ -318,6 +322,7 @@ impl ScriptStep {
             Edit::SetCorner(v, s) => DocumentStep::SetCorner { vertices: ids(v), sharpness: Sharpness::of(*s) },
             Edit::SetScheme(scheme) => DocumentStep::SetScheme { scheme: *scheme },
             Edit::SetMirror(plane) => DocumentStep::SetMirror { plane: *plane },
+            Edit::SetUnits(units) => DocumentStep::SetUnits { units: *units },
             Edit::SetSettings(settings) => DocumentStep::SetSolverSettings { settings: *settings },
             Edit::SetSubdivSettings(settings) => DocumentStep::SetSubdivSettings { settings: *settings },
             _ => return None,
@@ -341,6 +346,7 @@ impl ScriptStep {
                 DocumentStep::SetCorner { vertices: v, sharpness } => Edit::SetCorner(ids(v), sharpness.value()?),
                 DocumentStep::SetScheme { scheme } => Edit::SetScheme(*scheme),
                 DocumentStep::SetMirror { plane } => Edit::SetMirror(*plane),
+                DocumentStep::SetUnits { units } => Edit::SetUnits(*units),
                 DocumentStep::SetSolverSettings { settings } => Edit::SetSettings(*settings),
                 DocumentStep::SetSubdivSettings { settings } => Edit::SetSubdivSettings(*settings),
             },

@@ -67,6 +67,7 @@ fn session() -> Vec<Edit> {
         Edit::SetEdgeTension(vec![EdgeId(1)], 0.25),
         Edit::SetMirror(Some(MirrorPlane::new(Axis::X, 0.0))),
         Edit::SetMirror(None),
+        Edit::SetUnits(crate::document::LengthUnit::Inch),
         Edit::SetSubdivSettings(crate::document::SubdivSettings { levels: 2 }),
         Edit::SetSettings(crate::nusd::SolverSettings { levels: 2, ..Default::default() }),
     ]

@@ -174,3 +174,20 @@ fn reference_image_edits_are_checked_and_undoable_values() {
     assert!(doc.apply(Edit::RemoveReferenceImage(0)).unwrap());
     assert!(doc.reference_images.is_empty());
 }
+
+#[test]
+fn units_round_trip_default_to_millimetres_and_bad_ones_are_named() {
+    let mut doc = tetra();
+    let text = doc.to_json();
+    assert!(!text.contains("\"units\""), "millimetres, the default, are not written");
+    assert_eq!(Document::from_json(&text, Path::new("mem.taut")).unwrap().units, LengthUnit::Millimetre);
+    doc.apply(Edit::SetUnits(LengthUnit::Inch)).unwrap();
+    let text = doc.to_json();
+    assert!(text.contains("\"units\": \"in\""), "{text}");
+    let back = Document::from_json(&text, Path::new("mem.taut")).unwrap();
+    assert_eq!(back.units, LengthUnit::Inch);
+    assert!(back == doc, "the unit is part of the document");
+    let bad = text.replace("\"units\": \"in\"", "\"units\": \"furlong\"");
+    let error = Document::from_json(&bad, Path::new("mem.taut")).unwrap_err().to_string();
+    assert!(error.contains("furlong") && !error.contains('\n'), "{error}");
+}

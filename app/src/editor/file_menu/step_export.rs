@@ -122,10 +122,10 @@ impl EditorState {
     }
 
     /// The default options for the surface shown: 1e-4 of its cage's bounding-box diagonal, in
-    /// the units last used (millimetres at first).
+    /// the units last chosen for an export, or at first the document's.
     fn default_step_options(&mut self, ui_state: &UiState) -> StepOptions {
         let tolerance = DEFAULT_RELATIVE_TOLERANCE * self.step_document().cage.bounding_diagonal();
-        let units = ui_state.step_export.options.map_or_else(LengthUnit::default, |o| o.units);
+        let units = ui_state.step_export.options.map_or(self.document.doc().units, |o| o.units);
         StepOptions { tolerance, units }
     }
 

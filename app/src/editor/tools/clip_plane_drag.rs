@@ -68,7 +68,12 @@ impl Tool for ClipPlaneDrag {
     fn readout(&self, editor: &EditorState) -> Option<String> {
         let now = editor.view.display.clip?;
         let name = ["X", "Y", "Z"][now.axis.min(2)];
-        Some(format!("clipping plane {name} = {:.4}  Δ{name} {:.4}", now.offset, now.offset - self.before.offset))
+        let unit = editor.document.doc().units;
+        Some(format!(
+            "clipping plane {name} = {}  Δ{name} {}",
+            unit.length(now.offset),
+            unit.length(now.offset - self.before.offset)
+        ))
     }
 
     fn end(self: Box<Self>, editor: &mut EditorState, end: End) {

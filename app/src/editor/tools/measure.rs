@@ -69,8 +69,9 @@ impl Measure {
 
     /// The numbers: distance and components for two points, the angle at the middle one for
     /// three, the radii of curvature of a surface point.
-    pub fn numbers(&self) -> String {
-        let n = |x: f64| format!("{:.4}", if x == 0.0 { 0.0 } else { x });
+    /// Lengths carry the document's `unit`.
+    pub fn numbers(&self, unit: taut_core::document::LengthUnit) -> String {
+        let n = |x: f64| unit.length(x);
         let mut parts = Vec::new();
         match self.points.as_slice() {
             [] => parts.push("click a vertex, an edge or the surface".to_string()),
@@ -120,12 +121,12 @@ impl EditorState {
 
 impl Tool for Measure {
     /// Esc clears the measurement and ends the tool; Ctrl+C copies the numbers.
-    fn keys(&mut self, _editor: &mut EditorState, ctx: &egui::Context) -> Flow {
+    fn keys(&mut self, editor: &mut EditorState, ctx: &egui::Context) -> Flow {
         let copy = ctx.input_mut(|i| {
             i.events.iter().any(|e| matches!(e, egui::Event::Copy)) || i.consume_key(egui::Modifiers::COMMAND, Key::C)
         });
         if copy {
-            ctx.copy_text(self.numbers());
+            ctx.copy_text(self.numbers(editor.document.doc().units));
         }
         if ctx.input_mut(|i| take_plain(i, Key::Escape)) { Flow::Cancel } else { Flow::Continue }
     }
@@ -168,8 +169,8 @@ impl Tool for Measure {
         }
     }
 
-    fn readout(&self, _editor: &EditorState) -> Option<String> {
-        Some(self.numbers())
+    fn readout(&self, editor: &EditorState) -> Option<String> {
+        Some(self.numbers(editor.document.doc().units))
     }
 
     fn status(&self, _editor: &EditorState) -> String {
@@ -220,16 +221,20 @@ mod tests {
             assert_eq!(measured(&h).points[i], p, "point {i} is the vertex itself");
             if i == 1 {
                 let d = b - a;
-                let f = |x: f64| format!("{:.4}", if x == 0.0 { 0.0 } else { x });
+                let f = |x: f64| format!("{:.4} mm", if x == 0.0 { 0.0 } else { x });
                 let text = format!("distance {}  ΔX {}  ΔY {}  ΔZ {}", f(d.length()), f(d.x), f(d.y), f(d.z));
-                assert_eq!(measured(&h).numbers(), text);
+                assert_eq!(measured(&h).numbers(taut_core::document::LengthUnit::Millimetre), text);
                 frames(&mut h);
                 h.get_by_label(&text);
             }
         }
         let (u, v) = (a - b, c - b);
         let angle = u.cross(v).length().atan2(u.dot(v)).to_degrees();
-        assert!(measured(&h).numbers().starts_with(&format!("angle {angle:.3}°")), "{}", measured(&h).numbers());
+        assert!(
+            measured(&h).numbers(Default::default()).starts_with(&format!("angle {angle:.3}°")),
+            "{}",
+            measured(&h).numbers(Default::default())
+        );
         assert!((angle - 90.0).abs() < 1e-9, "a cube's corner is square: {angle}");
         h.key_press(Key::Escape);
         frames(&mut h);

@@ -111,8 +111,9 @@ impl Transform {
 
     /// The header's readout, as Blender shows it: ΔX ΔY ΔZ and the distance of a move (the
     /// offset along the normal of an extrusion), the angle of a turn, the factor of a scale.
-    pub fn numbers(&self) -> String {
-        let n = |x: f64| format!("{:.4}", if x == 0.0 { 0.0 } else { x });
+    /// Lengths carry the document's `unit`.
+    pub fn numbers(&self, unit: taut_core::document::LengthUnit) -> String {
+        let n = |x: f64| unit.length(x);
         match self.applied {
             Applied::Offset(d) if self.direction.is_some() => {
                 let along = self.direction.map_or(0.0, |u| d.dot(u));
@@ -310,8 +311,8 @@ impl Tool for Transform {
         }
     }
 
-    fn readout(&self, _editor: &EditorState) -> Option<String> {
-        Some(self.numbers())
+    fn readout(&self, editor: &EditorState) -> Option<String> {
+        Some(self.numbers(editor.document.doc().units))
     }
 
     /// The geometry a snapped move landed on, ringed.

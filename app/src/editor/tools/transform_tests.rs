@@ -39,11 +39,15 @@ fn the_header_reads_out_the_typed_move_angle_and_factor() {
         frames(&mut h);
     }
     frames(&mut h);
-    assert_eq!(header(&h), "ΔX 1.5000  ΔY 0.0000  ΔZ 0.0000  distance 1.5000");
+    assert_eq!(header(&h), "ΔX 1.5000 mm  ΔY 0.0000 mm  ΔZ 0.0000 mm  distance 1.5000 mm");
     h.key_press(Key::Y);
     frames(&mut h);
     frames(&mut h);
-    assert_eq!(header(&h), "ΔX 0.0000  ΔY 1.5000  ΔZ 0.0000  distance 1.5000", "the lock moves the value");
+    assert_eq!(header(&h), "ΔX 0.0000 mm  ΔY 1.5000 mm  ΔZ 0.0000 mm  distance 1.5000 mm", "the lock moves the value");
+    // The document's unit is the one shown.
+    h.state_mut().editor.emit(crate::editor::document::Edit::SetUnits(taut_core::document::LengthUnit::Inch));
+    frames(&mut h);
+    assert_eq!(header(&h), "ΔX 0.0000 in  ΔY 1.5000 in  ΔZ 0.0000 in  distance 1.5000 in");
     h.key_press(Key::Escape);
     frames(&mut h);
     for key in [Key::R, Key::Z, Key::Minus, Key::Num3, Key::Num0] {

@@ -178,9 +178,10 @@ impl EditorState {
             // One vertex: its coordinates. More (or an edge, a face): their median (mean), and a
             // typed or dragged value moves them all by the same offset, as Blender's N panel.
             let median = moving.iter().map(|&v| doc.cage.position(v)).sum::<taut_core::DVec3>() / moving.len() as f64;
+            let unit = doc.units;
             match moving.as_slice() {
-                [v] => ui.label(format!("vertex {}", v.0)),
-                _ => ui.label(format!("median of {} vertices", moving.len())),
+                [v] => ui.label(format!("vertex {} ({})", v.0, unit.symbol())),
+                _ => ui.label(format!("median of {} vertices ({})", moving.len(), unit.symbol())),
             };
             let mut p = median;
             let mut changed = false;
@@ -194,7 +195,7 @@ impl EditorState {
                             egui::DragValue::new(value).speed(0.002 * diagonal).max_decimals(6),
                         )
                         .labelled_by(name.id)
-                        .on_hover_text(format!("The {label} coordinate (model units): drag or type a value"));
+                        .on_hover_text(format!("The {label} coordinate ({}): drag or type a value", unit.name()));
                     changed |= response.changed();
                     responses.push(response);
                     ui.end_row();
