@@ -9,7 +9,9 @@
 //! the face, first turned into the tangent plane the two faces share along the edge (the mean of
 //! their normals), so the two faces' normals agree up to the fit's error, which falls with the
 //! span count. The four points next to the corners belong to two such rows and take the mean of
-//! both (the corner twist: Gregory patches keep two, a B-spline one). The inner points are the
+//! both (the corner twist: Gregory patches keep two, a B-spline one); at an extraordinary vertex,
+//! where the surface is not a polynomial, the twist and its neighbours are then moved into the
+//! shared tangent planes ([`star`]). The inner points are the
 //! least-squares fit to the samples. A face starts with as many spans as its edges and doubles
 //! them until it is within the tolerance of every sample and its normals along each smooth side
 //! agree with its neighbour's within [`MAX_ANGLE_DEGREES`]; a regular Catmull–Clark face (a
@@ -26,6 +28,9 @@ use rayon::prelude::*;
 #[path = "fit_angles.rs"]
 mod angles;
 use angles::{angle_degrees, edge_angles, side_angle};
+
+#[path = "fit_star.rs"]
+mod star;
 
 /// Normals of neighbouring faces along a smooth edge may differ by at most this much (the export
 /// promises 0.1°; the fit aims lower).
@@ -51,7 +56,9 @@ pub struct FitReport {
     pub max_excess_degrees: f64,
     /// Largest angle (degrees) between neighbouring faces' normals within the two innermost
     /// rings of knots around an extraordinary vertex (`2^-k` of a side), where the surface is
-    /// not a polynomial and the fit only approximates it; not part of `max_angle_degrees`.
+    /// not a polynomial and the fit only approximates it; not part of `max_angle_degrees` (it
+    /// does not make faces refine: more spans do not reach the innermost cell), but held within
+    /// the promised 0.1° by the corner correction of `fit_star.rs`.
     pub max_star_angle_degrees: f64,
     /// Spans per face (both directions).
     pub spans: Vec<usize>,
@@ -84,6 +91,8 @@ struct Context<'a> {
     own_gap: Vec<Option<Vec<f64>>>,
     /// Per edge: its curve's knots, equal spans and control points (first vertex to second).
     curves: Vec<(Knots, usize, Vec<DVec3>)>,
+    /// Per layout vertex: the unit normal of its tangent plane where the surface is smooth there.
+    vertex_normals: Vec<Option<DVec3>>,
     tolerance: f64,
 }
 
@@ -152,7 +161,7 @@ pub fn fit(net: &PatchNetwork, tolerance: f64) -> Result<(BrepModel, FitReport)>
         .par_iter()
         .map(|&e| edge_curve(net, &side, &vertex_normals, e, tolerance, max_spans))
         .collect();
-    let ctx = Context { net, inward, shared, own_gap, curves, tolerance };
+    let ctx = Context { net, inward, shared, own_gap, curves, vertex_normals, tolerance };
 
     let start: Vec<usize> = layout
         .faces()
@@ -354,9 +363,10 @@ fn edge_curve(
     loop {
         let knots = Knots::graded(spans, net.grade[a.index()], net.grade[b.index()]);
         let keep = vec![true; m + 1];
-        // At a graded (extraordinary) end the curve is left as the data have it: turning its leg
-        // would bend the exact ring pieces next to the vertex.
-        let plane = |v: VertexId| vertex_normals[v.index()].filter(|_| corner_span(net, v) == 0.0);
+        // At an extraordinary end too: the faces' normals at the vertex are then all its limit
+        // normal (left as the data had them, the legs were not coplanar and the faces met at
+        // 0.5° there); the second rows next to it follow (`fit_star.rs`).
+        let plane = |v: VertexId| vertex_normals[v.index()];
         let points = fit_curve(&samples, &keep, &knots, plane(a), plane(b));
         let error = samples
             .iter()
@@ -371,8 +381,9 @@ fn edge_curve(
 }
 
 /// The width of the corner cell at `v` that is not a polynomial piece (0 where all are): the
-/// fit only approximates the surface there (no tangent plane is imposed on the curves' legs,
-/// and the normals there are reported apart).
+/// fit only approximates the surface there: the second rows next to it are moved into the
+/// shared tangent planes (`fit_star.rs`), and the normals of the two innermost rings are
+/// reported apart.
 fn corner_span(net: &PatchNetwork, v: VertexId) -> f64 {
     match net.grade[v.index()] {
         k if k > 0 && net.singular_corners => 0.5f64.powi(k as i32),
@@ -507,6 +518,10 @@ fn fit_face(ctx: &Context<'_>, f: FaceId, n: usize) -> FacePatch {
                 p[i][j] = ring_sum[i][j] / f64::from(ring_count[i][j]);
             }
         }
+    }
+    // Next to an extraordinary vertex the second rows are moved into the shared tangent planes.
+    for c in 0..4 {
+        star::tangent_corner(ctx, f, c, &mut p, &along);
     }
     // Inner points: least squares to the samples, the two outer rows of each side fixed.
     let g = &net.grids[f.index()];

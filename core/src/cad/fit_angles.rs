@@ -54,7 +54,8 @@ pub(super) fn angle_degrees(a: DVec3, b: DVec3) -> f64 {
 /// Per smooth interior edge: the largest angle between its two faces' normals, the largest
 /// amount by which it exceeds the surface's own there, both away from the two innermost rings
 /// around extraordinary ends, and the largest angle within those rings (sampled at `4m` points
-/// along it, corners excluded).
+/// along it, and within those rings also at `16` points a sample spacing and a thousandth of a
+/// spacing from the vertex: the fit's angle there is largest next to the vertex).
 pub(super) fn edge_angles(ctx: &Context<'_>, patches: &[FacePatch]) -> Vec<(EdgeId, f64, f64, f64)> {
     let layout = &ctx.net.layout;
     let samples = 4 * ctx.net.m;
@@ -74,8 +75,15 @@ pub(super) fn edge_angles(ctx: &Context<'_>, patches: &[FacePatch]) -> Vec<(Edge
             // The two innermost rings of knots around an extraordinary end.
             let (a, b) = (layout.from_vertex(h), layout.to_vertex(h));
             let (star_start, star_end) = (2.0 * corner_span(ctx.net, a), 2.0 * corner_span(ctx.net, b));
-            for s in 1..samples {
-                let t = s as f64 / samples as f64;
+            let mut at: Vec<f64> = (1..samples).map(|s| s as f64 / samples as f64).collect();
+            let near: Vec<f64> = std::iter::once(1e-3).chain((1..32).map(|x| x as f64 / 16.0)).collect();
+            if star_start > 0.0 {
+                at.extend(near.iter().map(|x| x / m as f64));
+            }
+            if star_end > 0.0 {
+                at.extend(near.iter().map(|x| 1.0 - x / m as f64));
+            }
+            for t in at {
                 let (ua, va) = side_uv(ka, t);
                 let (ub, vb) = side_uv(kb, 1.0 - t);
                 let na = unit_normal(&patches[fa.index()], ua, va);
