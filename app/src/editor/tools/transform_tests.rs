@@ -44,8 +44,15 @@ fn the_header_reads_out_the_typed_move_angle_and_factor() {
     frames(&mut h);
     frames(&mut h);
     assert_eq!(header(&h), "ΔX 0.0000 mm  ΔY 1.5000 mm  ΔZ 0.0000 mm  distance 1.5000 mm", "the lock moves the value");
+    h.key_press(Key::Escape);
+    frames(&mut h);
     // The document's unit is the one shown.
-    h.state_mut().editor.emit(crate::editor::document::Edit::SetUnits(taut_core::document::LengthUnit::Inch));
+    h.state_mut().editor.edit(crate::editor::document::Edit::SetUnits(taut_core::document::LengthUnit::Inch));
+    frames(&mut h);
+    for key in [Key::G, Key::Y, Key::Num1, Key::Period, Key::Num5] {
+        h.key_press(key);
+        frames(&mut h);
+    }
     frames(&mut h);
     assert_eq!(header(&h), "ΔX 0.0000 in  ΔY 1.5000 in  ΔZ 0.0000 in  distance 1.5000 in");
     h.key_press(Key::Escape);
