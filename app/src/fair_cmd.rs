@@ -10,8 +10,8 @@
 //! By default the points are first smoothed at the scale their noise allows and the filter holds
 //! them to that pre-fit (`taut_core::aesthetic::DataTerm`), so noise is removed and the curve
 //! stays where the points were; `--paper` runs the paper's filter on the points as given. Space
-//! curves (`--space`) still run the paper's filter: with the torsion law the data term does not
-//! converge yet.
+//! curves (`--space`) are faired the same way, their torsion held to its law by a damped step
+//! over the points around each (`taut_core::aesthetic::filter`).
 
 use clap::Args;
 use serde::Serialize;
@@ -148,10 +148,7 @@ pub fn run(args: &FairArgs) -> Result<(), String> {
         torsion_beta,
         tolerance: args.tolerance,
         max_passes: args.iterations.unwrap_or(DEFAULT_MAX_PASSES),
-        // Space curves keep the paper's filter: the data term does not yet converge with the
-        // torsion law (an exact helix walks to the pass cap), see docs/log-aesthetic.md.
-        data_term: (!args.paper && !args.space)
-            .then_some(DataTerm { weight: args.data_weight, smoothing: args.smoothing }),
+        data_term: (!args.paper).then_some(DataTerm { weight: args.data_weight, smoothing: args.smoothing }),
         ..FilterSettings::default()
     };
     let mut filter = CurveFilter::new(&curve, settings).map_err(|e| format!("{input}: {e}"))?;

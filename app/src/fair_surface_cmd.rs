@@ -2,13 +2,16 @@
 //! `taut_core::aesthetic::surface`).
 //!
 //! `GRID.json` is `{"grid": [[[x, y, z], ...], ...]}`, rows of points, every row as long; the
-//! boundary rows and columns stay fixed. The output has the same grid, how the filter went, and
+//! boundary rows and columns stay fixed. By default the grid is first smoothed at the scale its
+//! noise allows and the filter holds it to that pre-fit (`SurfaceSettings::keeping_shape`), so a
+//! measured grid loses its noise and keeps its shape; `--paper` runs the paper's filter on the
+//! points as given. The output has the same grid, how the filter went, and
 //! the mean and standard deviation of the Gaussian curvature over the interior before and after.
 
 use clap::Args;
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
-use taut_core::aesthetic::{Grid, SurfaceFilter, SurfaceSettings, gaussian_curvature};
+use taut_core::aesthetic::{DataTerm, Grid, SurfaceFilter, SurfaceSettings, gaussian_curvature};
 use taut_core::{DVec3, io};
 
 #[derive(Debug, Args)]
@@ -21,6 +24,17 @@ pub struct FairSurfaceArgs {
     /// Cap on passes [default: until converged, at most 5000].
     #[arg(long)]
     pub iterations: Option<usize>,
+    /// The paper's filter on the points as given: no smoothing pre-fit and no data term (on
+    /// noisy points it moves the surface; the default keeps it where the points were).
+    #[arg(long)]
+    pub paper: bool,
+    /// Weight λ of the data term, in [0, 1): the share of each move that pulls a point back
+    /// towards the smoothed grid.
+    #[arg(long, default_value_t = taut_core::aesthetic::filter::DEFAULT_DATA_WEIGHT, conflicts_with = "paper")]
+    pub data_weight: f64,
+    /// The pre-fit's smoothing μ [default: chosen from the points by cross-validation].
+    #[arg(long, conflicts_with = "paper")]
+    pub smoothing: Option<f64>,
     /// Write the output even when it is the input file.
     #[arg(long)]
     pub force: bool,
@@ -73,17 +87,30 @@ pub fn run(args: &FairSurfaceArgs) -> Result<(), String> {
             file.grid[i].len()
         ));
     }
-    let grid = Grid {
-        rows: file.grid.len(),
-        cols,
-        points: file.grid.iter().flatten().map(|p| DVec3::from_array(*p)).collect(),
+    let rows = file.grid.len();
+    let grid = Grid { rows, cols, points: file.grid.iter().flatten().map(|p| DVec3::from_array(*p)).collect() };
+    let mut settings = if args.paper {
+        SurfaceSettings::default()
+    } else {
+        SurfaceSettings {
+            data_term: Some(DataTerm { weight: args.data_weight, smoothing: args.smoothing }),
+            ..SurfaceSettings::default()
+        }
     };
-    let mut settings = SurfaceSettings::default();
     if let Some(n) = args.iterations {
         settings.max_passes = n;
     }
     let before = stats(&grid);
     let mut filter = SurfaceFilter::new(grid, settings).map_err(|e| format!("{input}: {e}"))?;
+    if let Some(fit) = filter.prefit() {
+        println!(
+            "pre-fit: smoothing {:.3e} ({:.1} degrees of freedom for {} interior points), noise level {:.3e} (RMS)",
+            fit.smoothing,
+            fit.dof,
+            (rows - 2) * (cols - 2),
+            fit.noise
+        );
+    }
     let status = filter.run_to_convergence().map_err(|e| format!("{input}: {e}"))?;
     let after = stats(filter.grid());
     let show = |s: Option<Stats>| {

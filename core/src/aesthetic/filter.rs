@@ -247,6 +247,8 @@ struct Scratch {
     geometry: Geometry,
     before: Vec<DVec3>,
     moves: Vec<spatial::Move>,
+    /// Every point's torsion target (NaN: none), for the data term's torsion step.
+    torsion_targets: Vec<f64>,
 }
 
 impl CurveFilter {

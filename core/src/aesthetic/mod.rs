@@ -14,7 +14,8 @@
 //! - [`estimate`]: α per piece of monotone curvature from a least-squares B-spline.
 //! - [`lcg`]: the curvature graph and LCG of any point sequence with the fitted line, for plots.
 //! - [`segment`]: Yoshida–Saito segments from three control points and α.
-//! - [`surface`]: the constant-Gaussian-curvature filter on regular grids.
+//! - [`surface`]: the constant-Gaussian-curvature filter on regular grids, and
+//!   [`surface_prefit`] the smoothing pre-fit its shape-keeping variant starts from.
 //! - [`coons`]: bilinearly blended Coons patches from four boundary curves.
 
 pub mod coons;
@@ -28,6 +29,7 @@ pub mod prefit;
 pub mod segment;
 pub mod segment_fit;
 pub mod surface;
+pub mod surface_prefit;
 
 pub use coons::{BoundaryCurve, coons_patch, grid_mesh};
 pub use estimate::{AlphaEstimate, AlphaPiece, EstimateSettings, estimate_alpha};
@@ -37,3 +39,4 @@ pub use lcg::{CurvatureGraph, LcgPoint, curvature_graph};
 pub use prefit::{Prefit, prefit};
 pub use segment::AestheticSegment;
 pub use surface::{Grid, SurfaceFilter, SurfaceSettings, SurfaceStatus, gaussian_curvature};
+pub use surface_prefit::{GridPrefit, prefit_grid};

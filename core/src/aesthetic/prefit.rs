@@ -375,45 +375,49 @@ impl<'a> Problem<'a> {
         Some((0..m).map(|i| factor.inverse_diagonal(i)).sum())
     }
 
-    /// GCV over μ: a scan of [`PER_DECADE`] values a decade, then golden-section search on log μ
-    /// around the best.
+    /// GCV over μ ([`gcv_search`]).
     fn gcv(&self) -> Option<f64> {
         let m = self.free as f64;
-        let score = |log_mu: f64| -> f64 {
+        // From no smoothing to a length scale of the whole curve (μ^{1/2p} points).
+        let top = 2.0 * ORDER as f64 * (self.points.len() as f64).log10() + 1.0;
+        gcv_search(top, |log_mu| {
             let mu = 10f64.powf(log_mu);
             match (self.fit(mu), self.trace(mu)) {
                 (Some(fit), Some(tr)) if m - tr > 1e-9 => m * fit.rss / (m - tr).powi(2),
                 _ => f64::INFINITY,
             }
-        };
-        // From no smoothing to a length scale of the whole curve (μ^{1/2p} points).
-        let top = 2.0 * ORDER as f64 * (self.points.len() as f64).log10() + 1.0;
-        let (lo, hi) = (-2.0, top);
-        let steps = ((hi - lo) * PER_DECADE).ceil() as usize;
-        let grid: Vec<(f64, f64)> =
-            (0..=steps).map(|k| lo + (hi - lo) * k as f64 / steps as f64).map(|x| (x, score(x))).collect();
-        let best = (0..grid.len()).min_by(|&a, &b| grid[a].1.total_cmp(&grid[b].1))?;
-        if !grid[best].1.is_finite() {
-            return None;
-        }
-        let (mut a, mut b) = (grid[best.saturating_sub(1)].0, grid[(best + 1).min(grid.len() - 1)].0);
-        let ratio = 0.5 * (5f64.sqrt() - 1.0);
-        let (mut c, mut d) = (b - ratio * (b - a), a + ratio * (b - a));
-        let (mut fc, mut fd) = (score(c), score(d));
-        for _ in 0..20 {
-            if fc < fd {
-                (b, d, fd) = (d, c, fc);
-                c = b - ratio * (b - a);
-                fc = score(c);
-            } else {
-                (a, c, fc) = (c, d, fd);
-                d = a + ratio * (b - a);
-                fd = score(d);
-            }
-        }
-        let x = if fc < fd { c } else { d };
-        Some(10f64.powf(if score(x) <= grid[best].1 { x } else { grid[best].0 }))
+        })
     }
+}
+
+/// The μ minimising a GCV `score` of `log10 μ` between 10⁻² and 10^`top`: a scan of
+/// [`PER_DECADE`] values a decade, then golden-section search on log μ around the best.
+pub(super) fn gcv_search(top: f64, score: impl Fn(f64) -> f64) -> Option<f64> {
+    let (lo, hi) = (-2.0, top);
+    let steps = ((hi - lo) * PER_DECADE).ceil() as usize;
+    let grid: Vec<(f64, f64)> =
+        (0..=steps).map(|k| lo + (hi - lo) * k as f64 / steps as f64).map(|x| (x, score(x))).collect();
+    let best = (0..grid.len()).min_by(|&a, &b| grid[a].1.total_cmp(&grid[b].1))?;
+    if !grid[best].1.is_finite() {
+        return None;
+    }
+    let (mut a, mut b) = (grid[best.saturating_sub(1)].0, grid[(best + 1).min(grid.len() - 1)].0);
+    let ratio = 0.5 * (5f64.sqrt() - 1.0);
+    let (mut c, mut d) = (b - ratio * (b - a), a + ratio * (b - a));
+    let (mut fc, mut fd) = (score(c), score(d));
+    for _ in 0..20 {
+        if fc < fd {
+            (b, d, fd) = (d, c, fc);
+            c = b - ratio * (b - a);
+            fc = score(c);
+        } else {
+            (a, c, fc) = (c, d, fd);
+            d = a + ratio * (b - a);
+            fd = score(d);
+        }
+    }
+    let x = if fc < fd { c } else { d };
+    Some(10f64.powf(if score(x) <= grid[best].1 { x } else { grid[best].0 }))
 }
 
 /// The Cholesky factor `L` of a banded symmetric positive definite matrix of half-width

@@ -28,6 +28,8 @@
 //! log-aesthetic surfaces), so the filter also removes curvature variation a designer wanted; the
 //! mean over 3 × 3 spreads a change by one cell a pass, so large grids need many passes.
 
+use super::filter::DataTerm;
+use super::surface_prefit::{GridPrefit, prefit_grid};
 use crate::{DVec3, Error, Result};
 
 /// A regular grid of points, row by row.
@@ -99,11 +101,22 @@ pub struct SurfaceSettings {
     pub tolerance: f64,
     /// Cap on passes of [`SurfaceFilter::run_to_convergence`].
     pub max_passes: usize,
+    /// `Some`: smooth the grid first ([`super::surface_prefit`]) and hold every move to that
+    /// pre-fit (keeps the shape of a noisy grid); `None`: the paper's filter on the points as given.
+    pub data_term: Option<DataTerm>,
+}
+
+impl SurfaceSettings {
+    /// The default settings with the default [`DataTerm`]: the fairing for measured points, which
+    /// removes their noise and keeps the surface where they were.
+    pub fn keeping_shape() -> Self {
+        SurfaceSettings { data_term: Some(DataTerm::default()), ..SurfaceSettings::default() }
+    }
 }
 
 impl Default for SurfaceSettings {
     fn default() -> Self {
-        SurfaceSettings { relaxation: 0.5, tolerance: 1e-4, max_passes: 5000 }
+        SurfaceSettings { relaxation: 0.5, tolerance: 1e-4, max_passes: 5000, data_term: None }
     }
 }
 
@@ -165,6 +178,53 @@ fn local(grid: &Grid, i: usize, j: usize) -> Option<Local> {
     Some(Local { gaussian, normal, centre, e: e + shift, f, g: g + shift, det })
 }
 
+/// With the data term, how far point (i, j) moves along its `normal`: one damped Gauss–Newton
+/// step on the spread of K over its 3 × 3 block, `Σ_b (K_b − C)²` with `C` the block's mean,
+/// `δ = −Σ J_b r_b / (Σ J_b² + (t / h)²)`, the slopes `J_b = ∂K_b/∂δ` of every K the point
+/// takes part in measured by moving it, `h` the local spacing and `t = 2 |C|`, so a move of a
+/// spacing is what it takes to change K by its own size; at most a quarter spacing.
+///
+/// The paper solves `K(φ) = C` at the point alone and takes a root; but K is a parabola in φ
+/// whose vertex is where `e + g = 0`, and a surface of negative curvature sampled along its lines
+/// of curvature sits there (the pseudosphere on its meridians and parallels has `e = −g`
+/// exactly): an exact pseudosphere had no root at a fifth of its points and the rest jumped
+/// between roots, flattening it to K ≈ 0 (12 × 12 and 24 × 24 grids). A Newton step on the
+/// point's own K alone was no better on noisy ones: a point's move changes its neighbours' K
+/// with half the weight and the opposite sign, and the moves grew into a checkerboard. The block
+/// step sees all of them. The point moves from where it is, not from the neighbours' mean, which
+/// slides it along the surface towards even spacing and on the pseudosphere's grid (three to
+/// one along its meridians) moved it off the pre-fit faster than the data term pulled it back.
+fn block_step(grid: &mut Grid, i: usize, j: usize, normal: DVec3, target: f64) -> Option<f64> {
+    let (rows, cols) = (grid.rows, grid.cols);
+    let inside = |a: usize, b: usize| a > 0 && b > 0 && a + 1 < rows && b + 1 < cols;
+    let block = |grid: &Grid| -> [Option<f64>; 9] {
+        std::array::from_fn(|k| {
+            let (a, b) = (i + k / 3 - 1, j + k % 3 - 1);
+            inside(a, b).then(|| local(grid, a, b).map(|l| l.gaussian)).flatten()
+        })
+    };
+    let k = i * cols + j;
+    let spacing =
+        0.25 * (grid.at(i + 1, j).distance(grid.at(i - 1, j)) + grid.at(i, j + 1).distance(grid.at(i, j - 1)));
+    let h = 1e-4 * spacing;
+    let before = block(grid);
+    let p = grid.points[k];
+    grid.points[k] = p + h * normal;
+    let after = block(grid);
+    grid.points[k] = p;
+    let (mut jr, mut jj) = (0.0, 0.0);
+    for (b, a) in before.iter().zip(&after) {
+        if let (Some(b), Some(a)) = (b, a) {
+            let slope = (a - b) / h;
+            jr += slope * (b - target);
+            jj += slope * slope;
+        }
+    }
+    let damping = 2.0 * target.abs() / spacing;
+    let step = (-jr / (jj + damping * damping)).clamp(-0.25 * spacing, 0.25 * spacing);
+    step.is_finite().then_some(step)
+}
+
 /// Gaussian curvature at every point of a grid (`None` on the boundary and where the grid
 /// degenerates), row by row.
 pub fn gaussian_curvature(grid: &Grid) -> Vec<Option<f64>> {
@@ -184,12 +244,22 @@ pub struct SurfaceFilter {
     settings: SurfaceSettings,
     status: SurfaceStatus,
     mean_spacing: f64,
+    /// The pre-fit of the data term, whose points the moves are pulled towards.
+    prefit: Option<GridPrefit>,
 }
 
 impl SurfaceFilter {
-    /// A filter on a valid grid.
+    /// A filter on a valid grid. With a data term the filter starts from the pre-fit.
     pub fn new(grid: Grid, settings: SurfaceSettings) -> Result<SurfaceFilter> {
         grid.validate()?;
+        if let Some(term) = settings.data_term
+            && !(term.weight >= 0.0 && term.weight < 1.0 && term.smoothing.is_none_or(|mu| mu.is_finite() && mu >= 0.0))
+        {
+            return Err(Error::Input(format!(
+                "the data term's weight must lie in [0, 1) and its smoothing be a number ≥ 0, not {} and {:?}",
+                term.weight, term.smoothing
+            )));
+        }
         if !(settings.relaxation > 0.0 && settings.relaxation <= 1.0) {
             return Err(Error::Input(format!("the relaxation must lie in (0, 1], not {}", settings.relaxation)));
         }
@@ -210,7 +280,18 @@ impl SurfaceFilter {
             }
         }
         let status = SurfaceStatus { last_move: f64::INFINITY, ..SurfaceStatus::default() };
-        Ok(SurfaceFilter { grid, settings, status, mean_spacing: sum / count as f64 })
+        let prefit = settings.data_term.map(|term| prefit_grid(&grid, term.smoothing));
+        let grid = match &prefit {
+            Some(fit) => Grid { points: fit.points.clone(), ..grid },
+            None => grid,
+        };
+        Ok(SurfaceFilter { grid, settings, status, mean_spacing: sum / count as f64, prefit })
+    }
+
+    /// The pre-fit of the data term (its points, smoothing, degrees of freedom and the noise
+    /// level it read), `None` without one.
+    pub fn prefit(&self) -> Option<&GridPrefit> {
+        self.prefit.as_ref()
     }
 
     /// The current grid.
@@ -272,19 +353,34 @@ impl SurfaceFilter {
                     let target = sum / count as f64;
                     // ((e − 2φ)(g − 2φ) − f²) = C (EG − F²).
                     let here = (self.grid.at(i, j) - l.centre).dot(l.normal);
-                    let phi = super::filter::nearest_root(
-                        4.0,
-                        -2.0 * (l.e + l.g),
-                        l.e * l.g - l.f * l.f - target * l.det,
-                        here,
-                    );
-                    match phi {
-                        Some(phi) => {
-                            let p = &mut self.grid.points[i * cols + j];
-                            *p = p.lerp(l.centre + phi * l.normal, self.settings.relaxation);
+                    let goal = match self.settings.data_term {
+                        Some(_) => block_step(&mut self.grid, i, j, l.normal, target)
+                            .map(|step| self.grid.at(i, j) + step * l.normal),
+                        None => super::filter::nearest_root(
+                            4.0,
+                            -2.0 * (l.e + l.g),
+                            l.e * l.g - l.f * l.f - target * l.det,
+                            here,
+                        )
+                        .map(|phi| l.centre + phi * l.normal),
+                    };
+                    let k = i * cols + j;
+                    let p = self.grid.points[k];
+                    // The move towards the target, ω (P* − P), and with the data term
+                    // ω ((1 − λ) (P* − P) + λ (pre-fit − P)); a point with no target is still
+                    // pulled towards its pre-fit.
+                    let towards = match goal {
+                        Some(goal) => goal - p,
+                        None => {
+                            held += 1;
+                            DVec3::ZERO
                         }
-                        None => held += 1,
-                    }
+                    };
+                    let step = match (self.settings.data_term, &self.prefit) {
+                        (Some(term), Some(fit)) => (1.0 - term.weight) * towards + term.weight * (fit.points[k] - p),
+                        _ => towards,
+                    };
+                    self.grid.points[k] = p + self.settings.relaxation * step;
                 }
             }
         }
