@@ -400,6 +400,18 @@ impl SplitTopology {
         }
     }
 
+    /// The first face point (every vertex before it is a parent vertex or an edge point).
+    pub fn first_face_point(&self) -> usize {
+        (self.parent_vertices + self.parent_edges) as usize
+    }
+
+    /// The rank of parent face `f`'s face point among the face points (its index minus
+    /// [`first_face_point`](Self::first_face_point)); `None` for a triangle split into triangles.
+    #[inline]
+    pub fn face_point_rank(&self, f: FaceId) -> Option<usize> {
+        self.face_point(f).map(|p| p.index() - self.first_face_point())
+    }
+
     /// The edge point of parent edge `e`.
     pub fn edge_point(&self, e: EdgeId) -> VertexId {
         VertexId(self.parent_vertices + e.0)
