@@ -69,8 +69,11 @@ fn triangulated(cage: &PolyMesh) -> PolyMesh {
     crate::mesh::edit::triangulate(cage, None, crate::mesh::edit::Triangulation::Fan).unwrap().mesh
 }
 
-/// Every cage the test refines: (name, cage, scheme, edge sharpness, vertex sharpness, levels).
-fn cages() -> Vec<(&'static str, PolyMesh, Scheme, Vec<f64>, Vec<f64>, u32)> {
+/// A cage the test refines: name, cage, scheme, edge sharpness, vertex sharpness, levels.
+type Case = (&'static str, PolyMesh, Scheme, Vec<f64>, Vec<f64>, u32);
+
+/// Every cage the test refines.
+fn cages() -> Vec<Case> {
     let (pyramid, sharpness, corners) = pyramid();
     let (torus, torus_sharpness) = creased_torus();
     let loop_pyramid = triangulated(&pyramid);
