@@ -40,6 +40,17 @@ pub struct PolyMesh {
     topology_generation: u64,
 }
 
+/// The arrays of a [`PolyMesh`], for [`PolyMesh::from_halfedges`].
+pub(crate) struct HalfedgeArrays {
+    pub positions: Vec<DVec3>,
+    pub vertex_halfedge: Vec<HalfedgeId>,
+    pub halfedge_to: Vec<VertexId>,
+    pub halfedge_next: Vec<HalfedgeId>,
+    pub halfedge_prev: Vec<HalfedgeId>,
+    pub halfedge_face: Vec<FaceId>,
+    pub face_halfedge: Vec<HalfedgeId>,
+}
+
 impl PolyMesh {
     /// Builds a mesh from vertex positions and faces given as lists of vertex indices
     /// (counter-clockwise seen from outside). Fails with a clear message on non-finite
@@ -56,6 +67,34 @@ impl PolyMesh {
     /// there are faces).
     pub fn from_face_list(positions: Vec<DVec3>, offsets: &[u32], indices: &[u32]) -> crate::Result<Self> {
         build::build_flat(positions, offsets, indices)
+    }
+
+    /// A mesh from halfedge arrays that already satisfy its invariants (the refinement derives
+    /// each level's halfedges from the level above, `subdiv::topology`); checked by
+    /// [`PolyMesh::validate`] in debug builds.
+    pub(crate) fn from_halfedges(arrays: HalfedgeArrays) -> Self {
+        let HalfedgeArrays {
+            positions,
+            vertex_halfedge,
+            halfedge_to,
+            halfedge_next,
+            halfedge_prev,
+            halfedge_face,
+            face_halfedge,
+        } = arrays;
+        let mesh = PolyMesh {
+            positions,
+            vertex_halfedge,
+            halfedge_to,
+            halfedge_next,
+            halfedge_prev,
+            halfedge_face,
+            face_halfedge,
+            generation: 0,
+            topology_generation: fresh_topology_generation(),
+        };
+        debug_assert_eq!(mesh.validate(), Ok(()));
+        mesh
     }
 
     /// Number of vertices (isolated ones included).

@@ -1,18 +1,25 @@
-//! [`Refinement`]: a cage refined by Catmull–Clark or Loop to a number of levels, topology and
-//! stencils built once, positions re-evaluated through the stencils after every drag.
+//! [`Refinement`]: a cage refined by Catmull–Clark or Loop to a number of levels, topology built
+//! once, positions evaluated by the rules directly when fresh and through stencils after a drag.
 //!
-//! [`Refinement::new`] splits the cage level by level ([`SplitTopology`]), carries the crease
-//! sharpness down (uniform creasing, [`super::crease`]), builds one stencil matrix per level
-//! ([`super::rules`]: level `l` from level `l − 1`) and the limit stencils of the finest level
-//! ([`LimitStencils`]). [`Refinement::evaluate`] then only applies those matrices to new cage
-//! positions, writing into reusable buffers.
+//! [`Refinement::new`] splits the cage level by level ([`SplitTopology`]: each level's halfedges
+//! derived from the level above) and carries the crease sharpness down (uniform creasing,
+//! [`super::crease`]); it builds no stencil. [`Refinement::evaluate`] applies the rules of
+//! [`super::rules`] directly (face points first, then the edge and vertex points that read them)
+//! and the limit masks of [`super::limit`] directly, writing into reusable buffers.
+//!
+//! The stencils pay only when drags follow a topology, so they are lazy: one matrix per level
+//! (level `l` from level `l − 1`) and the limit stencils of the finest level, with their
+//! transposed patterns ([`Users`]), are built on the first [`Refinement::update`] (or by
+//! [`Refinement::stencils`] and [`Refinement::limit_stencils`]) and kept. After a drag `update`
+//! recomputes only the rows that read a moved vertex, found through the patterns, level by level
+//! by the same direct rules and then the limit, so it gives the same bits as a full evaluation.
+//! The level stencils agree with the direct rules to rounding (they expand every face point into
+//! its face's corners), the limit stencils to the bit. Nothing depends on the thread count.
 //!
 //! Level-by-level stencils were chosen over stencils flattened onto the cage: for a level-3
 //! Catmull–Clark torus the flattened matrix has 1.6 times the entries (1.72 M against 1.08 M)
 //! and is no faster to apply (`benches/subdiv.rs` measures both), and level by level also gives
-//! every intermediate level. After a drag, [`Refinement::update`] recomputes only the rows that
-//! read a moved vertex (found through the transposed patterns, [`Users`]), level by level and
-//! then the limit, with the same bits as a full evaluation.
+//! every intermediate level.
 //!
 //! Sizes: each level multiplies the face count by about 4. [`MAX_LEVELS`] levels at most, and the
 //! finest level may have at most [`MAX_REFINED_FACES`] faces: a refinement takes about 400 bytes
@@ -20,12 +27,13 @@
 //! Catmull–Clark torus, [`Refinement::memory_bytes`]), so the bound keeps one under about 1 GB.
 
 use super::crease::{Rule, child_sharpness, effective_sharpness, starting_corners};
-use super::limit::LimitStencils;
-use super::rules::{Scheme, level_stencils};
+use super::limit::{LimitStencils, check_faces, limit_into};
+use super::rules::{Scheme, level_stencils, refine_into, refine_rows};
 use super::sparse::{SparseRows, Users};
-use super::topology::{SplitRule, SplitTopology, VertexOrigin};
+use super::topology::{SplitRule, SplitTopology};
 use crate::mesh::{EdgeId, PolyMesh, VertexId};
 use crate::{DVec3, Error, Result};
+use std::sync::OnceLock;
 use std::sync::atomic::{AtomicU64, Ordering};
 
 /// Source of refinement identities, so [`Refinement::update`] knows whose positions it is given.
@@ -79,9 +87,16 @@ struct Level {
     sharpness: Vec<f64>,
     /// Sharpness of this level's vertices (corners).
     corners: Vec<f64>,
+    /// This level's stencils, built on first use ([`Refinement::stencils`]).
+    stencils: OnceLock<LevelStencils>,
+}
+
+/// The stencils of one level, what a drag needs.
+#[derive(Clone, Debug)]
+struct LevelStencils {
     /// This level's positions from the previous level's.
-    stencils: SparseRows,
-    /// For every vertex of the previous level, the rows of `stencils` that read it.
+    rows: SparseRows,
+    /// For every vertex of the previous level, the rows of `rows` that read it.
     users: Users,
 }
 
@@ -93,9 +108,9 @@ pub struct Refinement {
     cage_sharpness: Vec<f64>,
     cage_corners: Vec<f64>,
     levels: Vec<Level>,
-    limit: LimitStencils,
-    /// For every vertex of the finest level, the vertices whose limit reads it.
-    limit_users: Users,
+    /// The finest level's limit stencils and, for every vertex of that level, the vertices whose
+    /// limit reads it; built on first use ([`Refinement::limit_stencils`]).
+    limit: OnceLock<(LimitStencils, Users)>,
     /// Unique per built refinement (clones share it: they hold the same stencils).
     id: u64,
 }
@@ -175,44 +190,59 @@ impl Refinement {
             cage_sharpness,
             cage_corners,
             levels: Vec::new(),
-            limit: Default::default(),
-            limit_users: Default::default(),
+            limit: OnceLock::new(),
             id: NEXT_ID.fetch_add(1, Ordering::Relaxed),
         };
         for _ in 0..levels {
             let (parent, parent_sharpness, parent_corners) = out.finest_topology();
             let split = SplitTopology::split(parent, rule)?;
-            let stencils = level_stencils(scheme, parent, parent_sharpness, parent_corners, &split);
-            let corners = split
-                .mesh
-                .vertices()
-                .map(|c| match split.origin(c) {
-                    VertexOrigin::Vertex(v) => child_sharpness(parent_corners[v.index()]),
-                    _ => 0.0,
-                })
-                .collect();
-            let sharpness = split
-                .mesh
-                .edges()
-                .map(|c| match split.edge_parent(c) {
-                    Some(e) => child_sharpness(parent_sharpness[e.index()]),
-                    None => 0.0,
-                })
-                .collect();
-            let users = stencils.users();
-            out.levels.push(Level { split, sharpness, corners, stencils, users });
+            // Child vertices come first as their parents, child edges first as the halves of
+            // theirs (`SplitTopology`'s numbering), and nothing else is sharp.
+            let mut corners = vec![0.0; split.mesh.vertex_count()];
+            for (c, &s) in corners.iter_mut().zip(parent_corners) {
+                *c = child_sharpness(s);
+            }
+            let mut sharpness = vec![0.0; split.mesh.edge_count()];
+            for (halves, &s) in sharpness.chunks_exact_mut(2).zip(parent_sharpness) {
+                halves.fill(child_sharpness(s));
+            }
+            out.levels.push(Level { split, sharpness, corners, stencils: OnceLock::new() });
         }
-        let (finest, finest_sharpness, finest_corners) = out.finest_topology();
-        out.limit = LimitStencils::with_corners(scheme, finest, finest_sharpness, finest_corners)?;
-        out.limit_users = out.limit.users();
+        // Below the cage every face is a quad (Catmull–Clark) or a triangle (Loop) by construction.
+        if levels == 0 {
+            check_faces(scheme, cage)?;
+        }
         Ok(out)
     }
 
+    /// The stencils of level `l ≥ 1` (0-based index `l − 1` into `levels`), built on first use.
+    fn level_stencils(&self, index: usize) -> &LevelStencils {
+        self.levels[index].stencils.get_or_init(|| {
+            let (parent, sharpness, corners) = self.topology(index as u32);
+            let rows = level_stencils(self.scheme, parent, sharpness, corners, &self.levels[index].split);
+            let users = rows.users();
+            LevelStencils { rows, users }
+        })
+    }
+
+    /// The finest level's limit stencils and their users, built on first use.
+    fn limit(&self) -> &(LimitStencils, Users) {
+        self.limit.get_or_init(|| {
+            let (finest, sharpness, corners) = self.finest_topology();
+            let limit = LimitStencils::with_corners(self.scheme, finest, sharpness, corners)
+                .expect("the finest level was checked when the refinement was built");
+            let users = limit.users();
+            (limit, users)
+        })
+    }
+
+    /// The mesh, edge sharpness and vertex sharpness of `level`.
+    fn topology(&self, level: u32) -> (&PolyMesh, &[f64], &[f64]) {
+        (self.mesh(level), self.sharpness(level), self.corners(level))
+    }
+
     fn finest_topology(&self) -> (&PolyMesh, &[f64], &[f64]) {
-        match self.levels.last() {
-            Some(l) => (&l.split.mesh, &l.sharpness, &l.corners),
-            None => (&self.cage, &self.cage_sharpness, &self.cage_corners),
-        }
+        self.topology(self.level_count())
     }
 
     /// The sharpness of every vertex of `level` (corners; 0 elsewhere).
@@ -263,13 +293,16 @@ impl Refinement {
         Rule::of(corner, mesh.outgoing(v).filter(|h| sharpness[h.edge().index()] > 0.0).count())
     }
 
-    /// The stencils making `level ≥ 1` from the level above.
+    /// The stencils making `level ≥ 1` from the level above (built on the first call, or the
+    /// first [`Refinement::update`]). Applied to the level above, they give the same bits as
+    /// [`Refinement::evaluate`].
     pub fn stencils(&self, level: u32) -> &SparseRows {
-        &self.levels[level as usize - 1].stencils
+        &self.level_stencils(level as usize - 1).rows
     }
 
-    /// Approximate bytes of everything built: every level's mesh and split bookkeeping, sharpness,
-    /// stencils and their transposed patterns, the limit stencils and theirs.
+    /// Approximate bytes of everything built so far: every level's mesh and split bookkeeping,
+    /// sharpness, and the stencils and limit stencils (with their transposed patterns) once they
+    /// have been built.
     pub fn memory_bytes(&self) -> usize {
         let mesh = |m: &PolyMesh| 28 * m.vertex_count() + 16 * m.halfedge_count() + 4 * m.face_count();
         let levels: usize = self
@@ -281,16 +314,17 @@ impl Refinement {
                     + 12 * m.edge_count()
                     + 4 * m.face_count()
                     + 8 * m.edge_count()
-                    + l.stencils.memory_bytes()
-                    + l.users.memory_bytes()
+                    + l.stencils.get().map_or(0, |s| s.rows.memory_bytes() + s.users.memory_bytes())
             })
             .sum();
-        mesh(&self.cage) + levels + self.limit.memory_bytes() + self.limit_users.memory_bytes()
+        let limit = self.limit.get().map_or(0, |(l, u)| l.memory_bytes() + u.memory_bytes());
+        mesh(&self.cage) + levels + limit
     }
 
-    /// The limit stencils of the finest level.
+    /// The limit stencils of the finest level (built on the first call, or the first
+    /// [`Refinement::update`]).
     pub fn limit_stencils(&self) -> &LimitStencils {
-        &self.limit
+        &self.limit().0
     }
 
     /// Limit stencils of another level (built on request; Catmull–Clark needs `level ≥ 1` unless
@@ -309,10 +343,29 @@ impl Refinement {
     /// positions, into `out` (whose buffers are reused).
     pub fn evaluate(&self, cage_positions: &[DVec3], out: &mut RefinedPositions) -> Result<()> {
         self.evaluate_levels(cage_positions, out)?;
-        let finest = out.levels.last().expect("level 0 is always there");
-        self.limit.evaluate(finest, &mut out.limit, &mut out.normals);
+        self.evaluate_limit(out);
         out.source = self.id;
         Ok(())
+    }
+
+    /// The limit positions and normals of the finest level: through the limit stencils once a
+    /// drag has built them (faster to apply), by the masks applied directly before (no build to
+    /// wait for); both give the same bits.
+    fn evaluate_limit(&self, out: &mut RefinedPositions) {
+        let points = out.levels.last().expect("level 0 is always there");
+        if let Some((limit, _)) = self.limit.get() {
+            limit.evaluate(points, &mut out.limit, &mut out.normals);
+            return;
+        }
+        let (finest, sharpness, corners) = self.finest_topology();
+        limit_into(self.scheme, finest, sharpness, corners, points, &mut out.limit, &mut out.normals);
+    }
+
+    /// Level `index + 1`'s positions from level `index`'s in `out`, by the rules applied directly.
+    fn refine_level(&self, index: usize, out: &mut RefinedPositions) {
+        let (parent, sharpness, corners) = self.topology(index as u32);
+        let (coarse, fine) = out.levels.split_at_mut(index + 1);
+        refine_into(self.scheme, parent, sharpness, corners, &self.levels[index].split, &coarse[index], &mut fine[0]);
     }
 
     /// After a drag: brings `out` (last filled by [`Refinement::evaluate`] or `update` of this
@@ -342,35 +395,37 @@ impl Refinement {
         }
         out.marks.resize(finest.max(self.cage.vertex_count()), 0);
         let mut recomputed = 0;
-        for (l, level) in self.levels.iter().enumerate() {
-            collect_users(&level.users, out);
-            if 4 * out.next.len() > level.stencils.row_count() {
+        for l in 0..self.levels.len() {
+            let stencils = self.level_stencils(l);
+            collect_users(&stencils.users, out);
+            if 4 * out.next.len() > stencils.rows.row_count() {
                 // Most of the surface moves: evaluate the rest in full, in parallel.
-                for (k, level) in self.levels.iter().enumerate().skip(l) {
-                    let (coarse, fine) = out.levels.split_at_mut(k + 1);
-                    level.stencils.apply_into(&coarse[k], &mut fine[0]);
+                for k in l..self.levels.len() {
+                    self.refine_level(k, out);
                 }
-                let finest = out.levels.last().expect("level 0 is always there");
-                self.limit.evaluate(finest, &mut out.limit, &mut out.normals);
+                self.limit();
+                self.evaluate_limit(out);
                 return Ok(recomputed + self.rows_from(l));
             }
+            let (parent, sharpness, corners) = self.topology(l as u32);
             let (coarse, fine) = out.levels.split_at_mut(l + 1);
-            for &v in &out.next {
-                fine[0][v as usize] = level.stencils.apply_row(v as usize, &coarse[l]);
-            }
+            let split = &self.levels[l].split;
+            refine_rows(self.scheme, parent, sharpness, corners, split, &coarse[l], &mut fine[0], &out.next);
             recomputed += out.next.len();
             std::mem::swap(&mut out.dirty, &mut out.next);
         }
-        collect_users(&self.limit_users, out);
+        let (limit, users) = self.limit();
+        collect_users(users, out);
         let finest = out.levels.last().expect("level 0 is always there");
-        self.limit.evaluate_some(finest, &out.next, &mut out.limit, &mut out.normals);
+        limit.evaluate_some(finest, &out.next, &mut out.limit, &mut out.normals);
         Ok(recomputed + out.next.len())
     }
 
     /// Rows of every level from `level` (0-based index into the levels below the cage) down,
     /// and the limit.
     fn rows_from(&self, level: usize) -> usize {
-        self.levels[level..].iter().map(|l| l.stencils.row_count()).sum::<usize>() + self.limit.vertex_count()
+        let vertices = |l: &Level| l.split.mesh.vertex_count();
+        self.levels[level..].iter().map(vertices).sum::<usize>() + self.finest_topology().0.vertex_count()
     }
 
     fn total_rows(&self) -> usize {
@@ -401,9 +456,8 @@ impl Refinement {
         out.levels.resize_with(self.levels.len() + 1, Vec::new);
         out.levels[0].clear();
         out.levels[0].extend_from_slice(cage_positions);
-        for (l, level) in self.levels.iter().enumerate() {
-            let (coarse, fine) = out.levels.split_at_mut(l + 1);
-            level.stencils.apply_into(&coarse[l], &mut fine[0]);
+        for l in 0..self.levels.len() {
+            self.refine_level(l, out);
         }
         Ok(())
     }
@@ -482,3 +536,7 @@ fn refined_face_count(cage: &PolyMesh, rule: SplitRule, levels: u32) -> f64 {
         .sum();
     first as f64 * 4f64.powi(levels as i32 - 1)
 }
+
+#[cfg(test)]
+#[path = "refinement_tests.rs"]
+mod tests;

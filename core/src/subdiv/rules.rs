@@ -1,5 +1,7 @@
-//! The refinement rules of Catmull–Clark and Loop with creases, as stencils from one level to the
-//! next (one [`SparseRows`] row per child vertex, in the child numbering of [`SplitTopology`]).
+//! The refinement rules of Catmull–Clark and Loop with creases, written once for two uses
+//! ([`Sink`]): applied directly to positions (a fresh evaluation, [`refine_into`], and the rows a
+//! drag recomputes, [`refine_rows`]), or as stencils from one level to the next (one
+//! [`SparseRows`] row per child vertex, in the child numbering of [`SplitTopology`]).
 //!
 //! Catmull–Clark (Catmull and Clark 1978; `docs/subdivision.md` §1, OpenSubdiv's
 //! Catmark rules): face point = centroid; smooth edge point = `(a + b + F0 + F1)/4` with `F` the
@@ -21,7 +23,9 @@ use super::crease::{Rule, child_sharpness, fractional_weight, sharp};
 use super::loop_limit::loop_beta;
 use super::sparse::{RowBuilder, SparseRows};
 use super::topology::{SplitTopology, VertexOrigin};
+use crate::DVec3;
 use crate::mesh::{EdgeId, FaceId, PolyMesh, VertexId};
+use rayon::prelude::*;
 
 /// The subdivision scheme.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -43,24 +47,141 @@ pub(crate) fn level_stencils(
     split: &SplitTopology,
 ) -> SparseRows {
     let rows = split.mesh.vertex_count();
-    SparseRows::build_parallel(parent.vertex_count(), rows, |i, b| match split.origin(VertexId(i as u32)) {
+    SparseRows::build_parallel(parent.vertex_count(), rows, |i, b| {
+        child_point(scheme, parent, sharpness, corners, split, i, b)
+    })
+}
+
+/// Where the rules write a child vertex: as stencil weights on the parent's vertices
+/// ([`RowBuilder`]), or applied at once to positions ([`Gather`]).
+pub(crate) trait Sink {
+    /// Adds `weight` times parent vertex `column`.
+    fn add(&mut self, column: u32, weight: f64);
+    /// Adds `scale` times the new face point of parent face `f` (its centroid).
+    fn add_face_point(&mut self, mesh: &PolyMesh, f: FaceId, scale: f64);
+}
+
+impl Sink for RowBuilder {
+    #[inline]
+    fn add(&mut self, column: u32, weight: f64) {
+        RowBuilder::add(self, column, weight);
+    }
+
+    /// A stencil is over the parent's vertices: the face point is expanded into its corners.
+    #[inline]
+    fn add_face_point(&mut self, mesh: &PolyMesh, f: FaceId, scale: f64) {
+        centroid(mesh, f, scale, self);
+    }
+}
+
+/// The rules applied to positions as they are written, reading face points already made at the
+/// child level rather than summing each face again for every edge and vertex point around it
+/// (OpenSubdiv's refiner does the same). Rounding therefore differs from applying the stencils
+/// (by about 1e-16 relative); [`refine_into`] and [`refine_rows`] share it, so a drag gives the
+/// same bits as a fresh evaluation.
+struct Gather<'a> {
+    points: &'a [DVec3],
+    /// The child level's face points, in face-point order.
+    face_points: &'a [DVec3],
+    split: &'a SplitTopology,
+    sum: DVec3,
+}
+
+impl Sink for Gather<'_> {
+    #[inline]
+    fn add(&mut self, column: u32, weight: f64) {
+        self.sum += weight * self.points[column as usize];
+    }
+
+    #[inline]
+    fn add_face_point(&mut self, _: &PolyMesh, f: FaceId, scale: f64) {
+        let rank = self.split.face_point_rank(f).expect("Catmull–Clark splits every face into quads");
+        self.sum += scale * self.face_points[rank];
+    }
+}
+
+/// The positions of the child level `split` from the parent's positions `points`, by the rules
+/// applied directly (face points first, then the edge and vertex points that read them), into
+/// `out`. Equal to [`level_stencils`] applied to `points` up to rounding.
+pub(crate) fn refine_into(
+    scheme: Scheme,
+    parent: &PolyMesh,
+    sharpness: &[f64],
+    corners: &[f64],
+    split: &SplitTopology,
+    points: &[DVec3],
+    out: &mut Vec<DVec3>,
+) {
+    out.resize(split.mesh.vertex_count(), DVec3::ZERO);
+    let first_face_point = split.first_face_point();
+    let (near, face_points) = out.split_at_mut(first_face_point);
+    let point = |i: usize, face_points: &[DVec3]| {
+        let mut gather = Gather { points, face_points, split, sum: DVec3::ZERO };
+        child_point(scheme, parent, sharpness, corners, split, i, &mut gather);
+        gather.sum
+    };
+    face_points.par_iter_mut().with_min_len(4096).enumerate().for_each(|(k, o)| *o = point(first_face_point + k, &[]));
+    let face_points = &*face_points;
+    near.par_iter_mut().with_min_len(4096).enumerate().for_each(|(i, o)| *o = point(i, face_points));
+}
+
+/// Recomputes rows `rows` (ascending) of the child level `out` as [`refine_into`] computes them:
+/// the face points among them first, since the others read them.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn refine_rows(
+    scheme: Scheme,
+    parent: &PolyMesh,
+    sharpness: &[f64],
+    corners: &[f64],
+    split: &SplitTopology,
+    points: &[DVec3],
+    out: &mut [DVec3],
+    rows: &[u32],
+) {
+    let first_face_point = split.first_face_point();
+    let (near_rows, face_rows) = rows.split_at(rows.partition_point(|&r| (r as usize) < first_face_point));
+    let (near, face_points) = out.split_at_mut(first_face_point);
+    for &r in face_rows {
+        let mut gather = Gather { points, face_points: &[], split, sum: DVec3::ZERO };
+        child_point(scheme, parent, sharpness, corners, split, r as usize, &mut gather);
+        face_points[r as usize - first_face_point] = gather.sum;
+    }
+    for &r in near_rows {
+        let mut gather = Gather { points, face_points, split, sum: DVec3::ZERO };
+        child_point(scheme, parent, sharpness, corners, split, r as usize, &mut gather);
+        near[r as usize] = gather.sum;
+    }
+}
+
+/// The rule of child vertex `i`, written to `b`.
+#[inline]
+fn child_point(
+    scheme: Scheme,
+    parent: &PolyMesh,
+    sharpness: &[f64],
+    corners: &[f64],
+    split: &SplitTopology,
+    i: usize,
+    b: &mut impl Sink,
+) {
+    match split.origin(VertexId(i as u32)) {
         VertexOrigin::Vertex(v) => {
             let corner = corners.get(v.index()).copied().unwrap_or(0.0);
             vertex_point(scheme, parent, sharpness, corner, v, b)
         }
         VertexOrigin::Edge(e) => edge_point(scheme, parent, sharpness, e, b),
         VertexOrigin::Face(f) => centroid(parent, f, 1.0, b),
-    })
+    }
 }
 
-fn centroid(mesh: &PolyMesh, f: FaceId, scale: f64, b: &mut RowBuilder) {
+fn centroid(mesh: &PolyMesh, f: FaceId, scale: f64, b: &mut impl Sink) {
     let w = scale / mesh.face_valence(f) as f64;
     for v in mesh.face_vertices(f) {
         b.add(v.0, w);
     }
 }
 
-fn edge_point(scheme: Scheme, mesh: &PolyMesh, sharpness: &[f64], e: EdgeId, b: &mut RowBuilder) {
+fn edge_point(scheme: Scheme, mesh: &PolyMesh, sharpness: &[f64], e: EdgeId, b: &mut impl Sink) {
     let (p, q) = mesh.edge_vertices(e);
     let crease = sharp(sharpness, e).min(1.0);
     if crease >= 1.0 || mesh.is_boundary_edge(e) {
@@ -75,8 +196,8 @@ fn edge_point(scheme: Scheme, mesh: &PolyMesh, sharpness: &[f64], e: EdgeId, b: 
             let end = 0.5 * crease + 0.25 * smooth;
             b.add(p.0, end);
             b.add(q.0, end);
-            centroid(mesh, mesh.face(h0), 0.25 * smooth, b);
-            centroid(mesh, mesh.face(h1), 0.25 * smooth, b);
+            b.add_face_point(mesh, mesh.face(h0), 0.25 * smooth);
+            b.add_face_point(mesh, mesh.face(h1), 0.25 * smooth);
         }
         Scheme::Loop => {
             let end = 0.5 * crease + 0.375 * smooth;
@@ -88,7 +209,7 @@ fn edge_point(scheme: Scheme, mesh: &PolyMesh, sharpness: &[f64], e: EdgeId, b: 
     }
 }
 
-fn vertex_point(scheme: Scheme, mesh: &PolyMesh, sharpness: &[f64], corner: f64, v: VertexId, b: &mut RowBuilder) {
+fn vertex_point(scheme: Scheme, mesh: &PolyMesh, sharpness: &[f64], corner: f64, v: VertexId, b: &mut impl Sink) {
     if mesh.is_isolated(v) {
         b.add(v.0, 1.0);
         return;
@@ -120,7 +241,7 @@ fn rule_mask(
     is_sharp: impl Fn(f64) -> bool,
     sharpness: &[f64],
     scale: f64,
-    b: &mut RowBuilder,
+    b: &mut impl Sink,
 ) {
     match rule {
         Rule::Smooth | Rule::Dart => smooth_vertex(scheme, mesh, v, scale, b),
@@ -134,7 +255,7 @@ fn rule_mask(
     }
 }
 
-fn smooth_vertex(scheme: Scheme, mesh: &PolyMesh, v: VertexId, scale: f64, b: &mut RowBuilder) {
+fn smooth_vertex(scheme: Scheme, mesh: &PolyMesh, v: VertexId, scale: f64, b: &mut impl Sink) {
     let n = mesh.valence(v);
     match scheme {
         Scheme::CatmullClark => {
@@ -145,7 +266,7 @@ fn smooth_vertex(scheme: Scheme, mesh: &PolyMesh, v: VertexId, scale: f64, b: &m
                 b.add(mesh.to_vertex(h).0, w);
                 let f = mesh.face(h);
                 if f.is_valid() {
-                    centroid(mesh, f, w, b);
+                    b.add_face_point(mesh, f, w);
                 }
             }
         }
