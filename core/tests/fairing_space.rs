@@ -61,18 +61,27 @@ impl SpaceCurve {
     /// turn, with the radius of torsion linear in arc length (β = 1) from 1/(0.5 κ̄) to 1/κ̄, κ̄
     /// the mean curvature π.
     fn log_aesthetic(alpha: f64) -> SpaceCurve {
-        let e = std::f64::consts::E;
-        // ρ(s) for ρ₀ = 1, then scaled so that ∫κ ds = π.
+        SpaceCurve::with([alpha, PI, 1.0, 0.5 * PI, PI])
+    }
+
+    /// The log-aesthetic space curve of parameters `[α, turning, ln(ρ₁/ρ₀), τ₀, τ₁]` (torsion
+    /// with μ = 1/τ linear in arc length).
+    fn with(theta: [f64; 5]) -> SpaceCurve {
+        let [alpha, total, log_ratio, t0, t1] = theta;
+        // ρ(s) for ρ₀ = 1, then scaled so that ∫κ ds = the turning.
         let rho = move |s: f64| {
-            if alpha == 0.0 { (s * e.ln()).exp() } else { (1.0 + (e.powf(alpha) - 1.0) * s).powf(1.0 / alpha) }
+            if alpha == 0.0 {
+                (s * log_ratio).exp()
+            } else {
+                (1.0 + ((alpha * log_ratio).exp() - 1.0) * s).powf(1.0 / alpha)
+            }
         };
         let turning: f64 = {
             let m = 20_000;
             (0..m).map(|k| (k as f64 + 0.5) / m as f64).map(|s| 1.0 / rho(s)).sum::<f64>() / m as f64
         };
-        let scale = turning / PI;
-        let mean = PI;
-        let (mu0, mu1) = (1.0 / (0.5 * mean), 1.0 / mean);
+        let scale = turning / total;
+        let (mu0, mu1) = (1.0 / t0, 1.0 / t1);
         SpaceCurve {
             kappa: Box::new(move |s| 1.0 / (scale * rho(s))),
             tau: Box::new(move |s| 1.0 / (mu0 + (mu1 - mu0) * s)),
@@ -153,13 +162,13 @@ fn fair(noisy: &[DVec3], alpha: Alpha, dense: &[DVec3]) -> Outcome {
     }
 }
 
-/// The bound on the mean ratio: the half from 60 points on. Twenty points of a space
-/// curve are the open case: no model pre-fit (the planar curve's one log-aesthetic segment) exists
-/// for space curves yet, the smoother alone ends 0.40–0.61 as far as the input, the filter takes
-/// it to 0.39–0.63, and some of those runs reach the pass cap; there the test holds the ratio under
-/// 0.7 and does not ask for convergence (`docs/log-aesthetic.md`).
+/// The bound on the mean ratio: the half from 60 points on. Twenty points are the tight
+/// case, as for plane curves: with the pre-fit by one space segment they end 0.33–0.56 as far as
+/// the input (0.40–0.61 with the smoother alone), one case of the thirty above a half; there the
+/// bound is 0.6 and convergence is not asked (one case in thirty reaches the pass cap; see
+/// `docs/log-aesthetic.md`).
 fn bound(n: usize) -> f64 {
-    if n <= 20 { 0.7 } else { 0.5 }
+    if n <= 20 { 0.6 } else { 0.5 }
 }
 
 fn grid(counts: &[usize], estimated: bool) {
@@ -204,10 +213,8 @@ fn grid(counts: &[usize], estimated: bool) {
                 println!(
                     "{label}: mean ratio {mean:.3} (pre-fit alone {prefit:.3}), at most {passes} passes, α {estimates:.2?}"
                 );
-                // Estimated α: space curves are still split into pieces of their own α (the
-                // planar curve's one-segment search has no space counterpart yet), and with α
-                // jumping between pieces one 60-point case of twelve reaches the pass cap; the
-                // ratio is held all the same (docs/log-aesthetic.md).
+                // With α estimated one 60-point case of twelve (α = 0, 1 % noise) reaches the
+                // pass cap, its ratio held (docs/log-aesthetic.md); with α given all converge.
                 if n > 20 && !estimated && outcomes.iter().any(|o| !o.converged) {
                     failures.push(format!("{label}: stopped at the pass cap"));
                 }
@@ -228,4 +235,99 @@ fn space_curves_keep_their_shape_with_alpha_given() {
 #[test]
 fn space_curves_keep_their_shape_with_alpha_estimated() {
     grid(&[20, 60], true);
+}
+
+/// The smallest standard deviation an unbiased estimate of α can have (the Cramér–Rao bound)
+/// from `n` points of the curve of parameters `theta`, evenly spaced in arc length with the end
+/// points exact and the others off by isotropic Gaussian noise of standard deviation `sigma`.
+/// The curve through the two end points has six parameters: the five of [`SpaceCurve::with`]
+/// and its roll about the chord. Written from this file's own integration, independently of the
+/// estimator.
+fn cramer_rao_alpha(theta: [f64; 5], n: usize, sigma: f64) -> f64 {
+    let steps = 8000 / n + 1;
+    let base = SpaceCurve::with(theta).sample(n, steps);
+    let (p0, p1) = (base[0], base[n - 1]);
+    // The curve of parameters (θ, roll), moved so its ends are p0 and p1.
+    let placed = |q: [f64; 6]| -> Vec<DVec3> {
+        let c = SpaceCurve::with([q[0], q[1], q[2], q[3], q[4]]).sample(n, steps);
+        let (d, t) = (c[n - 1] - c[0], p1 - p0);
+        let rotation = glam::DQuat::from_rotation_arc(d.normalize(), t.normalize());
+        let roll = glam::DQuat::from_axis_angle(t.normalize(), q[5]);
+        let scale = t.length() / d.length();
+        c.iter().map(|p| p0 + roll * (rotation * (*p - c[0])) * scale).collect()
+    };
+    let q0 = [theta[0], theta[1], theta[2], theta[3], theta[4], 0.0];
+    let h = 1e-5;
+    let gradients: Vec<Vec<DVec3>> = (0..6)
+        .map(|k| {
+            let (mut up, mut down) = (q0, q0);
+            up[k] += h;
+            down[k] -= h;
+            placed(up).iter().zip(placed(down)).map(|(a, b)| (*a - b) / (2.0 * h)).collect()
+        })
+        .collect();
+    // Fisher information Σ Jᵀ J over the free points, inverted by Gauss–Jordan.
+    let mut m = [[0.0f64; 12]; 6];
+    for i in 1..n - 1 {
+        for a in 0..6 {
+            for b in 0..6 {
+                m[a][b] += gradients[a][i].dot(gradients[b][i]);
+            }
+        }
+    }
+    for (a, row) in m.iter_mut().enumerate() {
+        row[6 + a] = 1.0;
+    }
+    for c in 0..6 {
+        let pivot = (c..6).max_by(|&a, &b| m[a][c].abs().total_cmp(&m[b][c].abs())).unwrap();
+        m.swap(c, pivot);
+        let d = m[c][c];
+        for x in m[c].iter_mut() {
+            *x /= d;
+        }
+        for r in 0..6 {
+            if r != c {
+                let f = m[r][c];
+                let row = m[c];
+                for (x, y) in m[r].iter_mut().zip(row) {
+                    *x -= f * y;
+                }
+            }
+        }
+    }
+    sigma * m[0][6].sqrt()
+}
+
+/// α of a space curve at the noise (0.5 % of the length): one piece for a single
+/// segment every time (the criterion to split: no single space segment fits the points to 1.3
+/// times the noise level a spline leaves), and an RMS error over eight draws within 1.7 times
+/// the Cramér–Rao bound of the data (measured 1.08–1.47 times on 60 points, 1.34–1.61 on 200:
+/// less efficient than the plane fit, which is held to 1.25; the bound itself, 0.57–0.69 on 60
+/// points and 0.31–0.37 on 200, says ±0.25 is out of reach there for any estimator).
+#[test]
+fn space_alpha_is_one_piece_and_near_the_bound() {
+    let mut failures = Vec::new();
+    for alpha in [-1.0, 0.0, 1.0, 2.0] {
+        let curve = SpaceCurve::log_aesthetic(alpha);
+        for n in [60, 200] {
+            let exact = curve.sample(n, 8000 / n + 1);
+            let mut errors = Vec::new();
+            for draw in 0..8 {
+                let noisy = with_noise(&exact, 0.005, 900 + draw + 7 * n as u64);
+                let estimate =
+                    estimate_alpha(&PointSequence::new(noisy, false), None, &EstimateSettings::default()).unwrap();
+                if estimate.pieces.len() != 1 {
+                    failures.push(format!("α = {alpha}, {n} points, draw {draw}: {} pieces", estimate.pieces.len()));
+                }
+                errors.push(estimate.pieces[0].alpha - alpha);
+            }
+            let rms = (errors.iter().map(|e| e * e).sum::<f64>() / errors.len() as f64).sqrt();
+            let bound = cramer_rao_alpha([alpha, PI, 1.0, 0.5 * PI, PI], n, 0.005);
+            println!("α = {alpha}, {n} points: RMS error {rms:.3}, Cramér–Rao bound {bound:.3}, errors {errors:.2?}");
+            if rms > 1.7 * bound {
+                failures.push(format!("α = {alpha}, {n} points: RMS error {rms:.3} against the bound {bound:.3}"));
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{failures:#?}");
 }

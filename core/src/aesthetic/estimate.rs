@@ -147,6 +147,29 @@ fn single_segment(points: &[DVec3], parameters: &[f64], spline: &BSpline, normal
     })
 }
 
+/// [`single_segment`] for a space curve: one log-aesthetic space segment (curvature and torsion
+/// laws, β = 1) that fits the points to the spline's noise level.
+fn single_space_segment(points: &[DVec3], parameters: &[f64], spline: &BSpline) -> Option<AlphaPiece> {
+    let smooth = super::prefit::prefit(points, false, None).points;
+    let noise = (points.iter().zip(parameters).map(|(p, &t)| p.distance_squared(spline.point(t))).sum::<f64>()
+        / points.len() as f64)
+        .sqrt();
+    let fit = super::space_fit::fit_space_smoothed(points, &smooth, None)?;
+    if fit.log_ratio.abs() < MIN_CURVATURE_RATIO.ln() {
+        return None;
+    }
+    let chord = points[0].distance(points[points.len() - 1]);
+    // Only the distance to the model counts here (α is what is read, not where points go on it).
+    (fit.rms <= super::segment_fit::NOISE_FACTOR * noise + 1e-9 * chord).then_some(AlphaPiece {
+        start: 0.0,
+        end: 1.0,
+        alpha: fit.alpha,
+        residual: fit.rms,
+        samples: points.len(),
+        increasing: fit.log_ratio < 0.0,
+    })
+}
+
 /// Estimates α per piece of monotone curvature (see the module documentation). With the normal
 /// of a planar curve's plane the curvature is signed, so inflections split pieces; without it
 /// (space curves) it is unsigned.
@@ -184,6 +207,13 @@ pub fn estimate_alpha(
     // segment's (see [`super::segment_fit`]).
     if let (Some(normal), false) = (normal, curve.closed)
         && let Some(piece) = single_segment(&points, &parameters, &spline, normal)
+    {
+        return Ok(AlphaEstimate { spline, parameters, pieces: vec![piece] });
+    }
+
+    // The same for a space curve and one space segment (see [`super::space_fit`]).
+    if let (None, false) = (normal, curve.closed)
+        && let Some(piece) = single_space_segment(&points, &parameters, &spline)
     {
         return Ok(AlphaEstimate { spline, parameters, pieces: vec![piece] });
     }

@@ -100,7 +100,7 @@
 use super::filter_geometry::{Geometry, Local, PARALLEL_FROM, Shape, Spatial, Window, window_span};
 use super::filter_planar::{PlanarCurve, Rules};
 use super::law::{LineSums, law_value, radius_from_law};
-use super::prefit::{Prefit, prefit, prefit_planar};
+use super::prefit::{Prefit, prefit_planar, prefit_space};
 use crate::curve::{Plane, PointSequence};
 use crate::{DVec3, Error, Result};
 use rayon::prelude::*;
@@ -317,7 +317,13 @@ impl CurveFilter {
                 };
                 prefit_planar(&points, curve.closed, plane.normal, uniform, term.smoothing)
             }
-            None => prefit(&points, curve.closed, term.smoothing),
+            None => {
+                let uniform = match &settings.alpha {
+                    Alpha::Uniform(a) => Some(*a),
+                    Alpha::PerPoint(_) => None,
+                };
+                prefit_space(&points, curve.closed, uniform, term.smoothing)
+            }
         });
         let points = prefit.as_ref().map_or(points, |p| p.points.clone());
         let sequence = PointSequence::new(points, curve.closed);

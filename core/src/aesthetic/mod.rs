@@ -28,6 +28,7 @@ pub mod lcg;
 pub mod prefit;
 pub mod segment;
 pub mod segment_fit;
+pub mod space_fit;
 pub mod surface;
 pub mod surface_prefit;
 

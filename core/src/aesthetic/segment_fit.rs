@@ -157,9 +157,32 @@ pub fn points_on(points: &[DVec3], normal: DVec3, fit: &SegmentFit, fractions: &
     Some(model.into_iter().map(|(x, y)| first + x * e1 + y * e2).collect())
 }
 
+/// At most [`MAX_FITTED`] points: longer inputs averaged in runs of consecutive points (the ends
+/// kept), so every point's information counts (picking every fifth point of 1,000 once left α as
+/// uncertain as 200 points leave it) at the cost of 200.
+pub(super) fn averaged_runs(points: &[DVec3]) -> Vec<DVec3> {
+    if points.len() <= MAX_FITTED {
+        return points.to_vec();
+    }
+    let inner = &points[1..points.len() - 1];
+    let runs = MAX_FITTED - 2;
+    let mut out = vec![points[0]];
+    out.extend((0..runs).map(|k| {
+        let run = &inner[k * inner.len() / runs..(k + 1) * inner.len() / runs];
+        run.iter().copied().sum::<DVec3>() / run.len().max(1) as f64
+    }));
+    out.push(points[points.len() - 1]);
+    out
+}
+
 /// Nelder–Mead on `f` from `start` with initial steps `step`; at most `iterations` steps.
-fn nelder_mead(f: impl Fn([f64; 3]) -> f64, start: [f64; 3], step: [f64; 3], iterations: usize) -> ([f64; 3], f64) {
-    let mut simplex: Vec<([f64; 3], f64)> = (0..4)
+pub(super) fn nelder_mead<const N: usize>(
+    f: impl Fn([f64; N]) -> f64,
+    start: [f64; N],
+    step: [f64; N],
+    iterations: usize,
+) -> ([f64; N], f64) {
+    let mut simplex: Vec<([f64; N], f64)> = (0..=N)
         .map(|k| {
             let mut p = start;
             if k > 0 {
@@ -168,24 +191,24 @@ fn nelder_mead(f: impl Fn([f64; 3]) -> f64, start: [f64; 3], step: [f64; 3], ite
             (p, f(p))
         })
         .collect();
-    let combine = |a: [f64; 3], b: [f64; 3], t: f64| std::array::from_fn(|i| a[i] + t * (b[i] - a[i]));
+    let combine = |a: [f64; N], b: [f64; N], t: f64| std::array::from_fn(|i| a[i] + t * (b[i] - a[i]));
     for _ in 0..iterations {
         simplex.sort_by(|a, b| a.1.total_cmp(&b.1));
-        let centroid: [f64; 3] = std::array::from_fn(|i| simplex[..3].iter().map(|s| s.0[i]).sum::<f64>() / 3.0);
-        let worst = simplex[3];
+        let centroid: [f64; N] = std::array::from_fn(|i| simplex[..N].iter().map(|s| s.0[i]).sum::<f64>() / N as f64);
+        let worst = simplex[N];
         let reflected = combine(centroid, worst.0, -1.0);
         let fr = f(reflected);
         if fr < simplex[0].1 {
             let expanded = combine(centroid, worst.0, -2.0);
             let fe = f(expanded);
-            simplex[3] = if fe < fr { (expanded, fe) } else { (reflected, fr) };
-        } else if fr < simplex[2].1 {
-            simplex[3] = (reflected, fr);
+            simplex[N] = if fe < fr { (expanded, fe) } else { (reflected, fr) };
+        } else if fr < simplex[N - 1].1 {
+            simplex[N] = (reflected, fr);
         } else {
             let contracted = combine(centroid, worst.0, 0.5);
             let fc = f(contracted);
             if fc < worst.1 {
-                simplex[3] = (contracted, fc);
+                simplex[N] = (contracted, fc);
             } else {
                 let best = simplex[0].0;
                 for s in &mut simplex[1..] {
@@ -214,22 +237,7 @@ pub fn fit_segment(
     log_ratio: f64,
     alpha: Option<f64>,
 ) -> Option<SegmentFit> {
-    // At most MAX_FITTED points: longer inputs are averaged in runs of consecutive points (the
-    // ends kept), so every point's information counts (picking every fifth point of 1,000 once
-    // left α as uncertain as 200 points leave it) at the cost of 200.
-    let picked: Vec<DVec3> = if points.len() > MAX_FITTED {
-        let inner = &points[1..points.len() - 1];
-        let runs = MAX_FITTED - 2;
-        let mut out = vec![points[0]];
-        out.extend((0..runs).map(|k| {
-            let run = &inner[k * inner.len() / runs..(k + 1) * inner.len() / runs];
-            run.iter().copied().sum::<DVec3>() / run.len().max(1) as f64
-        }));
-        out.push(points[points.len() - 1]);
-        out
-    } else {
-        points.to_vec()
-    };
+    let picked = averaged_runs(points);
     let frame = Frame::new(&picked, normal)?;
     let clockwise = turning < 0.0;
     let cost = |p: [f64; 3]| distance(&frame, p[0], p[1], p[2], clockwise).unwrap_or(f64::INFINITY);
