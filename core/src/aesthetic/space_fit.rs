@@ -299,7 +299,8 @@ pub fn fit_space_smoothed(points: &[DVec3], smooth: &[DVec3], alpha: Option<f64>
 /// it landed 5 to 24 times as far from the true curve as the input).
 pub fn explaining(points: &[DVec3], smooth: &[DVec3], fit: &SpaceSegmentFit, noise: f64) -> Option<Vec<DVec3>> {
     let limit = super::segment_fit::NOISE_FACTOR * noise;
-    if !(fit.rms <= limit) {
+    // Not `fit.rms > limit`: a NaN distance must fail too.
+    if fit.rms.partial_cmp(&limit).is_none_or(|o| o == std::cmp::Ordering::Greater) {
         return None;
     }
     let on = space_points_on(points, smooth, fit)?;
