@@ -358,7 +358,12 @@ impl Refinement {
             return;
         }
         let (finest, sharpness, corners) = self.finest_topology();
-        limit_into(self.scheme, finest, sharpness, corners, points, &mut out.limit, &mut out.normals);
+        // Catmull–Clark rings are read from the level above (`SplitTopology::quad_spokes`).
+        let split = match (self.scheme, self.levels.len()) {
+            (Scheme::CatmullClark, l @ 1..) => Some((self.mesh(l as u32 - 1), self.split(l as u32))),
+            _ => None,
+        };
+        limit_into(self.scheme, finest, split, sharpness, corners, points, &mut out.limit, &mut out.normals);
     }
 
     /// Level `index + 1`'s positions from level `index`'s in `out`, by the rules applied directly.
