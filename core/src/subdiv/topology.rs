@@ -88,8 +88,31 @@ impl SplitTopology {
             )));
         }
         let plan = Plan::new(parent, rule);
-        let nh = plan.halves + 2 * plan.interior.len() as u32;
-        let halfedges = || (0..nh).into_par_iter().with_min_len(PARALLEL_CHUNK);
+        let nh = (plan.halves + 2 * plan.interior.len() as u32) as usize;
+        // The four halfedge arrays in one pass: each child halfedge's parent halfedge, face and
+        // face point are looked up once for all four.
+        let mut halfedge_to = vec![VertexId::INVALID; nh];
+        let mut halfedge_next = vec![HalfedgeId::INVALID; nh];
+        let mut halfedge_prev = vec![HalfedgeId::INVALID; nh];
+        let mut halfedge_face = vec![FaceId::INVALID; nh];
+        halfedge_to
+            .par_chunks_mut(PARALLEL_CHUNK)
+            .zip(halfedge_next.par_chunks_mut(PARALLEL_CHUNK))
+            .zip(halfedge_prev.par_chunks_mut(PARALLEL_CHUNK))
+            .zip(halfedge_face.par_chunks_mut(PARALLEL_CHUNK))
+            .enumerate()
+            .for_each(|(k, (((to, next), prev), face))| {
+                let first = (k * PARALLEL_CHUNK) as u32;
+                for (i, (((to, next), prev), face)) in
+                    to.iter_mut().zip(next.iter_mut()).zip(prev.iter_mut()).zip(face.iter_mut()).enumerate()
+                {
+                    let x = first + i as u32;
+                    *to = plan.to(x);
+                    *next = HalfedgeId(plan.next(x));
+                    *prev = HalfedgeId(plan.prev(x));
+                    *face = plan.face(x);
+                }
+            });
         let mesh = PolyMesh::from_halfedges(HalfedgeArrays {
             positions: plan.positions(),
             vertex_halfedge: (0..plan.vertex_count() as u32)
@@ -97,10 +120,10 @@ impl SplitTopology {
                 .with_min_len(PARALLEL_CHUNK)
                 .map(|v| plan.vertex_halfedge(v))
                 .collect(),
-            halfedge_to: halfedges().map(|x| plan.to(x)).collect(),
-            halfedge_next: halfedges().map(|x| HalfedgeId(plan.next(x))).collect(),
-            halfedge_prev: halfedges().map(|x| HalfedgeId(plan.prev(x))).collect(),
-            halfedge_face: halfedges().map(|x| plan.face(x)).collect(),
+            halfedge_to,
+            halfedge_next,
+            halfedge_prev,
+            halfedge_face,
             face_halfedge: plan.face_halfedges(),
         });
         let face_parent = plan.face_parents();
@@ -228,7 +251,7 @@ impl<'a> Plan<'a> {
     /// For child halfedge `x` inside a face: the parent halfedge it comes from, its face, the face
     /// point (invalid for a triangle), and whether `x` runs from `h`'s edge point to the previous
     /// edge point (a triangle's corner-triangle side).
-    #[inline]
+    #[inline(always)]
     fn interior(&self, x: u32) -> (u32, FaceId, VertexId, bool) {
         let h = self.interior[((x - self.halves) >> 1) as usize];
         let (f, point) = self.face_of(h).expect("interior edges lie in faces");
@@ -236,6 +259,7 @@ impl<'a> Plan<'a> {
         (h, f, point, !point.is_valid() && x == self.inside(h, mh, mp))
     }
 
+    #[inline(always)]
     fn to(&self, x: u32) -> VertexId {
         if x < self.halves {
             let h = x >> 1;
@@ -249,6 +273,7 @@ impl<'a> Plan<'a> {
         }
     }
 
+    #[inline(always)]
     fn face(&self, x: u32) -> FaceId {
         if x < self.halves {
             let h = x >> 1;
@@ -266,6 +291,7 @@ impl<'a> Plan<'a> {
         }
     }
 
+    #[inline(always)]
     fn next(&self, x: u32) -> u32 {
         if x < self.halves {
             let h = x >> 1;
@@ -292,6 +318,7 @@ impl<'a> Plan<'a> {
         }
     }
 
+    #[inline(always)]
     fn prev(&self, x: u32) -> u32 {
         if x < self.halves {
             let h = x >> 1;
