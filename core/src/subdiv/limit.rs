@@ -429,7 +429,6 @@ impl LimitStencils {
 /// `split`: the parent level and the split that made `mesh` from it, when `mesh` is a
 /// Catmull–Clark level; the smooth rings are then read from the parent
 /// ([`SplitTopology::quad_spokes`], the same columns in the same order).
-#[allow(clippy::too_many_arguments)]
 pub(crate) fn limit_into(
     scheme: Scheme,
     mesh: &PolyMesh,
