@@ -40,6 +40,7 @@ use super::eigen_masks::{cross_tangent_mask, dart_mask};
 use super::loop_limit::loop_limit_chi;
 use super::rules::Scheme;
 use super::sparse::{RowBuilder, SparseRows, Users};
+use super::topology::SplitTopology;
 use crate::mesh::{EdgeId, HalfedgeId, PolyMesh, VertexId};
 use crate::{DVec3, Error, Result};
 use rayon::prelude::*;
@@ -139,31 +140,78 @@ fn smooth_ring(
         return None;
     }
     // One walk round the vertex gathers the ring and counts the sharp edges.
-    let stride = if scheme == Scheme::CatmullClark { 2 } else { 1 };
-    let first = ring.len();
-    ring.push(v.0);
-    let (mut n, mut sharp, mut start, mut infinite) = (0, 0, 0, false);
+    let mut walk = RingWalk::new(scheme, v, ring);
     for h in mesh.outgoing(v) {
-        let s = sharpness(h.edge());
-        if s > 0.0 {
-            sharp += 1;
-            start = n;
-            infinite = s == f64::INFINITY;
-        }
-        ring.push(mesh.to_vertex(h).0);
-        if stride == 2 {
-            ring.push(mesh.to_vertex(mesh.next(h)).0);
-        }
-        n += 1;
+        walk.spoke(ring, sharpness(h.edge()), mesh.to_vertex(h).0, mesh.to_vertex(mesh.next(h)).0);
     }
-    if n < 3 || sharp > 1 {
-        ring.truncate(first);
+    walk.finish(ring)
+}
+
+/// [`smooth_ring`] of vertex `v` of a Catmull–Clark level split from `parent` by `split`, its
+/// spokes read from the parent ([`SplitTopology::quad_spokes`]) instead of walked round the level.
+fn derived_smooth_ring(
+    parent: &PolyMesh,
+    split: &SplitTopology,
+    sharpness: &[f64],
+    v: VertexId,
+    ring: &mut Vec<u32>,
+) -> Option<u32> {
+    let mut walk = RingWalk::new(Scheme::CatmullClark, v, ring);
+    let sharp = |e: Option<EdgeId>| e.map_or(0.0, |e| sharpness[e.index()]);
+    if !split.quad_spokes(parent, v, |e, to, across| walk.spoke(ring, sharp(e), to, across)) {
+        ring.truncate(walk.first);
         return None;
     }
-    // A dart's ring starts at its sharp edge.
-    ring[first + 1..].rotate_left(stride * start);
-    // A semi-sharp dart edge runs out further down, so its limit is nearer the smooth one.
-    Some(if infinite { DART | n as u32 } else { n as u32 })
+    walk.finish(ring)
+}
+
+/// A smooth ring being gathered spoke by spoke, counting the sharp edges on the way.
+struct RingWalk {
+    /// Where the ring starts in the columns.
+    first: usize,
+    /// Columns per spoke: the edge neighbour, and for Catmull–Clark the quad's far corner.
+    stride: usize,
+    spokes: usize,
+    sharp: usize,
+    /// The last sharp spoke, and whether it is infinitely sharp.
+    start: usize,
+    infinite: bool,
+}
+
+impl RingWalk {
+    fn new(scheme: Scheme, v: VertexId, ring: &mut Vec<u32>) -> Self {
+        let first = ring.len();
+        ring.push(v.0);
+        let stride = if scheme == Scheme::CatmullClark { 2 } else { 1 };
+        RingWalk { first, stride, spokes: 0, sharp: 0, start: 0, infinite: false }
+    }
+
+    /// The next spoke: its edge's sharpness, its end and the vertex across the face after it.
+    #[inline]
+    fn spoke(&mut self, ring: &mut Vec<u32>, sharpness: f64, to: u32, across: u32) {
+        if sharpness > 0.0 {
+            self.sharp += 1;
+            self.start = self.spokes;
+            self.infinite = sharpness == f64::INFINITY;
+        }
+        ring.push(to);
+        if self.stride == 2 {
+            ring.push(across);
+        }
+        self.spokes += 1;
+    }
+
+    fn finish(self, ring: &mut Vec<u32>) -> Option<u32> {
+        let n = self.spokes;
+        if n < 3 || self.sharp > 1 {
+            ring.truncate(self.first);
+            return None;
+        }
+        // A dart's ring starts at its sharp edge.
+        ring[self.first + 1..].rotate_left(self.stride * self.start);
+        // A semi-sharp dart edge runs out further down, so its limit is nearer the smooth one.
+        Some(if self.infinite { DART | n as u32 } else { n as u32 })
+    }
 }
 
 #[inline]
@@ -377,9 +425,14 @@ impl LimitStencils {
 /// computed directly: each vertex's masks are made and applied at once, with the arithmetic
 /// [`LimitStencils::evaluate`] performs on the stencils [`LimitStencils::with_corners`] builds
 /// (so the same bits), without storing them. `mesh` must pass the checks `with_corners` makes.
+///
+/// `split`: the parent level and the split that made `mesh` from it, when `mesh` is a
+/// Catmull–Clark level; the smooth rings are then read from the parent
+/// ([`SplitTopology::quad_spokes`], the same columns in the same order).
 pub(crate) fn limit_into(
     scheme: Scheme,
     mesh: &PolyMesh,
+    split: Option<(&PolyMesh, &SplitTopology)>,
     sharpness: &[f64],
     corners: &[f64],
     points: &[DVec3],
@@ -396,7 +449,11 @@ pub(crate) fn limit_into(
             let corner = corners.get(v).is_some_and(|&s| s > 0.0);
             let v = VertexId(v as u32);
             d.ring.clear();
-            let ring = if corner { None } else { smooth_ring(scheme, mesh, &sharp, v, &mut d.ring) };
+            let ring = match (corner, split) {
+                (true, _) => None,
+                (false, Some((parent, split))) => derived_smooth_ring(parent, split, sharpness, v, &mut d.ring),
+                (false, None) => smooth_ring(scheme, mesh, &sharp, v, &mut d.ring),
+            };
             (*p, *normal) = match ring {
                 Some(slot) => {
                     let ring = std::mem::take(&mut d.ring);

@@ -5,7 +5,10 @@
 //! derived from the level above) and carries the crease sharpness down (uniform creasing,
 //! [`super::crease`]); it builds no stencil. [`Refinement::evaluate`] applies the rules of
 //! [`super::rules`] directly (face points first, then the edge and vertex points that read them)
-//! and the limit masks of [`super::limit`] directly, writing into reusable buffers.
+//! and the limit masks of [`super::limit`] directly, writing into reusable buffers; for
+//! Catmull–Clark the finest level's smooth rings are read from the level above
+//! (`SplitTopology::quad_spokes`) rather than walked round the finest halfedges, which missed
+//! the cache (limit masks of the level-3 torus about 9.4 → 7.8 ms on one thread).
 //!
 //! The stencils pay only when drags follow a topology, so they are lazy: one matrix per level
 //! (level `l` from level `l − 1`) and the limit stencils of the finest level, with their
@@ -358,7 +361,12 @@ impl Refinement {
             return;
         }
         let (finest, sharpness, corners) = self.finest_topology();
-        limit_into(self.scheme, finest, sharpness, corners, points, &mut out.limit, &mut out.normals);
+        // Catmull–Clark rings are read from the level above (`SplitTopology::quad_spokes`).
+        let split = match (self.scheme, self.levels.len()) {
+            (Scheme::CatmullClark, l @ 1..) => Some((self.mesh(l as u32 - 1), self.split(l as u32))),
+            _ => None,
+        };
+        limit_into(self.scheme, finest, split, sharpness, corners, points, &mut out.limit, &mut out.normals);
     }
 
     /// Level `index + 1`'s positions from level `index`'s in `out`, by the rules applied directly.
