@@ -12,32 +12,18 @@
 //! (constant curvature and torsion) is log-aesthetic for every α and β and is checked too.
 //! Figures measured are in `docs/log-aesthetic.md`.
 
-use std::f64::consts::{PI, TAU};
+use std::f64::consts::PI;
 use taut_core::DVec3;
 use taut_core::aesthetic::{Alpha, CurveFilter, EstimateSettings, FilterSettings, estimate_alpha};
 use taut_core::curve::PointSequence;
 
-/// Deterministic uniform numbers in (0, 1] (xorshift64).
-struct Noise(u64);
-
-impl Noise {
-    fn uniform(&mut self) -> f64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        ((self.0 >> 11) as f64 + 1.0) / (1u64 << 53) as f64
-    }
-
-    /// Standard normal (Box–Muller).
-    fn gauss(&mut self) -> f64 {
-        let (u1, u2) = (self.uniform(), self.uniform());
-        (-2.0 * u1.ln()).sqrt() * (TAU * u2).cos()
-    }
-}
+#[path = "common/noise.rs"]
+mod noise;
+use noise::Noise;
 
 /// `points` with Gaussian noise of standard deviation `sigma` in x, y and z; the end points kept.
 fn with_noise(points: &[DVec3], sigma: f64, seed: u64) -> Vec<DVec3> {
-    let mut noise = Noise(0x9e37_79b9_7f4a_7c15 ^ seed.wrapping_mul(0x2545_f491_4f6c_dd1d));
+    let mut noise = Noise::seeded(seed);
     let n = points.len();
     (0..n)
         .map(|i| {

@@ -11,26 +11,13 @@
 //! as the end points of the curve tests are (the filter keeps them where they are, so noise there
 //! would stay noise). Figures measured are in `docs/log-aesthetic.md`.
 
-use std::f64::consts::{FRAC_PI_2, TAU};
+use std::f64::consts::FRAC_PI_2;
 use taut_core::DVec3;
 use taut_core::aesthetic::{Grid, SurfaceFilter, SurfaceSettings, gaussian_curvature};
 
-/// Deterministic uniform numbers in (0, 1] (xorshift64).
-struct Noise(u64);
-
-impl Noise {
-    fn uniform(&mut self) -> f64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        ((self.0 >> 11) as f64 + 1.0) / (1u64 << 53) as f64
-    }
-
-    fn gauss(&mut self) -> f64 {
-        let (u1, u2) = (self.uniform(), self.uniform());
-        (-2.0 * u1.ln()).sqrt() * (TAU * u2).cos()
-    }
-}
+#[path = "common/noise.rs"]
+mod noise;
+use noise::Noise;
 
 /// A constant-K surface: its grid of `n × n` points and the distance of a point from it.
 trait Surface {
@@ -119,7 +106,7 @@ impl Surface for Pseudosphere {
 
 /// The grid with noise of standard deviation `sigma` on its interior points.
 fn with_noise(grid: &Grid, sigma: f64, seed: u64) -> Grid {
-    let mut noise = Noise(0x9e37_79b9_7f4a_7c15 ^ seed.wrapping_mul(0x2545_f491_4f6c_dd1d));
+    let mut noise = Noise::seeded(seed);
     let (rows, cols) = (grid.rows, grid.cols);
     let points = (0..rows * cols)
         .map(|k| {

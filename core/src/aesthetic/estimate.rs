@@ -123,50 +123,39 @@ fn curvature_and_derivative(d: &[BSpline; 3], t: f64, normal: Option<DVec3>) -> 
 }
 
 /// The whole curve as one log-aesthetic segment, when one fits the points as closely as the
-/// noise lets a smooth spline: `None` otherwise (or when the curve does not turn). The search
-/// starts from the GCV pre-fit's points ([`super::segment_fit::fit_smoothed`]).
-fn single_segment(points: &[DVec3], parameters: &[f64], spline: &BSpline, normal: DVec3) -> Option<AlphaPiece> {
+/// noise lets a smooth spline: `None` otherwise (or when the curve does not turn). A plane curve
+/// (with its plane's `normal`) is fitted by a plane segment ([`super::segment_fit`]), a space
+/// curve by a space segment, curvature and torsion laws with β = 1 ([`super::space_fit`]); the
+/// search starts from the GCV pre-fit's points. Only the distance to the model counts here (α is
+/// what is read, not where points go on it).
+fn single_segment(points: &[DVec3], parameters: &[f64], spline: &BSpline, normal: Option<DVec3>) -> Option<AlphaPiece> {
     let smooth = super::prefit::prefit(points, false, None).points;
     let noise = (points.iter().zip(parameters).map(|(p, &t)| p.distance_squared(spline.point(t))).sum::<f64>()
         / points.len() as f64)
         .sqrt();
-    let fit = super::segment_fit::fit_smoothed(points, &smooth, normal, None)?;
-    // A segment whose curvature hardly changes is a circular arc, which every α fits equally:
-    // there is no α to read (the paper's graph below says so, as it does for such pieces).
-    if fit.log_ratio.abs() < MIN_CURVATURE_RATIO.ln() {
+    let (alpha, log_ratio, rms) = match normal {
+        Some(normal) => {
+            let fit = super::segment_fit::fit_smoothed(points, &smooth, normal, None)?;
+            (fit.alpha, fit.log_ratio, fit.rms)
+        }
+        None => {
+            let fit = super::space_fit::fit_space_smoothed(points, &smooth, None)?;
+            (fit.alpha, fit.log_ratio, fit.rms)
+        }
+    };
+    // A segment whose curvature hardly changes is a circular arc (or a helix), which every α fits
+    // equally: there is no α to read (the paper's graph below says so, as it does for such pieces).
+    if log_ratio.abs() < MIN_CURVATURE_RATIO.ln() {
         return None;
     }
     let chord = points[0].distance(points[points.len() - 1]);
-    (fit.rms <= super::segment_fit::NOISE_FACTOR * noise + 1e-9 * chord).then_some(AlphaPiece {
+    (rms <= super::segment_fit::NOISE_FACTOR * noise + 1e-9 * chord).then_some(AlphaPiece {
         start: 0.0,
         end: 1.0,
-        alpha: fit.alpha,
-        residual: fit.rms,
+        alpha,
+        residual: rms,
         samples: points.len(),
-        increasing: fit.log_ratio < 0.0,
-    })
-}
-
-/// [`single_segment`] for a space curve: one log-aesthetic space segment (curvature and torsion
-/// laws, β = 1) that fits the points to the spline's noise level.
-fn single_space_segment(points: &[DVec3], parameters: &[f64], spline: &BSpline) -> Option<AlphaPiece> {
-    let smooth = super::prefit::prefit(points, false, None).points;
-    let noise = (points.iter().zip(parameters).map(|(p, &t)| p.distance_squared(spline.point(t))).sum::<f64>()
-        / points.len() as f64)
-        .sqrt();
-    let fit = super::space_fit::fit_space_smoothed(points, &smooth, None)?;
-    if fit.log_ratio.abs() < MIN_CURVATURE_RATIO.ln() {
-        return None;
-    }
-    let chord = points[0].distance(points[points.len() - 1]);
-    // Only the distance to the model counts here (α is what is read, not where points go on it).
-    (fit.rms <= super::segment_fit::NOISE_FACTOR * noise + 1e-9 * chord).then_some(AlphaPiece {
-        start: 0.0,
-        end: 1.0,
-        alpha: fit.alpha,
-        residual: fit.rms,
-        samples: points.len(),
-        increasing: fit.log_ratio < 0.0,
+        increasing: log_ratio < 0.0,
     })
 }
 
@@ -203,17 +192,10 @@ pub fn estimate_alpha(
     let d3 = d2.derivative().expect("linear");
     let derivatives = [d1, d2, d3];
 
-    // A planar open curve that one segment fits to the noise level is one piece, its α the
-    // segment's (see [`super::segment_fit`]).
-    if let (Some(normal), false) = (normal, curve.closed)
+    // An open curve that one segment (plane or space) fits to the noise level is one piece, its
+    // α the segment's (see [`super::segment_fit`] and [`super::space_fit`]).
+    if !curve.closed
         && let Some(piece) = single_segment(&points, &parameters, &spline, normal)
-    {
-        return Ok(AlphaEstimate { spline, parameters, pieces: vec![piece] });
-    }
-
-    // The same for a space curve and one space segment (see [`super::space_fit`]).
-    if let (None, false) = (normal, curve.closed)
-        && let Some(piece) = single_space_segment(&points, &parameters, &spline)
     {
         return Ok(AlphaEstimate { spline, parameters, pieces: vec![piece] });
     }
