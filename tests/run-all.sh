@@ -17,12 +17,17 @@ command -v Xvfb >/dev/null 2>&1 || need+=(xvfb)
 command -v xdotool >/dev/null 2>&1 || need+=(xdotool)
 command -v import >/dev/null 2>&1 || need+=(imagemagick)
 # The STEP export tests read Taut's files back with an independent CAD kernel, OpenCascade, through
-# PyPI's cadquery-ocp-novtk in a virtual environment of their own (.venv-cad). Making that environment
-# needs python3 and its venv module; Debian ships ensurepip, which venv needs, apart in python3-venv.
-cad_ready() { .venv-cad/bin/python -c 'import OCP' >/dev/null 2>&1; }
+# PyPI's cadquery-ocp-novtk, and the cage test compares with MeshLab through PyPI's pymeshlab, both in
+# a virtual environment of their own (.venv-cad). Making that environment needs python3 and its venv
+# module; Debian ships ensurepip, which venv needs, apart in python3-venv. pymeshlab's wheel links to
+# the system's OpenGL, fontconfig and X11 client libraries even when it draws nothing.
+cad_ready() { .venv-cad/bin/python -c 'import OCP, pymeshlab' >/dev/null 2>&1; }
 if ! cad_ready; then
     command -v python3 >/dev/null 2>&1 || need+=(python3)
     python3 -c 'import venv, ensurepip' >/dev/null 2>&1 || need+=(python3-venv)
+    for package in libgl1 libopengl0 libfontconfig1; do
+        installed "$package" || need+=("$package")
+    done
 fi
 if [ ${#need[@]} -gt 0 ]; then
     echo "installing: ${need[*]}"
@@ -32,12 +37,12 @@ if [ ${#need[@]} -gt 0 ]; then
     DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq "${need[@]}"
 fi
 
-# A missing or broken .venv-cad (no OCP, or its python gone) is made anew; the version is pinned so
-# that every machine measures STEP files with the same kernel.
+# A missing or broken .venv-cad (no OCP or pymeshlab, or its python gone) is made anew; the versions
+# are pinned so that every machine measures with the same kernels.
 if ! cad_ready; then
-    echo "installing: cadquery-ocp-novtk into .venv-cad"
+    echo "installing: cadquery-ocp-novtk and pymeshlab into .venv-cad"
     python3 -m venv --clear .venv-cad
-    .venv-cad/bin/pip install --quiet cadquery-ocp-novtk==8.0.1.1.0
+    .venv-cad/bin/pip install --quiet cadquery-ocp-novtk==8.0.1.1.0 pymeshlab==2025.7.post1
 fi
 export TAUT_CAD_PYTHON="$PWD/.venv-cad/bin/python"
 

@@ -31,8 +31,9 @@ pub struct CageArgs {
     /// Cage size as a number of triangles.
     #[arg(long)]
     pub faces: Option<usize>,
-    /// Fitting rounds: 1 is the paper's solve, more add least-squares rounds.
-    #[arg(long, default_value_t = 1)]
+    /// Fitting rounds: 1 is the paper's solve alone; each further round fits the limit surface to
+    /// the original both ways, farthest points weighted most, keeping the volume.
+    #[arg(long, default_value_t = taut_core::cage_fit::DEFAULT_ROUNDS)]
     pub rounds: u32,
     /// Also write the evaluation and step times as JSON.
     #[arg(long)]

@@ -1,16 +1,18 @@
 //! Step 1: quadric-error simplification of the dense mesh to the starting cage (Garland and
 //! Heckbert 1997, the paper §2.1), through meshoptimizer's simplifier.
 //!
-//! meshoptimizer collapses edges in order of their quadric error while keeping the topology
-//! (it never closes a hole or joins pieces) and, when asked, keeps every border vertex where it
-//! is, which is what an open scan needs so the cage keeps its outline. It works in `f32`, so the
-//! positions are shifted to their bounding-box centre first to keep the rounding relative to the
-//! shape's size; the cage takes its vertices' `f64` positions from the input (simplification
-//! only picks vertices, it does not move them).
+//! meshoptimizer collapses edges in order of their quadric error while keeping the topology of
+//! borders (it never closes a hole or joins pieces) and, when asked, keeps every border vertex
+//! where it is, which is what an open scan needs so the cage keeps its outline. Each kept vertex
+//! moves to where its merged quadric is least (optimal placement, as MeshLab's simplifier does).
+//! It works in `f32`, so the positions are shifted to their bounding-box centre first to keep the
+//! rounding relative to the shape's size; a vertex it did not move keeps its exact `f64` position.
 //!
-//! meshoptimizer can leave an edge shared by three triangles; the cage must be a manifold
-//! surface, so then a few nearby targets (±2 %, ±4 %, … of the asked one) are tried in turn, and
-//! then larger ones up to the whole input ([`retry_targets`]).
+//! meshoptimizer can leave an edge shared by three triangles, or flatten a handle into two
+//! triangles on the same corners; the cage must be a manifold surface, so then a few nearby
+//! targets (±2 %, ±4 %, … of the asked one) are tried in turn, and then larger ones up to the
+//! whole input ([`retry_targets`]); the first valid larger cage is collapsed on to the asked
+//! count by topology-checked collapses ([`collapse`](super::collapse)).
 //!
 //! Weak where the target is below what the topology allows (each closed piece needs at least a
 //! few triangles, locked borders keep all their vertices): the cage then has more faces than
@@ -25,7 +27,7 @@ use crate::{DVec3, Error, Result};
 pub struct Simplified {
     /// The cage: the kept vertices in order of their first use, triangles as meshoptimizer left them.
     pub cage: PolyMesh,
-    /// For each cage vertex, the dense vertex it is.
+    /// For each cage vertex, the dense vertex it was made from (moved by optimal placement).
     pub dense_vertex: Vec<u32>,
     /// meshoptimizer's own error estimate, relative to the mesh's extent.
     pub relative_error: f64,
@@ -37,9 +39,6 @@ pub fn simplify(dense: &DenseMesh, target_faces: usize) -> Result<Simplified> {
     let centre = 0.5 * (lo + hi);
     let local: Vec<[f32; 3]> = dense.positions.iter().map(|&p| (p - centre).as_vec3().to_array()).collect();
     let indices: Vec<u32> = dense.triangles.iter().flatten().copied().collect();
-    let bytes: &[u8] = meshopt::typed_to_bytes(&local);
-    let adapter = meshopt::VertexDataAdapter::new(bytes, std::mem::size_of::<[f32; 3]>(), 0)
-        .map_err(|e| Error::Solver(format!("the simplifier refused the vertex data ({e})")))?;
     let mut options = meshopt::SimplifyOptions::RegularizeLight;
     if !dense.closed {
         options |= meshopt::SimplifyOptions::LockBorder;
@@ -51,18 +50,36 @@ pub fn simplify(dense: &DenseMesh, target_faces: usize) -> Result<Simplified> {
     let mut failure = None;
     let all = dense.triangles.len();
     let mut tried = Vec::new();
-    for target in retry_targets(target_faces, all) {
+    for (attempt, target) in retry_targets(target_faces, all).into_iter().enumerate() {
         if tried.contains(&target) {
             continue;
         }
         tried.push(target);
-        match simplify_to(dense, &indices, &adapter, options, target) {
+        match simplify_to(dense, &indices, &local, centre, options, target) {
+            // Past the nearby targets, meshoptimizer reached a valid cage only above the asked
+            // count: collapse on from there, keeping the topology (see `collapse`).
+            Ok(simplified) if attempt >= RETRIES && simplified.cage.face_count() > target_faces => {
+                return finish(simplified, dense.closed, target_faces);
+            }
             Ok(simplified) => return Ok(simplified),
             Err(e @ Error::Topology(_)) => failure = Some(e),
             Err(e) => return Err(e),
         }
     }
     Err(failure.unwrap_or_else(|| Error::Solver("the simplifier gave no cage".into())))
+}
+
+/// Collapses a valid cage on to `target_faces` with the topology-checked collapses, border
+/// vertices locked on an open input; the cage as it was if the result were not valid.
+fn finish(simplified: Simplified, closed: bool, target_faces: usize) -> Result<Simplified> {
+    let cage = &simplified.cage;
+    let locked: Vec<bool> = cage.vertices().map(|v| !closed && cage.is_boundary_vertex(v)).collect();
+    let (positions, kept) = super::collapse::collapse_to(cage.positions(), &cage.triangles(), &locked, target_faces);
+    let slots: Vec<u32> = kept.iter().flatten().copied().collect();
+    match assemble(&slots, |v| positions[v], |v| simplified.dense_vertex[v], cage.vertex_count()) {
+        Ok((cage, dense_vertex)) => Ok(Simplified { cage, dense_vertex, relative_error: simplified.relative_error }),
+        Err(_) => Ok(simplified),
+    }
 }
 
 /// The targets tried in turn: the asked one, then nearby ones (±2 %, ±4 %, …, at least a face
@@ -94,7 +111,8 @@ const RETRY_STEP: f64 = 0.02;
 fn simplify_to(
     dense: &DenseMesh,
     indices: &[u32],
-    adapter: &meshopt::VertexDataAdapter<'_>,
+    local: &[[f32; 3]],
+    centre: DVec3,
     options: meshopt::SimplifyOptions,
     target_faces: usize,
 ) -> Result<Simplified> {
@@ -106,24 +124,57 @@ fn simplify_to(
     if !indices.len().is_multiple_of(3) || indices.iter().any(|&i| i as usize >= dense.positions.len()) {
         return Err(Error::Input("the triangles refer to vertices the mesh does not have".into()));
     }
-    // No error bound (1 is the whole extent): the face count decides.
-    let kept = meshopt::simplify(indices, adapter, target_indices, 1.0, options, Some(&mut error));
+    // No error bound (1 is the whole extent): the face count decides. meshoptimizer places each
+    // kept vertex where the collapsed edges' quadrics are least (Garland and Heckbert's optimal
+    // placement), updating the positions in place; locked border vertices stay.
+    let mut kept = indices.to_vec();
+    let mut moved = local.to_vec();
+    let count = meshopt::simplify_with_update(
+        &mut kept,
+        &mut moved,
+        &mut [],
+        &[],
+        0,
+        None,
+        target_indices,
+        1.0,
+        options,
+        Some(&mut error),
+    );
+    kept.truncate(count);
     if kept.is_empty() {
         return Err(Error::Solver("the simplifier removed every triangle; ask for more faces".into()));
     }
 
-    let mut cage_vertex = vec![u32::MAX; dense.positions.len()];
+    // A vertex meshoptimizer did not move keeps its exact position.
+    let position = |v: usize| {
+        if moved[v] == local[v] { dense.positions[v] } else { centre + glam::Vec3::from_array(moved[v]).as_dvec3() }
+    };
+    let (cage, dense_vertex) = assemble(&kept, position, |v| v as u32, dense.positions.len())?;
+    Ok(Simplified { cage, dense_vertex, relative_error: f64::from(error) })
+}
+
+/// The cage on the vertices `slots` (three per triangle, numbered among `count`) uses, in order
+/// of first use, with each vertex's position and dense vertex; an error when it is not a
+/// manifold surface a Loop refinement can take.
+fn assemble(
+    slots: &[u32],
+    position: impl Fn(usize) -> DVec3,
+    dense: impl Fn(usize) -> u32,
+    count: usize,
+) -> Result<(PolyMesh, Vec<u32>)> {
+    let mut cage_vertex = vec![u32::MAX; count];
     let mut dense_vertex = Vec::new();
     let mut positions: Vec<DVec3> = Vec::new();
-    let faces: Vec<[u32; 3]> = kept
+    let faces: Vec<[u32; 3]> = slots
         .chunks_exact(3)
         .map(|t| {
             [0, 1, 2].map(|k| {
                 let v = t[k] as usize;
                 if cage_vertex[v] == u32::MAX {
                     cage_vertex[v] = dense_vertex.len() as u32;
-                    dense_vertex.push(v as u32);
-                    positions.push(dense.positions[v]);
+                    dense_vertex.push(dense(v));
+                    positions.push(position(v));
                 }
                 cage_vertex[v]
             })
@@ -146,5 +197,5 @@ fn simplify_to(
     let cage = PolyMesh::from_polygons(positions, &faces).map_err(|e| {
         Error::Topology(format!("the simplified cage is not a manifold surface ({e}); ask for a different face count"))
     })?;
-    Ok(Simplified { cage, dense_vertex, relative_error: f64::from(error) })
+    Ok((cage, dense_vertex))
 }

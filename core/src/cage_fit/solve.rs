@@ -8,12 +8,9 @@
 //! (2 cores), so near-linear up to about 10 k vertices and then dominated by fill-in. `M` is not symmetric but is well conditioned (its smallest eigenvalue on a regular
 //! mesh is 1/4), and every solve is checked by its residual.
 //!
-//! Further rounds (beyond the paper) fit the cage in the least-squares sense to many more points
-//! of its limit surface: the limit points of the once-refined cage, `L = M₁ S` (`S` one Loop
-//! step, `M₁` the limit matrix of the refined mesh), each pulled to its closest point on the
-//! original; `min |L V − C|²` is the surface fitting of Suzuki et al. (1999), the paper's
-//! reference [5]. The normal equations are solved by conjugate gradients on `LᵀL` (CGLS),
-//! started from the current cage, so no second factorisation is needed.
+//! The further rounds ([`two_sided`](super::two_sided)) solve weighted least squares over many
+//! more points of the limit surface by conjugate gradients on the normal equations
+//! ([`least_squares`], CGLS), started from the current cage, so no second factorisation is needed.
 
 use crate::DVec3;
 use crate::subdiv::SparseRows;

@@ -7,7 +7,7 @@
 
 use crate::{DVec3, Error, Result};
 use parry3d_f64::math::Vector;
-use parry3d_f64::query::{PointQuery, Ray, RayCast};
+use parry3d_f64::query::{PointQuery, PointQueryWithLocation, Ray, RayCast};
 use parry3d_f64::shape::TriMesh;
 
 /// A triangle surface ready for queries.
@@ -41,6 +41,19 @@ impl SurfaceIndex {
     /// The closest point of the surface to `p`.
     pub fn closest_point(&self, p: DVec3) -> DVec3 {
         from_parry(self.mesh.project_local_point(to_parry(p), false).point)
+    }
+
+    /// The closest point of the surface to `p`, the index of its triangle (in the order given to
+    /// [`new`](Self::new)) and its barycentric coordinates there.
+    pub fn closest_on_triangle(&self, p: DVec3) -> (DVec3, usize, [f64; 3]) {
+        let (projection, (triangle, location)) = self.mesh.project_local_point_and_get_location(to_parry(p), false);
+        let point = from_parry(projection.point);
+        let triangle = triangle as usize;
+        let weights = location.barycentric_coordinates().unwrap_or_else(|| {
+            // Inside a solid cannot happen for a surface query; weigh the corners evenly.
+            [1.0 / 3.0; 3]
+        });
+        (point, triangle, weights)
     }
 
     /// The distance from `p` to the surface.
@@ -80,5 +93,12 @@ mod tests {
         // Below the diagonal x = y lies the first triangle, above it the second.
         assert_eq!(index.cast_to_triangle(DVec3::new(0.7, 0.2, 1.0), -DVec3::Z, 10.0).map(|h| h.1), Some(0));
         assert_eq!(index.cast_to_triangle(DVec3::new(0.2, 0.7, -1.0), DVec3::Z, 10.0).map(|h| h.1), Some(1));
+        // The closest point as a barycentric combination of its triangle's corners.
+        for q in [DVec3::new(0.7, 0.2, 1.0), DVec3::new(0.2, 0.7, -1.0), DVec3::new(2.0, -1.0, 0.5)] {
+            let (x, t, w) = index.closest_on_triangle(q);
+            let [a, b, c] = [[0, 1, 2], [0, 2, 3]][t].map(|i| p[i]);
+            assert!((w[0] * a + w[1] * b + w[2] * c - x).length() < 1e-12, "{q}: {x} in {t} at {w:?}");
+            assert!((x - index.closest_point(q)).length() < 1e-12);
+        }
     }
 }

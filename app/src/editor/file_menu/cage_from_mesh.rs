@@ -59,7 +59,13 @@ impl Default for CageDialog {
     fn default() -> Self {
         // A ratio fits every mesh (a face count above the mesh's triangles is refused); the
         // face count a designer switches to starts at a size that suits most parts.
-        CageDialog { path: String::new(), by_faces: false, faces: 1000, ratio: 0.25, rounds: 1 }
+        CageDialog {
+            path: String::new(),
+            by_faces: false,
+            faces: 1000,
+            ratio: 0.25,
+            rounds: taut_core::cage_fit::DEFAULT_ROUNDS,
+        }
     }
 }
 
@@ -295,9 +301,9 @@ impl EditorState {
                         .on_hover_text("The cage's triangles as a fraction of the mesh's");
                 }
                 let name = ui.label("rounds");
-                ui.add(egui::DragValue::new(&mut dialog.rounds).range(1..=5))
+                ui.add(egui::DragValue::new(&mut dialog.rounds).range(1..=taut_core::cage_fit::MAX_ROUNDS))
                     .labelled_by(name.id)
-                    .on_hover_text("1 is the paper's solve; more add least-squares rounds (slower, sometimes closer)");
+                    .on_hover_text("1 is the paper's solve alone; each further round fits the surface to the mesh both ways, farthest points first, keeping the volume");
                 start = ui.button("Make cage").clicked();
             });
             if let Some((progress, cancelling)) = &running {
