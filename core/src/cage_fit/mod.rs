@@ -13,8 +13,8 @@
 //! 4. [`solve`]: `M V_A' = V_C`, one sparse LU factorisation for the three coordinates.
 //! 5. [`two_sided`]: further rounds (five by default) fit the sampled limit surface to the
 //!    original both ways, farthest points weighted most, keeping the original's volume.
-//! 6. [`evaluate`]: the paper's volume measure and sampled distances, for the QEM cage and every
-//!    fitted round. A fitted cage is kept only when its limit surface is no farther from the
+//! 6. [`evaluate`]: the paper's volume measure and sampled distances, for the QEM cage, the
+//!    paper's round and the last round. A fitted cage is kept only when its limit surface is no farther from the
 //!    original than the QEM cage's, in both the Hausdorff and the mean distance (of those, the
 //!    smallest mean); otherwise the QEM cage is returned, and [`FitReport::verdict`] says why.
 //!
@@ -216,7 +216,8 @@ pub struct RoundReport {
     pub border: usize,
     /// Conjugate-gradient iterations of a least-squares round (0 for round 1).
     pub iterations: usize,
-    /// The cage of this round measured; `None` when the round failed.
+    /// The cage of this round measured; `None` when the round failed, and for the rounds between
+    /// the first and the last, which are not measured (each costs about a round).
     pub evaluation: Option<Evaluation>,
     /// Why the round failed, if it did.
     pub failure: Option<String>,
@@ -335,12 +336,13 @@ pub fn fit_cage(dense: &DenseMesh, params: &CageFitParams, progress: &mut dyn Pr
 
     if params.rounds > 1 && cages[0].1.is_some() {
         step!("two-sided rounds");
-        let levels = evaluate::sample_levels(qem_cage.face_count(), original.triangles).clamp(2, 3);
-        let sampling = two_sided::Sampling::new(&qem_cage, levels)?;
+        let sampling = two_sided::Sampling::new(&qem_cage, two_sided::LEVELS)?;
+        let stride = original.samples.len().div_ceil(two_sided::POINTS).max(1);
+        let points: Vec<DVec3> = original.samples.iter().step_by(stride).copied().collect();
         let mut x = cages.last().and_then(|(_, c)| c.as_ref()).map(|c| c.positions().to_vec()).unwrap_or_default();
         for round in 2..=params.rounds {
             let Some((_, iterations)) =
-                two_sided::round(&sampling, &original, &mut x, ROUND_ITERATIONS, true, &mut monitor)?
+                two_sided::round(&sampling, &original, &points, &mut x, ROUND_ITERATIONS, true, &mut monitor)?
             else {
                 return Ok(None);
             };
@@ -367,8 +369,13 @@ pub fn fit_cage(dense: &DenseMesh, params: &CageFitParams, progress: &mut dyn Pr
     // Candidates no worse than the QEM cage in either distance; of those the smallest mean.
     let mut best: Option<(u32, PolyMesh, LimitSurface, Evaluation)> = None;
     let mut closest_rejected: Option<(u32, Evaluation)> = None;
+    // The paper's round and the last are measured in full; the rounds between only lead there.
+    let last = cages.len() as u32;
     for (report, cage) in &mut cages {
         let Some(cage) = cage.take() else { continue };
+        if report.round != 1 && report.round != last {
+            continue;
+        }
         let Some((evaluation, surface)) = evaluate::evaluate(&cage, &original, &mut monitor)? else {
             return Ok(None);
         };

@@ -5,7 +5,7 @@
 //! surface may still stand off the original, and a thin or sharp part of the original (an ear,
 //! a rim) may have no limit point near it at all: the surface then misses it, which is what
 //! decides the Hausdorff distance. Each round here:
-//! 1. samples the limit surface as the limit points of the cage refined `levels` times, each a
+//! 1. samples the limit surface as the limit points of the cage refined [`LEVELS`] times, each a
 //!    fixed linear combination of the cage's vertices (the rows of [`Sampling`]);
 //! 2. pulls every sample to its closest point on the original (the forward side), and pulls the
 //!    closest point of the sampled surface to every sampled point of the original to that point
@@ -31,6 +31,16 @@ use super::surface_index::SurfaceIndex;
 use crate::mesh::PolyMesh;
 use crate::subdiv::{Refinement, Scheme, SparseRows, loop_limit_matrix};
 use crate::{DVec3, Result};
+
+/// Refinement levels at which the rounds sample the limit surface: 16 samples a cage triangle.
+/// Three levels (64) fitted the real scans of the MeshLab comparison no closer (Hausdorff and
+/// mean within 1 % on 11 of 12, 7 % on the twelfth) at three times the cost.
+pub const LEVELS: u32 = 2;
+
+/// Most points of the original pulled by the backward side of a round (taken at an even stride
+/// from the evaluation's samples): far more than the unknowns of any cage fitted whole, and
+/// every vertex of a scan of up to 64 k triangles.
+pub const POINTS: usize = 1 << 15;
 
 /// The limit surface of a cage refined `levels` times, as rows over the cage's vertices.
 #[derive(Clone, Debug)]
@@ -87,12 +97,13 @@ struct Pulls {
     distances: Vec<f64>,
 }
 
-/// Measures the cage `x` against the original and, unless `solve` is false, moves it by one
-/// weighted least-squares round of at most `iterations` CGLS steps. Returns the distances
+/// Measures the cage `x` against the original (`points` its sampled points for the backward
+/// side) and, unless `solve` is false, moves it by one weighted least-squares round of at most `iterations` CGLS steps. Returns the distances
 /// measured before the move, the CGLS steps taken, and `None` when cancelled.
 pub fn round(
     sampling: &Sampling,
     original: &Original<'_>,
+    points: &[DVec3],
     x: &mut [DVec3],
     iterations: usize,
     solve: bool,
@@ -103,8 +114,7 @@ pub fn round(
         return Ok(None);
     };
     let surface = SurfaceIndex::new(&samples, &sampling.triangles)?;
-    let Some(backward) = monitor.map(original.samples.len(), |i| surface.closest_on_triangle(original.samples[i]))
-    else {
+    let Some(backward) = monitor.map(points.len(), |i| surface.closest_on_triangle(points[i])) else {
         return Ok(None);
     };
 
@@ -117,8 +127,8 @@ pub fn round(
     let split = pulls.rows.len();
     for (i, (point, triangle, weights)) in backward.iter().enumerate() {
         pulls.rows.push((sampling.triangles[*triangle], *weights));
-        pulls.goals.push(original.samples[i]);
-        pulls.distances.push((*point - original.samples[i]).length());
+        pulls.goals.push(points[i]);
+        pulls.distances.push((*point - points[i]).length());
     }
     let (fd, bd) = pulls.distances.split_at(split);
     let max = |d: &[f64]| d.iter().copied().fold(0.0, f64::max);
