@@ -215,3 +215,24 @@ fn an_edit_of_another_cage_or_an_unfinished_solve_is_handled_honestly() {
     let error = max_distance(partial.surface_positions(), &exact(&after));
     assert!(error < threshold, "{error:e} from the fixed point (threshold {threshold:e})");
 }
+
+#[test]
+fn the_surface_seam_the_editor_uses_warm_starts_after_a_modelling_edit() {
+    use taut_core::surface::nusd::NusdSurface;
+    use taut_core::surface::{Budget, SurfaceScheme};
+    // As the editor's frame loop does it: the document takes the edit, the shown surface takes
+    // the new document (`SurfaceScheme::update`) and advances.
+    let mut doc = base();
+    let mut surface = NusdSurface::new(&doc).unwrap();
+    surface.advance(Budget::UNLIMITED);
+    let (_, op) = local_edits(&doc).swap_remove(0);
+    let before = doc.clone();
+    doc.apply(Edit::Mesh(op)).unwrap();
+    surface.update(&doc).unwrap();
+    assert_eq!(surface.solver().inherited_levels(), 4);
+    assert!(surface.advance(Budget::UNLIMITED).converged);
+    // Undo (the document before, whose cage the solver no longer has): a cold start, not a
+    // wrong warm one.
+    surface.update(&before).unwrap();
+    assert_eq!(surface.solver().inherited_levels(), 0);
+}
