@@ -6,7 +6,11 @@
 //!
 //! Reported against the targets (Catmull–Clark within 50 ms; NUSD within three 16 ms frames)
 //! and as a ratio to the same surface built for the unedited cage in the same run (the cost of a
-//! fresh build, which an edit pays today: levels are rebuilt and, for NUSD, solved cold).
+//! fresh build). NUSD is measured both ways in the same run: *cold* (the surface built for the
+//! edited document and solved from nothing, what an edit paid before issue 22) and *warm* (the
+//! solved surface of the unedited cage taking the edited document, as the editor does: its levels
+//! start from the old ones through the edit's provenance and are re-solved around the edit); the
+//! target applies to the warm figure.
 //!
 //! Run with `cargo bench -p taut-core --bench topology_edit`; `TAUT_BENCH_QUICK=1` runs fewer
 //! repeats.
@@ -23,6 +27,19 @@ fn best(repeats: usize, mut f: impl FnMut()) -> Duration {
         .map(|_| {
             let t = Instant::now();
             f();
+            t.elapsed()
+        })
+        .min()
+        .unwrap()
+}
+
+/// Shortest wall time of `f` over `repeats` runs, each on a fresh `setup()` (not timed).
+fn best_on<T>(repeats: usize, mut setup: impl FnMut() -> T, mut f: impl FnMut(&mut T)) -> Duration {
+    (0..repeats)
+        .map(|_| {
+            let mut input = setup();
+            let t = Instant::now();
+            f(&mut input);
             t.elapsed()
         })
         .min()
@@ -67,12 +84,41 @@ fn main() {
             });
             let rebuild = best(repeats, || complete(&edited));
             let total = apply + rebuild;
+            if scheme != SchemeKind::Nusd {
+                println!(
+                    "  {name}: edit {:.2} ms + surface {:.1} ms = {:.1} ms ({}, target {target_ms:.0} ms; {:.2}x the unedited build)",
+                    ms(apply),
+                    ms(rebuild),
+                    ms(total),
+                    if ms(total) <= target_ms { "met" } else { "NOT met" },
+                    rebuild.as_secs_f64() / fresh.as_secs_f64()
+                );
+                continue;
+            }
+            // The editor's path: the solved surface of the unedited cage takes the edited document.
+            let solved_base = || {
+                let mut s = surface::build(&base).unwrap();
+                s.advance(Budget::UNLIMITED);
+                s
+            };
+            let mut update = Duration::MAX;
+            let warm = best_on(repeats, solved_base, |s| {
+                let t = Instant::now();
+                s.update(&edited).unwrap();
+                update = update.min(t.elapsed());
+                s.advance(Budget::UNLIMITED);
+                std::hint::black_box(s.mesh().vertex_count());
+            });
+            let warm_total = apply + warm;
             println!(
-                "  {name}: edit {:.2} ms + surface {:.1} ms = {:.1} ms ({}, target {target_ms:.0} ms; {:.2}x the unedited build)",
+                "  {name}: edit {:.2} ms + surface warm {:.1} ms (levels made and started {:.1}) = {:.1} ms ({}, target {target_ms:.0} ms); cold {:.1} ms = {:.1} ms ({:.2}x the unedited build)",
                 ms(apply),
+                ms(warm),
+                ms(update),
+                ms(warm_total),
+                if ms(warm_total) <= target_ms { "met" } else { "NOT met" },
                 ms(rebuild),
                 ms(total),
-                if ms(total) <= target_ms { "met" } else { "NOT met" },
                 rebuild.as_secs_f64() / fresh.as_secs_f64()
             );
         }

@@ -135,3 +135,21 @@ fn with_unfixed_cage_vertices_and_tension_a_drag_still_reaches_the_fixed_point()
         }
     }
 }
+
+#[test]
+fn a_drag_of_a_vertex_on_an_open_boundary_re_solves_the_surface_inside_it() {
+    // A vertex on an open boundary reads only its two boundary neighbours, but the vertices
+    // inside read it: the region must reach them (it once grew along the boundary only).
+    let holed = taut_core::mesh::edit::delete_vertices(&uneven_torus(), &[VertexId(40)]).unwrap().mesh;
+    let mut doc = document(holed, 3, 1e-4);
+    let v = doc.cage.vertices().find(|&v| doc.cage.is_boundary_vertex(v)).unwrap();
+    let mut solver = SurfaceSolver::new(&doc).unwrap();
+    solver.solve().unwrap();
+    drag(&mut doc, v.0, 1.0);
+    solver.update(&doc).unwrap();
+    solver.solve().unwrap();
+    let status = solver.status();
+    assert!(solver.timings()[3].work < 0.5 * solver.timings()[3].sweeps as f64, "not re-solved locally");
+    let error = max_distance(solver.surface_positions(), &exact(&doc));
+    assert!(error < status.threshold, "{error:e} from the fixed point (threshold {:e})", status.threshold);
+}

@@ -84,6 +84,10 @@ pub struct Document {
     pub reference_images: Vec<ReferenceImage>,
     /// What one model unit is ([`crate::document::units`]).
     pub units: LengthUnit,
+    /// The modelling edit that made this cage from the one before, kept so the NUSD solver can
+    /// warm-start the new levels from the old ones ([`lineage`](Self::lineage)). Not saved, and
+    /// not part of the document's value (equality ignores it).
+    pub(crate) lineage: Option<std::sync::Arc<crate::mesh::edit::Lineage>>,
 }
 
 impl Document {
@@ -108,6 +112,7 @@ impl Document {
             mirror_cache: Default::default(),
             reference_images: Vec::new(),
             units: LengthUnit::default(),
+            lineage: None,
         }
     }
 
@@ -157,6 +162,7 @@ impl Document {
     ) -> Result<(Document, crate::gregory::carry::CarryReport)> {
         use crate::mesh::edit::{CarryRule, carry_edge_property, carry_vertex_property};
         let p = &edited.provenance;
+        let from = self.cage.topology_generation();
         let mut doc = Document {
             fixed: crate::mesh::edit::carry_fixed_flags(&self.fixed, &self.cage, p)?,
             vertex_tension: carry_vertex_property(&self.vertex_tension, p, &CarryRule::new_elements(0.0))?,
@@ -174,10 +180,23 @@ impl Document {
             mirror_cache: Default::default(),
             reference_images: self.reference_images.clone(),
             units: self.units,
+            lineage: None,
         };
+        let to = doc.cage.topology_generation();
+        // An edit that found nothing to change returns a copy of the cage: nothing to carry.
+        if to != from {
+            doc.lineage = Some(std::sync::Arc::new(crate::mesh::edit::Lineage { from, to, provenance: p.clone() }));
+        }
         let carried = doc.carry_curve_mesh_edits(self, Some(p))?;
         doc.validate()?;
         Ok((doc, carried))
+    }
+
+    /// The modelling edit that made this document's cage from an earlier cage, while the cage still
+    /// has the connectivity that edit gave it (`None` after any other change of connectivity, or
+    /// for a document loaded from a file).
+    pub fn lineage(&self) -> Option<&crate::mesh::edit::Lineage> {
+        self.lineage.as_deref().filter(|l| l.to == self.cage.topology_generation())
     }
 
     /// Refuses a scheme the cage cannot have, saying what to do (Loop needs triangles, a curve mesh
@@ -462,6 +481,7 @@ impl<'a> From<&'a Document> for crate::nusd::surface::NusdInput<'a> {
             vertex_tension: &doc.vertex_tension,
             edge_tension: &doc.edge_tension,
             settings: doc.settings,
+            lineage: doc.lineage(),
         }
     }
 }

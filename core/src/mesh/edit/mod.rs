@@ -65,7 +65,7 @@ pub use mirror::{
 };
 pub use orient::flip_normals;
 pub use provenance::{
-    CarryRule, EdgeOrigin, FaceOrigin, Provenance, VertexOrigin, carry_edge_property, carry_face_property,
+    CarryRule, EdgeOrigin, FaceOrigin, Lineage, Provenance, VertexOrigin, carry_edge_property, carry_face_property,
     carry_fixed_flags, carry_vertex_property,
 };
 pub use split::{connect_vertices, split_edges};

@@ -145,6 +145,20 @@ pub struct Provenance {
     pub old_counts: (usize, usize, usize),
 }
 
+/// The edit that made one cage from another, for what keeps state between cages (the NUSD
+/// solver's warm start after a topology edit): the topology generations
+/// ([`PolyMesh::topology_generation`](crate::PolyMesh::topology_generation)) of the cage before
+/// and after, and the edit's provenance. A holder of state for the cage `from` may carry it onto
+/// the cage `to` through `provenance`; for any other pair of cages it means nothing.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Lineage {
+    /// Topology generation of the cage before the edit.
+    pub from: u64,
+    /// Topology generation of the cage the edit made.
+    pub to: u64,
+    pub provenance: Provenance,
+}
+
 /// How a property fills the elements an edit made without a source (see the module docs).
 #[derive(Clone, Debug, PartialEq)]
 pub struct CarryRule<T> {

@@ -4,6 +4,7 @@
 
 use crate::Result;
 use crate::mesh::PolyMesh;
+use crate::mesh::edit::Lineage;
 use crate::nusd::{SolverSettings, check_tension};
 
 /// The cage and the NUSD controls and settings of a surface solve.
@@ -17,6 +18,9 @@ pub struct NusdInput<'a> {
     /// Per edge: the tension τ ≥ 0.
     pub edge_tension: &'a [f64],
     pub settings: SolverSettings,
+    /// The modelling edit that made `cage` from an earlier cage, if known: a solver of that
+    /// earlier cage warm-starts from its own levels through it (see `SurfaceSolver::update`).
+    pub lineage: Option<&'a Lineage>,
 }
 
 impl NusdInput<'_> {

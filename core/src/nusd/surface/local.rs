@@ -34,6 +34,7 @@
 use super::hierarchy::LevelTopology;
 use super::operator::{Operator, Role};
 use crate::DVec3;
+use crate::mesh::{PolyMesh, VertexId};
 use rayon::prelude::*;
 
 /// The largest share of a level's vertices a region may cover before the level is solved whole.
@@ -87,10 +88,12 @@ pub struct Region {
 }
 
 impl Region {
-    /// The vertices of a level (`level` refinements of the cage) within `width` cage rings of
-    /// the seeds (cage vertices, which keep their index at every level), by a breadth-first
-    /// search over the operator's stencil.
-    pub fn around(op: &Operator, level: usize, seeds: &[u32], seeds_id: u64, width: usize) -> Region {
+    /// The vertices of a level (`level` refinements of the cage, connectivity `mesh`) within
+    /// `width` cage rings of the seeds (cage vertices, which keep their index at every level), by
+    /// a breadth-first search over the mesh's edges. (Not over the operator's stencil: a vertex on
+    /// an open boundary reads only its two boundary neighbours, so a search over the stencil from
+    /// a boundary seed would never leave the boundary, though the vertices inside read it.)
+    pub fn around(op: &Operator, mesh: &PolyMesh, level: usize, seeds: &[u32], seeds_id: u64, width: usize) -> Region {
         let n = op.role.len();
         let steps_per_ring = 1u32 << level.min(30);
         let limit = (width as u32).saturating_mul(steps_per_ring);
@@ -110,10 +113,10 @@ impl Region {
             if d >= limit {
                 continue;
             }
-            for &j in &op.neighbors[op.offsets[v] as usize..op.offsets[v + 1] as usize] {
-                if distance[j as usize] == u32::MAX {
-                    distance[j as usize] = d + 1;
-                    queue.push(j);
+            for j in mesh.vertex_neighbors(VertexId(v as u32)) {
+                if distance[j.index()] == u32::MAX {
+                    distance[j.index()] = d + 1;
+                    queue.push(j.0);
                 }
             }
         }

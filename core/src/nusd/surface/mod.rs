@@ -45,6 +45,7 @@ pub mod multigrid;
 pub mod operator;
 mod solver;
 mod status;
+pub mod survival;
 
 pub use anchoring::check_anchoring;
 pub use input::NusdInput;

@@ -13,8 +13,9 @@
 //! Where Blender differs: E extrudes by a fixed distance (a fifth of the mean length of the
 //! selected edges) along the normal and leaves the cap selected, so a drag or G then moves it;
 //! Blender's extrude starts that move at once. Ctrl+R cuts the ring of the edge under the mouse
-//! (or the one selected edge) at its middle, with no preview of the ring. The surface re-solves
-//! from the new cage from the start (no warm start through the provenance).
+//! (or the one selected edge) at its middle, with no preview of the ring. The new document
+//! carries the edit's provenance (`Document::lineage`), so the NUSD surface warm-starts: its
+//! levels start from the old ones where the cage survived and are re-solved around the edit.
 
 use crate::editor::select_modes::{SelectMode, selected_vertex_set};
 use crate::editor::state::EditorState;

@@ -139,7 +139,7 @@ impl SurfaceSolver {
             if level.region.as_ref().is_some_and(|r| r.seeds_id == id && r.width == width) {
                 continue;
             }
-            let region = Region::around(&level.operator, k, &seeds, id, width);
+            let region = Region::around(&level.operator, &level.topology.mesh, k, &seeds, id, width);
             if region.len() as f64 > MAX_SHARE * level.vertex_count() as f64 {
                 self.go_whole();
                 return false;

@@ -2,6 +2,7 @@
 
 mod blocks;
 mod cycle;
+mod inherit;
 mod local_solve;
 mod update;
 
@@ -25,6 +26,11 @@ use std::time::Instant;
 pub struct SurfaceSolver {
     /// The cage in the internal frame (the designer's unless its size is extreme).
     cage: PolyMesh,
+    /// The topology generation of the cage this solver was last given (a topology edit's
+    /// lineage starting from it can warm-start the next cage's levels from these).
+    source_topology: u64,
+    /// Levels taken from the previous cage's solve by the latest warm start (see `inherit.rs`).
+    inherited: usize,
     frame: Frame,
     /// The finest level's P and R in the designer's frame, kept only when the frame scales.
     external: Option<(Vec<DVec3>, Vec<DVec3>)>,
@@ -88,6 +94,8 @@ impl SurfaceSolver {
         };
         let level0 = Level::cage(&cage, &controls);
         let mut solver = SurfaceSolver {
+            source_topology: doc.cage.topology_generation(),
+            inherited: 0,
             frame,
             external: None,
             fixed: doc.fixed.to_vec(),

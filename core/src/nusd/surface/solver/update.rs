@@ -1,12 +1,15 @@
 //! [`SurfaceSolver::update`]: a changed cage or changed controls taken in with a warm start (a
 //! move refreshes only the operator rows that see it and may re-solve locally; a changed
-//! connectivity starts over).
+//! connectivity rebuilds the levels and, after a modelling edit of this solver's cage, starts
+//! them from the old ones through the edit's provenance: `inherit.rs`).
 
 use super::*;
 
 impl SurfaceSolver {
     /// Applies a changed cage or controls (a `&Document` converts) and warm-starts. A changed
-    /// connectivity starts over.
+    /// connectivity rebuilds the levels; when the input's lineage says the new cage was made from
+    /// this solver's cage by a modelling edit, the surviving vertices start from their solved
+    /// state and the levels are re-solved around the edit (see `inherit.rs`), else cold.
     pub fn update<'a>(&mut self, input: impl Into<NusdInput<'a>>) -> Result<()> {
         let doc = input.into();
         doc.validate()?;
@@ -15,9 +18,14 @@ impl SurfaceSolver {
             && (doc.cage.topology_generation() == self.cage.topology_generation()
                 || doc.cage.polygons() == self.cage.polygons());
         if !same_topology || frame_of(doc.cage) != self.frame {
-            *self = SurfaceSolver::new(doc)?;
+            let old = std::mem::replace(self, SurfaceSolver::new(doc)?);
+            // A modelling edit of the cage this solver had: its levels start from the old ones.
+            if let Some(lineage) = doc.lineage {
+                self.inherit(old, lineage)?;
+            }
             return Ok(());
         }
+        self.source_topology = doc.cage.topology_generation();
         let internal: Vec<DVec3>;
         let positions = if self.frame.is_identity() {
             doc.cage.positions()
