@@ -6,7 +6,10 @@
 //! one application of the limit matrix, against which the factorisation and solve are a ratio
 //! (a near-linear solve keeps that ratio about flat from 1 k to 100 k vertices).
 //! Targets (issue 10): 1 M triangles → 2,000-face fitted cage in under 5 s on 2 cores;
-//! simplification at least 1 M triangles/s.
+//! simplification at least 1 M triangles/s. Peer (issue 22): MeshLab's quadric edge collapse
+//! alone (pymeshlab, optimal placement, topology kept) on the same mesh to the same face count, in
+//! the same run, when the Python of `tests/run-all.sh` (`.venv-cad`, or `TAUT_CAD_PYTHON`) is
+//! there; the target is Taut's whole import-and-fit at least 10× faster.
 //!
 //! Run with `cargo bench -p taut-core --bench cage_fit`. `TAUT_BENCH_QUICK=1` skips the 1 M input.
 
@@ -81,7 +84,8 @@ fn pipeline(label: &str, n: u32) {
 
     let mut fit = None;
     let total = seconds(|| {
-        fit = Some(fit_cage(&dense, &CageFitParams::new(CageSize::Faces(2000), 1), &mut Silent).unwrap().unwrap())
+        let params = CageFitParams::new(CageSize::Faces(2000), taut_core::cage_fit::DEFAULT_ROUNDS);
+        fit = Some(fit_cage(&dense, &params, &mut Silent).unwrap().unwrap())
     });
     let fit = fit.unwrap();
     let r = &fit.report;
@@ -99,6 +103,14 @@ fn pipeline(label: &str, n: u32) {
         simplify_s / stream,
         stream * 1e3
     );
+    let whole = import + prepare + total;
+    match meshlab_seconds(&label, dense.positions(), dense.triangles(), 2000) {
+        Some(peer) => println!(
+            "  MeshLab's QEM alone {peer:.2} s; Taut's import, preparation and fit {whole:.2} s: {:.1}× faster (target ≥ 10)",
+            peer / whole
+        ),
+        None => println!("  MeshLab's QEM alone: not measured (no Python with pymeshlab; run tests/run-all.sh once)"),
+    }
     let fitted = r.fitted().unwrap();
     println!(
         "  QEM volume change {:.3e}, fitted {:.3e}; Hausdorff {:.3e} vs {:.3e}; mean {:.3e} vs {:.3e}; {}",
@@ -110,6 +122,47 @@ fn pipeline(label: &str, n: u32) {
         fitted.mean,
         r.verdict
     );
+}
+
+/// Seconds MeshLab's quadric edge collapse alone takes to bring the mesh to `faces`, measured by
+/// `tests/cad/meshlab_cage.py` (loading and saving excluded); `None` without pymeshlab.
+fn meshlab_seconds(label: &str, p: &[DVec3], t: &[[u32; 3]], faces: usize) -> Option<f64> {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let python = std::env::var_os("TAUT_CAD_PYTHON")
+        .map(std::path::PathBuf::from)
+        .unwrap_or_else(|| root.join(".venv-cad/bin/python"));
+    if !python.exists() {
+        return None;
+    }
+    let dir = std::env::temp_dir();
+    let input = dir.join(format!("taut-bench-cage-{}-{label}.ply", std::process::id()));
+    let output = dir.join(format!("taut-bench-cage-{}-{label}-meshlab.obj", std::process::id()));
+    let mut bytes = format!(
+        "ply\nformat binary_little_endian 1.0\nelement vertex {}\nproperty float x\nproperty float y\nproperty float z\n\
+         element face {}\nproperty list uchar int vertex_indices\nend_header\n",
+        p.len(),
+        t.len()
+    )
+    .into_bytes();
+    for q in p {
+        bytes.extend(q.as_vec3().to_array().iter().flat_map(|c| c.to_le_bytes()));
+    }
+    for tri in t {
+        bytes.push(3);
+        bytes.extend(tri.iter().flat_map(|&i| (i as i32).to_le_bytes()));
+    }
+    std::fs::write(&input, bytes).ok()?;
+    let out = std::process::Command::new(python)
+        .arg(root.join("tests/cad/meshlab_cage.py"))
+        .args(["decimate", input.to_str()?, output.to_str()?, &faces.to_string()])
+        .output()
+        .ok();
+    let _ = std::fs::remove_file(&input);
+    let _ = std::fs::remove_file(&output);
+    let out = out?;
+    let text = String::from_utf8_lossy(&out.stdout);
+    let json: serde_json::Value = serde_json::from_str(text.trim().lines().last()?).ok()?;
+    json[0]["seconds"].as_f64()
 }
 
 fn solves(n: u32) {
