@@ -104,7 +104,7 @@ fn pipeline(label: &str, n: u32) {
         stream * 1e3
     );
     let whole = import + prepare + total;
-    match meshlab_seconds(&label, dense.positions(), dense.triangles(), 2000) {
+    match meshlab_seconds(label, dense.positions(), dense.triangles(), 2000) {
         Some(peer) => println!(
             "  MeshLab's QEM alone {peer:.2} s; Taut's import, preparation and fit {whole:.2} s: {:.1}× faster (target ≥ 10)",
             peer / whole
