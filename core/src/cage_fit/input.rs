@@ -21,6 +21,7 @@
 
 use crate::mesh::PolyMesh;
 use crate::{DVec3, Error, Result};
+use rayon::prelude::*;
 use serde::Serialize;
 use std::collections::HashMap;
 
@@ -204,20 +205,39 @@ fn prepare(mut positions: Vec<DVec3>, input: &[[u32; 3]]) -> Result<DenseMesh> {
     }
     let n = positions.len();
     let mut report = InputReport { triangles_in: input.len(), ..InputReport::default() };
-    let mut seen: HashMap<[u32; 3], ()> = HashMap::with_capacity(input.len());
+    if let Some((t, &v)) =
+        input.iter().enumerate().find_map(|(t, tri)| tri.iter().find(|&&v| v as usize >= n).map(|v| (t, v)))
+    {
+        return Err(Error::Input(format!("triangle {t} refers to vertex {v}, but there are only {n} vertices")));
+    }
+    let degenerate = |[a, b, c]: [u32; 3]| a == b || b == c || c == a;
+    // A triangle on the same three corners as an earlier one (either orientation) is a repeat:
+    // sorted by corners, then by position in the input, each group's first is the one kept.
+    let mut keys: Vec<([u32; 3], u32)> = input
+        .par_iter()
+        .enumerate()
+        .filter(|(_, tri)| !degenerate(**tri))
+        .map(|(t, tri)| {
+            let mut sorted = *tri;
+            sorted.sort_unstable();
+            (sorted, t as u32)
+        })
+        .collect();
+    keys.par_sort_unstable();
+    let mut repeated = vec![false; input.len()];
+    for w in keys.windows(2) {
+        if w[0].0 == w[1].0 {
+            repeated[w[1].1 as usize] = true;
+        }
+    }
+    drop(keys);
     let mut triangles = Vec::with_capacity(input.len());
     for (t, tri) in input.iter().enumerate() {
-        if let Some(&v) = tri.iter().find(|&&v| v as usize >= n) {
-            return Err(Error::Input(format!("triangle {t} refers to vertex {v}, but there are only {n} vertices")));
-        }
-        let [a, b, c] = *tri;
-        if a == b || b == c || c == a {
+        if degenerate(*tri) {
             report.degenerate += 1;
             continue;
         }
-        let mut sorted = *tri;
-        sorted.sort_unstable();
-        if seen.insert(sorted, ()).is_some() {
+        if repeated[t] {
             report.duplicates += 1;
             continue;
         }
@@ -227,7 +247,6 @@ fn prepare(mut positions: Vec<DVec3>, input: &[[u32; 3]]) -> Result<DenseMesh> {
         }
         triangles.push(*tri);
     }
-    drop(seen);
     if triangles.is_empty() {
         return Err(Error::Input(format!(
             "no usable triangles: all {} are degenerate or repeated; a cage needs a surface to fit",
