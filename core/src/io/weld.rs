@@ -29,8 +29,7 @@
 use super::soup::{FaceList, Soup};
 use crate::mesh::PolyMesh;
 use crate::{DVec3, Error, Result};
-use std::collections::HashMap;
-use std::collections::hash_map::Entry;
+use rayon::prelude::*;
 use std::fmt;
 use std::hash::{Hash, Hasher};
 use std::path::Path;
@@ -129,21 +128,24 @@ pub fn weld_faces(positions: &[DVec3], faces: &FaceList) -> Result<Welded> {
     if n >= NONE as usize || faces.corner_count() >= NONE as usize {
         return Err(Error::Input(format!("{n} vertices is more than Taut can index")));
     }
-    // 1. The first file vertex at each position.
-    let mut first: HashMap<[u64; 3], u32> = HashMap::with_capacity(n);
-    let tentative: Vec<u32> = positions
-        .iter()
+    // 1. The first file vertex at each position: sorted by position bits, then by index, each
+    // group's first is the one the others take.
+    // Adding 0.0 turns −0.0 into 0.0 and leaves every other value alone.
+    let mut keyed: Vec<([u64; 3], u32)> = positions
+        .par_iter()
         .enumerate()
-        .map(|(v, &p)| {
-            // Adding 0.0 turns −0.0 into 0.0 and leaves every other value alone.
-            let key = (p + DVec3::ZERO).to_array().map(f64::to_bits);
-            match first.entry(key) {
-                Entry::Occupied(e) => *e.get(),
-                Entry::Vacant(e) => *e.insert(v as u32),
-            }
-        })
+        .map(|(v, &p)| ((p + DVec3::ZERO).to_array().map(f64::to_bits), v as u32))
         .collect();
-    drop(first);
+    keyed.par_sort_unstable();
+    let mut tentative = vec![0u32; n];
+    let mut group = 0;
+    for k in 0..keyed.len() {
+        if keyed[k].0 != keyed[group].0 {
+            group = k;
+        }
+        tentative[keyed[k].1 as usize] = keyed[group].1;
+    }
+    drop(keyed);
 
     // 2. Faces in tentative numbering, repeats removed; the file's own pinches are refused here.
     let mut report = ImportReport::default();
