@@ -2,7 +2,7 @@
 //! with torsion"): on exact log-aesthetic space curves with Gaussian noise in all three
 //! coordinates, the spatial filter with its pre-fit and data term ends at most half as far from
 //! the true curve as the noisy input, on average over the points and the draws, with α given and
-//! with α estimated, and every run converges.
+//! with α estimated, and every run converges but one of twenty points (see [`grid`]).
 //!
 //! The curves are drawn here from their definition, independently of the filter: the radius of
 //! curvature follows the log-aesthetic law `ρ^α = c s + d` (`ln ρ = c s + d` for α = 0) from ρ₀
@@ -149,16 +149,21 @@ fn fair(noisy: &[DVec3], alpha: Alpha, dense: &[DVec3]) -> Outcome {
 }
 
 /// The bound on the mean ratio: the issue's half from 60 points on. Twenty points are the tight
-/// case, as for plane curves: with the pre-fit by one space segment they end 0.33–0.56 as far as
-/// the input (0.40–0.61 with the smoother alone), one case of the thirty above a half; there the
-/// bound is 0.6 and convergence is not asked (one case in thirty reaches the pass cap; see
-/// `docs/log-aesthetic.md`).
+/// case, as for plane curves: with the pre-fit by one space segment they end 0.33–0.59 as far as
+/// the input (0.40–0.61 with the smoother alone), a few cases of the thirty above a half; there
+/// the bound is 0.6.
 fn bound(n: usize) -> f64 {
     if n <= 20 { 0.6 } else { 0.5 }
 }
 
+/// Of the 20-point runs of a grid (90), how many may stop at the pass cap: one, α = 2 with 1 %
+/// noise and α given, whose torsion near the end cannot meet its targets (`docs/log-aesthetic.md`,
+/// still open). Every other run must converge.
+const TWENTY_POINT_RUNS_AT_CAP: usize = 1;
+
 fn grid(counts: &[usize], estimated: bool) {
     let mut failures = Vec::new();
+    let mut twenty_at_cap = Vec::new();
     let curves: Vec<(String, f64, SpaceCurve)> = [-1.0, 0.0, 1.0, 2.0]
         .into_iter()
         .map(|a| (format!("α = {a}"), a, SpaceCurve::log_aesthetic(a)))
@@ -199,16 +204,19 @@ fn grid(counts: &[usize], estimated: bool) {
                 println!(
                     "{label}: mean ratio {mean:.3} (pre-fit alone {prefit:.3}), at most {passes} passes, α {estimates:.2?}"
                 );
-                // With α estimated one 60-point case of twelve (α = 0, 1 % noise) reaches the
-                // pass cap, its ratio held (docs/log-aesthetic.md); with α given all converge.
-                if n > 20 && !estimated && outcomes.iter().any(|o| !o.converged) {
-                    failures.push(format!("{label}: stopped at the pass cap"));
+                for (draw, o) in outcomes.iter().enumerate().filter(|(_, o)| !o.converged) {
+                    let run = format!("{label}, draw {draw}: stopped at the pass cap ({} passes)", o.passes);
+                    if n <= 20 { twenty_at_cap.push(run) } else { failures.push(run) }
                 }
                 if mean > bound(n) {
                     failures.push(format!("{label}: mean ratio {mean:.3}"));
                 }
             }
         }
+    }
+    println!("20-point runs at the pass cap: {twenty_at_cap:#?}");
+    if twenty_at_cap.len() > TWENTY_POINT_RUNS_AT_CAP {
+        failures.extend(twenty_at_cap);
     }
     assert!(failures.is_empty(), "{failures:#?}");
 }

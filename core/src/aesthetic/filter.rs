@@ -520,6 +520,20 @@ pub(super) fn law_limit(value: f64, alpha: f64, sharpest: f64) -> Option<f64> {
     Some(kappa.min(sharpest))
 }
 
+/// With the data term, the share in [0, 1] of the clothoid's line (the signed value's own least-
+/// squares line) in a window's target, the rest the law's: none while the window's magnitudes
+/// differ by less than half [`MAX_CURVATURE_RATIO`], all from the full ratio on or where the
+/// samples change sign, log-linear between, so the target never jumps as one sample crosses a
+/// threshold (`largest`, `smallest`: the window's extreme samples, signed along the point's).
+pub(super) fn clothoid_share(one_signed: bool, largest: f64, smallest: f64) -> f64 {
+    let share = if one_signed && smallest > 0.0 {
+        ((largest / smallest).ln() - (0.5 * MAX_CURVATURE_RATIO).ln()) / 2f64.ln()
+    } else {
+        1.0
+    };
+    share.clamp(0.0, 1.0)
+}
+
 /// The root of `a x² + b x + c = 0` of smaller magnitude, stably; `None` without a real root.
 pub(crate) fn smaller_root(a: f64, b: f64, c: f64) -> Option<f64> {
     nearest_root(a, b, c, 0.0)

@@ -38,7 +38,7 @@
 //! other colour holds points of both), and each window is summed afresh (sums slid from window to
 //! window would lose digits on long curves).
 
-use super::filter::{MAX_CURVATURE_RATIO, PassTotals, law_limit};
+use super::filter::{MAX_CURVATURE_RATIO, PassTotals, clothoid_share, law_limit};
 use super::filter_geometry::{PARALLEL_FROM, window_span};
 use super::law::{law_value, radius_from_law};
 use crate::DVec3;
@@ -498,13 +498,8 @@ impl PlanarCurve {
             // window's curvature ratio goes from half MAX_CURVATURE_RATIO to all of it (or a sign
             // changes): a target that jumps when one sample crosses the threshold can keep a
             // point cycling between the two for ever.
-            let share = if one_signed && smallest > 0.0 {
-                ((largest / smallest).ln() - (0.5 * MAX_CURVATURE_RATIO).ln()) / 2f64.ln()
-            } else {
-                1.0
-            };
             // Under InflectionRule::Hold only law windows get here, and they keep the law.
-            let share = if rules.clothoid { share.clamp(0.0, 1.0) } else { 0.0 };
+            let share = if rules.clothoid { clothoid_share(one_signed, largest, smallest) } else { 0.0 };
             let law = if share < 1.0 {
                 let value = line_at(sy, sxy);
                 match radius_from_law(value, alpha) {

@@ -122,6 +122,33 @@ impl CurveFilter {
                 smallest = v;
             }
         });
+        let sharpest = largest.max(-smallest);
+        if self.settings.data_term.is_some() && clothoid {
+            // With the data term the law's line gives way to the clothoid's gradually, as in the
+            // planar filter: a target that jumps when one sample crosses the threshold kept
+            // points of twenty-point space curves cycling until the pass cap.
+            let share = clothoid_share(one_signed, largest, smallest);
+            let law = if share < 1.0 {
+                let (c, d) = match &law {
+                    Some(l) => fit_window(g, window, data, l)?,
+                    None => fit_window(g, window, data, |d| law_value(1.0 / (x(d) * sign), exponent))?,
+                };
+                let value = c * window.at + d;
+                match radius_from_law(value, exponent) {
+                    Some(r) => (1.0 / r).min(largest),
+                    None => law_limit(value, exponent, largest)?,
+                }
+            } else {
+                0.0
+            };
+            let line = if share > 0.0 {
+                let (c, d) = fit_window(g, window, data, &x)?;
+                (c * window.at + d).clamp(-sharpest, sharpest)
+            } else {
+                0.0
+            };
+            return Some((1.0 - share) * sign * law + share * line);
+        }
         // ρ → ∞ counts as an inflection too: a sample of nearly zero curvature would dominate the
         // line through ρ^α (α > 0) and throw the target off.
         one_signed &= smallest * MAX_CURVATURE_RATIO > largest;
@@ -132,7 +159,6 @@ impl CurveFilter {
                 return None;
             }
             let (c, d) = fit_window(g, window, data, &x)?;
-            let sharpest = largest.max(-smallest);
             return Some((c * window.at + d).clamp(-sharpest, sharpest));
         }
         let (c, d) = match &law {
