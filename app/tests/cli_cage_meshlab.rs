@@ -12,8 +12,10 @@
 //!
 //! Needs the Python environment `tests/run-all.sh` makes (`.venv-cad`, with pymeshlab).
 
+mod support;
+
 use serde_json::Value;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Output};
 
 fn ok(out: Output, what: &str) -> String {
@@ -26,23 +28,9 @@ fn taut(args: &[&str]) -> String {
     ok(out, &format!("taut {}", args.join(" ")))
 }
 
-/// The Python of the environment with pymeshlab; a clear failure when it is missing.
-fn python() -> PathBuf {
-    let python = std::env::var_os("TAUT_CAD_PYTHON")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../.venv-cad/bin/python"));
-    assert!(
-        python.exists(),
-        "no Python with pymeshlab at {}: run `bash tests/run-all.sh`, which installs it into .venv-cad (or set \
-         TAUT_CAD_PYTHON)",
-        python.display()
-    );
-    python
-}
-
 fn meshlab(args: &[&str]) -> Value {
     let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/cad/meshlab_cage.py");
-    let out = Command::new(python()).arg(script).args(args).output().expect("python runs");
+    let out = Command::new(support::reference_python()).arg(script).args(args).output().expect("python runs");
     let text = ok(out, &format!("meshlab_cage.py {}", args.join(" ")));
     serde_json::from_str(text.trim().lines().last().unwrap_or_default()).expect("meshlab_cage.py prints JSON")
 }

@@ -5,6 +5,8 @@
 //! 0.1 %, lie within the tolerance of Taut's exact surface at samples the fit never saw, and keep
 //! the normals of neighbouring faces within 0.1° except along sharp creases.
 
+mod support;
+
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -44,20 +46,6 @@ fn ok(out: &Output) -> String {
     String::from_utf8_lossy(&out.stdout).into_owned()
 }
 
-/// The Python of the environment with OpenCascade; a clear failure when it is missing.
-fn cad_python() -> PathBuf {
-    let python = std::env::var_os("TAUT_CAD_PYTHON")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../.venv-cad/bin/python"));
-    assert!(
-        python.exists(),
-        "no Python with OpenCascade at {}: run `bash tests/run-all.sh`, which installs cadquery-ocp-novtk into \
-         .venv-cad (or set TAUT_CAD_PYTHON)",
-        python.display()
-    );
-    python
-}
-
 /// What OpenCascade measures of `step` against Taut's `samples` of the same surface; `fitted`
 /// says where each patch's `(u, v)` lies on the file's faces (regular regions are merged).
 fn check(step: &str, samples: &cad::network::PatchNetwork, fitted: &cad::CadSurface, dir: &Scratch) -> Value {
@@ -95,7 +83,13 @@ fn check(step: &str, samples: &cad::network::PatchNetwork, fitted: &cad::CadSurf
     let path = dir.path("reference.json");
     std::fs::write(&path, reference.to_string()).unwrap();
     let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/cad/check_step.py");
-    let out = Command::new(cad_python()).arg(&script).arg(step).arg("--reference").arg(&path).output().unwrap();
+    let out = Command::new(support::reference_python())
+        .arg(&script)
+        .arg(step)
+        .arg("--reference")
+        .arg(&path)
+        .output()
+        .unwrap();
     assert!(out.status.success(), "check_step.py {step}: {}", String::from_utf8_lossy(&out.stderr));
     serde_json::from_slice(&out.stdout).unwrap()
 }
@@ -299,7 +293,7 @@ fn the_file_declares_ap214_its_units_and_one_solid_of_b_spline_faces() {
     assert!(std::fs::read_to_string(&inches).unwrap().contains("CONVERSION_BASED_UNIT('INCH'"));
     let volume_of = |path: &str| {
         let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/cad/check_step.py");
-        let out = Command::new(cad_python()).arg(&script).arg(path).output().unwrap();
+        let out = Command::new(support::reference_python()).arg(&script).arg(path).output().unwrap();
         assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
         serde_json::from_slice::<Value>(&out.stdout).unwrap()["volume"].as_f64().unwrap()
     };

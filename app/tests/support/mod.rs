@@ -1,6 +1,6 @@
-//! What the command-line tests of `taut render` share: the binary run with a runtime directory
-//! (Mesa's software rasteriser wants one, as a desktop session has), the bundled assets, and a
-//! scratch folder per test.
+//! What the command-line tests share: the binary run with a runtime directory (Mesa's software
+//! rasteriser wants one, as a desktop session has), the bundled assets, a scratch folder per
+//! test, and the Python of the reference kernels (OpenCascade, MeshLab).
 
 #![allow(dead_code)]
 
@@ -39,4 +39,19 @@ pub fn assert_clean_failure(out: &Output, expected: &str) {
     let ours: Vec<&str> = stderr.lines().filter(|l| l.starts_with("error:")).collect();
     assert_eq!(ours.len(), 1, "{stderr}");
     assert!(ours[0].contains(expected), "expected '{expected}' in: {stderr}");
+}
+
+/// The Python of `.venv-cad`, which `tests/run-all.sh` makes with OpenCascade and pymeshlab (or
+/// `TAUT_CAD_PYTHON`); a clear failure naming what to run when it is missing.
+pub fn reference_python() -> PathBuf {
+    let python = std::env::var_os("TAUT_CAD_PYTHON")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../.venv-cad/bin/python"));
+    assert!(
+        python.exists(),
+        "no Python with OpenCascade and pymeshlab at {}: run `bash tests/run-all.sh`, which installs \
+         cadquery-ocp-novtk and pymeshlab into .venv-cad (or set TAUT_CAD_PYTHON)",
+        python.display()
+    );
+    python
 }
