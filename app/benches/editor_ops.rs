@@ -14,6 +14,10 @@
 //! `step_out`, the STEP export it shares with the command line).
 //! Run with `cargo bench -p taut-app --bench editor_ops`. `TAUT_BENCH_QUICK=1` runs fewer repeats.
 
+/// The allocator the `taut` binary uses (`src/main.rs`), so the times are the editor's.
+#[global_allocator]
+static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 #[allow(dead_code, unused_imports)]
 #[path = "../src/editor/mod.rs"]
 mod editor;

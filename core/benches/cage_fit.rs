@@ -13,6 +13,10 @@
 //!
 //! Run with `cargo bench -p taut-core --bench cage_fit`. `TAUT_BENCH_QUICK=1` skips the 1 M input.
 
+/// The allocator the `taut` binary uses (`app/src/main.rs`), so the times are the editor's.
+#[global_allocator]
+static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 use std::hint::black_box;
 use std::time::Instant;
 use taut_core::DVec3;

@@ -28,6 +28,10 @@
 //! 25 runs. Run with `cargo bench -p taut-core --bench subdiv`; `TAUT_BENCH_QUICK=1` runs fewer
 //! repeats.
 
+/// The allocator the `taut` binary uses (`app/src/main.rs`), so the times are the editor's.
+#[global_allocator]
+static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 use opensubdiv_rs::far::{
     PrimvarRefiner, StencilTableFactory, StencilTableOptions, TopologyDescriptor, TopologyRefiner,
     TopologyRefinerFactory, UniformOptions,

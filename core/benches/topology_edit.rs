@@ -15,6 +15,10 @@
 //! Run with `cargo bench -p taut-core --bench topology_edit`; `TAUT_BENCH_QUICK=1` runs fewer
 //! repeats.
 
+/// The allocator the `taut` binary uses (`app/src/main.rs`), so the times are the editor's.
+#[global_allocator]
+static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 use std::time::{Duration, Instant};
 use taut_core::document::modelling::MeshEdit;
 use taut_core::mesh::primitives::torus;

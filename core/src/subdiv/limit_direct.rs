@@ -3,6 +3,7 @@
 //! [`LimitStencils::with_corners`] builds, so the same bits, without storing them.
 
 use super::*;
+use crate::subdiv::topology::VertexOrigin;
 
 /// Limit positions and unit limit normals of every vertex of `mesh` (positions `points`),
 /// computed directly: each vertex's masks are made and applied at once, with the arithmetic
@@ -26,17 +27,17 @@ pub(crate) fn limit_into(
     limit.resize(n, DVec3::ZERO);
     normals.resize(n, DVec3::ZERO);
     let sharp = |e: EdgeId| sharpness[e.index()];
+    if let (Scheme::CatmullClark, Some((parent, split))) = (scheme, split) {
+        quad_limit_into(parent, split, sharpness, corners, mesh, points, limit, normals);
+        return;
+    }
     limit.par_iter_mut().zip(normals.par_iter_mut()).with_min_len(4096).enumerate().for_each_init(
         || DirectScratch::new(n),
         |d, (v, (p, normal))| {
             let corner = corners.get(v).is_some_and(|&s| s > 0.0);
             let v = VertexId(v as u32);
             d.ring.clear();
-            let ring = match (corner, split) {
-                (true, _) => None,
-                (false, Some((parent, split))) => derived_smooth_ring(parent, split, sharpness, v, &mut d.ring),
-                (false, None) => smooth_ring(scheme, mesh, &sharp, v, &mut d.ring),
-            };
+            let ring = if corner { None } else { smooth_ring(scheme, mesh, &sharp, v, &mut d.ring) };
             (*p, *normal) = match ring {
                 Some(slot) => {
                     let ring = std::mem::take(&mut d.ring);
@@ -45,6 +46,100 @@ pub(crate) fn limit_into(
                     out
                 }
                 None => d.general(scheme, mesh, &sharp, corner, v, points),
+            };
+        },
+    );
+}
+
+/// The most spokes a vertex may have to take [`quad_limit_into`]'s fast path.
+const FAST_VALENCE: usize = 16;
+
+/// [`limit_into`] on a Catmull–Clark level `mesh` split from `parent` by `split`. A vertex with
+/// no sharp spoke, no corner sharpness and 3 to [`FAST_VALENCE`] spokes (nearly all of them) has
+/// its ring read from the parent straight into a fixed buffer, by its kind: a parent vertex's
+/// spokes walked round it in the parent, an edge point's four and a face point's from its edge
+/// and face without a walk; the columns and the valence's shared mask are those
+/// [`SplitTopology::quad_spokes`] and [`RingMask::smooth`] give, in the same order, so the bits
+/// are those of the stencils. Every other vertex takes the general path.
+#[allow(clippy::too_many_arguments)]
+fn quad_limit_into(
+    parent: &PolyMesh,
+    split: &SplitTopology,
+    sharpness: &[f64],
+    corners: &[f64],
+    mesh: &PolyMesh,
+    points: &[DVec3],
+    limit: &mut [DVec3],
+    normals: &mut [DVec3],
+) {
+    let n = mesh.vertex_count();
+    let masks: Vec<RingMask> = (0..=FAST_VALENCE).map(|k| RingMask::smooth(Scheme::CatmullClark, k.max(3))).collect();
+    let sharp = |e: EdgeId| sharpness[e.index()];
+    let (nv, first_face_point) = (split.parent_vertex_count() as u32, split.first_face_point() as u32);
+    let edge_point = |h: HalfedgeId| nv + (h.0 >> 1);
+    let face_point = |h: HalfedgeId| split.face_point(parent.face(h)).map_or(u32::MAX, |p| p.0);
+    // The ring of a smooth vertex of valence 3..=FAST_VALENCE, or its valence as 0 otherwise.
+    let fast_ring = |v: u32, ring: &mut [u32; 2 * FAST_VALENCE + 1]| -> usize {
+        ring[0] = v;
+        let mut k = 0;
+        let mut push = |to: u32, across: u32| {
+            if k < FAST_VALENCE {
+                ring[1 + 2 * k] = to;
+                ring[2 + 2 * k] = across;
+            }
+            k += 1;
+        };
+        if v < nv {
+            let start = parent.vertex_halfedge(VertexId(v));
+            if !start.is_valid() || parent.is_boundary_halfedge(start) {
+                return 0;
+            }
+            for h in parent.outgoing(VertexId(v)) {
+                if sharpness[h.index()] > 0.0 {
+                    return 0;
+                }
+                push(edge_point(h), face_point(h));
+            }
+        } else if v < first_face_point {
+            let e = EdgeId(v - nv);
+            let (a, b) = (e.halfedge(0), e.halfedge(1));
+            if parent.is_boundary_halfedge(a) || parent.is_boundary_halfedge(b) {
+                return 0;
+            }
+            if sharpness[a.index()] > 0.0 || sharpness[b.index()] > 0.0 {
+                return 0;
+            }
+            push(parent.to_vertex(b).0, edge_point(parent.next(b)));
+            push(face_point(b), edge_point(parent.prev(b)));
+            push(parent.to_vertex(a).0, edge_point(parent.next(a)));
+            push(face_point(a), edge_point(parent.prev(a)));
+        } else {
+            let VertexOrigin::Face(f) = split.origin(VertexId(v)) else { unreachable!("face points come last") };
+            for h in parent.face_halfedges(f) {
+                push(edge_point(h), parent.to_vertex(h).0);
+            }
+        }
+        if (3..=FAST_VALENCE).contains(&k) { k } else { 0 }
+    };
+    limit.par_iter_mut().zip(normals.par_iter_mut()).with_min_len(4096).enumerate().for_each_init(
+        || (DirectScratch::new(n), [0u32; 2 * FAST_VALENCE + 1]),
+        |(d, ring), (v, (p, normal))| {
+            let corner = corners.get(v).is_some_and(|&s| s > 0.0);
+            let k = if corner { 0 } else { fast_ring(v as u32, ring) };
+            (*p, *normal) = if k > 0 {
+                apply_ring(&masks[k], &ring[..2 * k + 1], points)
+            } else {
+                let v = VertexId(v as u32);
+                d.ring.clear();
+                match if corner { None } else { derived_smooth_ring(parent, split, sharpness, v, &mut d.ring) } {
+                    Some(slot) => {
+                        let ring = std::mem::take(&mut d.ring);
+                        let out = apply_ring(d.mask(Scheme::CatmullClark, slot), &ring, points);
+                        d.ring = ring;
+                        out
+                    }
+                    None => d.general(Scheme::CatmullClark, mesh, &sharp, corner, v, points),
+                }
             };
         },
     );

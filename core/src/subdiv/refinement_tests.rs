@@ -65,6 +65,21 @@ fn creased_torus() -> (PolyMesh, Vec<f64>) {
     (cage, sharpness)
 }
 
+/// A cone of twenty triangles on a twenty-sided base: the apex and the base's face point have
+/// more spokes than the fast path of the limit takes.
+fn cone() -> PolyMesh {
+    let mut p: Vec<DVec3> = (0..20)
+        .map(|k| {
+            let a = std::f64::consts::TAU * k as f64 / 20.0;
+            DVec3::new(a.cos(), a.sin(), 0.05 * (k % 3) as f64)
+        })
+        .collect();
+    p.push(DVec3::new(0.1, 0.0, 1.0));
+    let mut faces: Vec<Vec<u32>> = vec![(0..20).rev().collect()];
+    faces.extend((0..20).map(|k| vec![k, (k + 1) % 20, 20]));
+    PolyMesh::from_polygons(p, &faces).unwrap()
+}
+
 fn triangulated(cage: &PolyMesh) -> PolyMesh {
     crate::mesh::edit::triangulate(cage, None, crate::mesh::edit::Triangulation::Fan).unwrap().mesh
 }
@@ -84,6 +99,8 @@ fn cages() -> Vec<Case> {
         ("creased pyramid", pyramid, Scheme::CatmullClark, sharpness, corners, 3),
         ("open strip", open_strip(), Scheme::CatmullClark, vec![], vec![], 3),
         ("pillow", pillow(), Scheme::CatmullClark, vec![], vec![], 3),
+        ("cone", cone(), Scheme::CatmullClark, vec![], vec![], 3),
+        ("cone, one level", cone(), Scheme::CatmullClark, vec![], vec![], 1),
         ("creased torus", torus.clone(), Scheme::CatmullClark, torus_sharpness.clone(), vec![], 3),
         ("Loop pyramid", loop_pyramid, Scheme::Loop, loop_sharpness, loop_corners, 3),
         ("Loop open strip", triangulated(&open_strip()), Scheme::Loop, vec![], vec![], 3),

@@ -215,9 +215,17 @@ fn vertex_point(scheme: Scheme, mesh: &PolyMesh, sharpness: &[f64], corner: f64,
         return;
     }
     let edge_sharpness = || mesh.outgoing(v).map(|h| sharp(sharpness, h.edge()));
-    let parent_rule = Rule::of(corner, edge_sharpness().filter(|&s| s > 0.0).count());
+    // One walk round `v` counts its spokes, faces and sharp edges (a smooth vertex, nearly every
+    // one, needs no other before its mask).
+    let (mut spokes, mut faces, mut sharp_edges) = (0, 0, 0);
+    for h in mesh.outgoing(v) {
+        spokes += 1;
+        faces += usize::from(!mesh.is_boundary_halfedge(h));
+        sharp_edges += usize::from(sharp(sharpness, h.edge()) > 0.0);
+    }
+    let parent_rule = Rule::of(corner, sharp_edges);
     if matches!(parent_rule, Rule::Smooth | Rule::Dart) {
-        smooth_vertex(scheme, mesh, v, 1.0, b);
+        counted_smooth_vertex(scheme, mesh, v, spokes, faces, 1.0, b);
         return;
     }
     let child_corner = child_sharpness(corner);
@@ -256,11 +264,23 @@ fn rule_mask(
 }
 
 fn smooth_vertex(scheme: Scheme, mesh: &PolyMesh, v: VertexId, scale: f64, b: &mut impl Sink) {
-    let n = mesh.valence(v);
+    let faces = mesh.outgoing(v).filter(|&h| !mesh.is_boundary_halfedge(h)).count();
+    counted_smooth_vertex(scheme, mesh, v, mesh.valence(v), faces, scale, b);
+}
+
+/// [`smooth_vertex`] with `v`'s valence `n` and its number of faces already counted.
+fn counted_smooth_vertex(
+    scheme: Scheme,
+    mesh: &PolyMesh,
+    v: VertexId,
+    n: usize,
+    faces: usize,
+    scale: f64,
+    b: &mut impl Sink,
+) {
     match scheme {
         Scheme::CatmullClark => {
             let w = scale / (n * n) as f64;
-            let faces = mesh.outgoing(v).filter(|&h| !mesh.is_boundary_halfedge(h)).count();
             b.add(v.0, scale - (n + faces) as f64 * w);
             for h in mesh.outgoing(v) {
                 b.add(mesh.to_vertex(h).0, w);

@@ -91,30 +91,8 @@ impl SplitTopology {
         }
         let plan = Plan::new(parent, rule);
         let nh = (plan.halves + 2 * plan.interior.len() as u32) as usize;
-        // The four halfedge arrays in one pass: each child halfedge's parent halfedge, face and
-        // face point are looked up once for all four.
-        let mut halfedge_to = vec![VertexId::INVALID; nh];
-        let mut halfedge_next = vec![HalfedgeId::INVALID; nh];
-        let mut halfedge_prev = vec![HalfedgeId::INVALID; nh];
-        let mut halfedge_face = vec![FaceId::INVALID; nh];
-        halfedge_to
-            .par_chunks_mut(PARALLEL_CHUNK)
-            .zip(halfedge_next.par_chunks_mut(PARALLEL_CHUNK))
-            .zip(halfedge_prev.par_chunks_mut(PARALLEL_CHUNK))
-            .zip(halfedge_face.par_chunks_mut(PARALLEL_CHUNK))
-            .enumerate()
-            .for_each(|(k, (((to, next), prev), face))| {
-                let first = (k * PARALLEL_CHUNK) as u32;
-                for (i, (((to, next), prev), face)) in
-                    to.iter_mut().zip(next.iter_mut()).zip(prev.iter_mut()).zip(face.iter_mut()).enumerate()
-                {
-                    let x = first + i as u32;
-                    *to = plan.to(x);
-                    *next = HalfedgeId(plan.next(x));
-                    *prev = HalfedgeId(plan.prev(x));
-                    *face = plan.face(x);
-                }
-            });
+        let ChildHalfedges { to: halfedge_to, next: halfedge_next, prev: halfedge_prev, face: halfedge_face } =
+            if rule == SplitRule::Quads { plan.quad_halfedges(nh) } else { plan.halfedges(nh) };
         let mesh = PolyMesh::from_halfedges(HalfedgeArrays {
             positions: plan.positions(),
             vertex_halfedge: (0..plan.vertex_count() as u32)
@@ -138,6 +116,65 @@ impl SplitTopology {
             face_point: plan.face_point,
             face_parent,
         })
+    }
+}
+
+/// The four halfedge arrays of a child mesh.
+struct ChildHalfedges {
+    to: Vec<VertexId>,
+    next: Vec<HalfedgeId>,
+    prev: Vec<HalfedgeId>,
+    face: Vec<FaceId>,
+}
+
+impl ChildHalfedges {
+    fn new(nh: usize) -> Self {
+        ChildHalfedges {
+            to: vec![VertexId::INVALID; nh],
+            next: vec![HalfedgeId::INVALID; nh],
+            prev: vec![HalfedgeId::INVALID; nh],
+            face: vec![FaceId::INVALID; nh],
+        }
+    }
+}
+
+/// One rayon task's share of [`ChildHalfedges`]: the entries `first..` of each array.
+struct HalfedgeSlices<'a> {
+    first: u32,
+    to: &'a mut [VertexId],
+    next: &'a mut [HalfedgeId],
+    prev: &'a mut [HalfedgeId],
+    face: &'a mut [FaceId],
+}
+
+impl<'a> HalfedgeSlices<'a> {
+    /// `all` cut at `ends` (increasing child halfedge indices, the last one `all`'s length)
+    /// into consecutive pieces.
+    fn cut(all: &'a mut ChildHalfedges, ends: &[usize]) -> Vec<Self> {
+        let (mut to, mut next) = (&mut all.to[..], &mut all.next[..]);
+        let (mut prev, mut face) = (&mut all.prev[..], &mut all.face[..]);
+        let mut first = 0;
+        let mut out = Vec::with_capacity(ends.len());
+        for &end in ends {
+            let k = end - first;
+            let (a, rest_to) = std::mem::take(&mut to).split_at_mut(k);
+            let (b, rest_next) = std::mem::take(&mut next).split_at_mut(k);
+            let (c, rest_prev) = std::mem::take(&mut prev).split_at_mut(k);
+            let (d, rest_face) = std::mem::take(&mut face).split_at_mut(k);
+            out.push(HalfedgeSlices { first: first as u32, to: a, next: b, prev: c, face: d });
+            (to, next, prev, face) = (rest_to, rest_next, rest_prev, rest_face);
+            first = end;
+        }
+        out
+    }
+
+    #[inline(always)]
+    fn set(&mut self, x: u32, to: u32, next: u32, prev: u32, face: FaceId) {
+        let i = (x - self.first) as usize;
+        self.to[i] = VertexId(to);
+        self.next[i] = HalfedgeId(next);
+        self.prev[i] = HalfedgeId(prev);
+        self.face[i] = face;
     }
 }
 
@@ -212,6 +249,69 @@ impl<'a> Plan<'a> {
 
     fn vertex_count(&self) -> usize {
         self.parent.vertex_count() + self.parent.edge_count() + self.face_point_face.len()
+    }
+
+    /// The child halfedges of any rule, each a function of its index alone.
+    fn halfedges(&self, nh: usize) -> ChildHalfedges {
+        let mut out = ChildHalfedges::new(nh);
+        let ends: Vec<usize> = (1..=nh.div_ceil(PARALLEL_CHUNK)).map(|k| (k * PARALLEL_CHUNK).min(nh)).collect();
+        HalfedgeSlices::cut(&mut out, &ends).into_par_iter().for_each(|mut s| {
+            for x in s.first..s.first + s.to.len() as u32 {
+                s.set(x, self.to(x).0, self.next(x), self.prev(x), self.face(x));
+            }
+        });
+        out
+    }
+
+    /// The child halfedges of a split into quads, filled per parent halfedge `h`: the two halves
+    /// `2h`, `2h + 1` of its edge and the two halfedges `H + 2 slot(h)`, `+ 1` of the edge from its
+    /// edge point to its face point (`H` = [`Plan::halves`]). Each child halfedge is a function of
+    /// the few parent elements round `h`, read once for all four rather than once per child
+    /// halfedge and array as [`Plan::to`], [`Plan::next`], … do (the same values: the tests
+    /// compare both). The quad at corner `h` of face `f` (prev `p`) is
+    /// `2h → H + 2 slot(h) → H + 2 slot(p) + 1 → 2 (p ^ 1) + 1`.
+    fn quad_halfedges(&self, nh: usize) -> ChildHalfedges {
+        let parent = self.parent;
+        let (halves, nv) = (self.halves, parent.vertex_count() as u32);
+        let np = parent.halfedge_count();
+        let mut out = ChildHalfedges::new(nh);
+        // Tasks by ranges of parent halfedges; each writes one piece of the halves and one of
+        // the edges inside faces.
+        let starts: Vec<usize> = (0..np.div_ceil(PARALLEL_CHUNK)).map(|k| k * PARALLEL_CHUNK).collect();
+        let interior_at = |h: usize| self.slot.get(h).map_or(self.interior.len(), |&s| s as usize);
+        let half_ends: Vec<usize> = starts.iter().map(|&h| 2 * (h + PARALLEL_CHUNK).min(np)).collect();
+        let inner_ends: Vec<usize> =
+            starts.iter().map(|&h| halves as usize + 2 * interior_at((h + PARALLEL_CHUNK).min(np))).collect();
+        let ends: Vec<usize> = half_ends.into_iter().chain(inner_ends).collect();
+        let mut half_pieces = HalfedgeSlices::cut(&mut out, &ends);
+        let inner_pieces = half_pieces.split_off(starts.len());
+        half_pieces.into_par_iter().zip(inner_pieces).zip(starts).for_each(|((mut half, mut inner), h0)| {
+            let h1 = (h0 + PARALLEL_CHUNK).min(np) as u32;
+            let inside = |h: u32| halves + 2 * self.slot[h as usize];
+            let corner_face = |f: FaceId, h: u32| FaceId(self.first_child[f.index()] + self.corner[h as usize]);
+            for h in h0 as u32..h1 {
+                let id = HalfedgeId(h);
+                let (t, m) = (h ^ 1, nv + (h >> 1));
+                let (f, ft) = (parent.face(id), parent.face(HalfedgeId(t)));
+                let (next, prev) = (parent.next(id).0, parent.prev(id).0);
+                let twin_next = parent.next(HalfedgeId(t)).0;
+                // 2h: from h's origin to its edge point.
+                let (after, face) =
+                    if f.is_valid() { (inside(h), corner_face(f, h)) } else { (2 * t + 1, FaceId::INVALID) };
+                half.set(2 * h, m, after, 2 * (prev ^ 1) + 1, face);
+                // 2h + 1: back to the origin, in the twin's face at the corner of the twin's next.
+                let (before, face) =
+                    if ft.is_valid() { (inside(t) + 1, corner_face(ft, twin_next)) } else { (2 * t, FaceId::INVALID) };
+                half.set(2 * h + 1, parent.to_vertex(HalfedgeId(t)).0, 2 * twin_next, before, face);
+                if f.is_valid() {
+                    let point = self.face_point[f.index()].0;
+                    let b = inside(h);
+                    inner.set(b, point, inside(prev) + 1, 2 * h, corner_face(f, h));
+                    inner.set(b + 1, m, 2 * t + 1, inside(next), corner_face(f, next));
+                }
+            }
+        });
+        out
     }
 
     /// The edge point on parent halfedge `h`'s edge.
@@ -629,6 +729,42 @@ mod tests {
         assert!(s.mesh.faces().all(|f| s.mesh.face_valence(f) == 3));
         assert_eq!(s.mesh.euler_characteristic(), 2);
         assert!(tet.faces().all(|f| s.face_point(f).is_none()));
+    }
+
+    #[test]
+    fn quad_halfedges_are_the_index_functions() {
+        // The per-parent-halfedge fill of a split into quads gives every child halfedge the
+        // values the index functions give: pentagon, triangles, open boundaries, an isolated
+        // vertex, and meshes large enough to be cut into several tasks.
+        let isolated = {
+            let strip = open_mixed();
+            let mut p = strip.positions().to_vec();
+            p.push(DVec3::splat(7.0));
+            PolyMesh::from_polygons(p, &strip.polygons()).unwrap()
+        };
+        let grid = {
+            // 90 × 70 quads with a hole: over 12,000 parent halfedges, several tasks.
+            let (nx, ny) = (91u32, 71u32);
+            let p = (0..nx * ny).map(|k| DVec3::new((k % nx) as f64, (k / nx) as f64, 0.0)).collect();
+            let faces: Vec<[u32; 4]> = (0..ny - 1)
+                .flat_map(|j| (0..nx - 1).map(move |i| (i, j)))
+                .filter(|&(i, j)| !(40..45).contains(&i) || !(30..33).contains(&j))
+                .map(|(i, j)| [j * nx + i, j * nx + i + 1, (j + 1) * nx + i + 1, (j + 1) * nx + i])
+                .collect();
+            PolyMesh::from_polygons(p, &faces).unwrap()
+        };
+        for cage in [pyramid_with_pentagon(), open_mixed(), isolated, grid] {
+            let first = SplitTopology::split(&cage, SplitRule::Quads).unwrap();
+            for parent in [&cage, &first.mesh] {
+                let plan = Plan::new(parent, SplitRule::Quads);
+                let nh = (plan.halves + 2 * plan.interior.len() as u32) as usize;
+                let (fast, slow) = (plan.quad_halfedges(nh), plan.halfedges(nh));
+                assert_eq!(fast.to, slow.to);
+                assert_eq!(fast.next, slow.next);
+                assert_eq!(fast.prev, slow.prev);
+                assert_eq!(fast.face, slow.face);
+            }
+        }
     }
 
     #[test]
