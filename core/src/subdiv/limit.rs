@@ -216,6 +216,13 @@ impl RingWalk {
 
 #[inline]
 fn apply_ring(mask: &RingMask, columns: &[u32], points: &[DVec3]) -> (DVec3, DVec3) {
+    let (p, cross) = ring_sums(mask, columns, points);
+    (p, cross.normalize_or_zero())
+}
+
+/// The limit position and the tangents' cross product (not yet normalised) of a ring.
+#[inline]
+fn ring_sums(mask: &RingMask, columns: &[u32], points: &[DVec3]) -> (DVec3, DVec3) {
     let (mut p, mut t1, mut t2) = (DVec3::ZERO, DVec3::ZERO, DVec3::ZERO);
     for (&c, w) in columns.iter().zip(&mask.weights) {
         let x = points[c as usize];
@@ -223,7 +230,7 @@ fn apply_ring(mask: &RingMask, columns: &[u32], points: &[DVec3]) -> (DVec3, DVe
         t1 += w[1] * x;
         t2 += w[2] * x;
     }
-    (p, t1.cross(t2).normalize_or_zero())
+    (p, t1.cross(t2))
 }
 
 /// The unit normal from tangent pairs `pairs` of `tangents` (rows `2p`, `2p + 1`).

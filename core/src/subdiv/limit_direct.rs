@@ -121,26 +121,38 @@ fn quad_limit_into(
         }
         if (3..=FAST_VALENCE).contains(&k) { k } else { 0 }
     };
-    limit.par_iter_mut().zip(normals.par_iter_mut()).with_min_len(4096).enumerate().for_each_init(
-        || (DirectScratch::new(n), [0u32; 2 * FAST_VALENCE + 1]),
-        |(d, ring), (v, (p, normal))| {
-            let corner = corners.get(v).is_some_and(|&s| s > 0.0);
-            let k = if corner { 0 } else { fast_ring(v as u32, ring) };
-            (*p, *normal) = if k > 0 {
-                apply_ring(&masks[k], &ring[..2 * k + 1], points)
-            } else {
-                let v = VertexId(v as u32);
-                d.ring.clear();
-                match if corner { None } else { derived_smooth_ring(parent, split, sharpness, v, &mut d.ring) } {
-                    Some(slot) => {
-                        let ring = std::mem::take(&mut d.ring);
-                        let out = apply_ring(d.mask(Scheme::CatmullClark, slot), &ring, points);
-                        d.ring = ring;
-                        out
+    // By chunks: the fast vertices' normals are normalised in a second loop over the chunk, where
+    // the square roots and divisions of independent vertices overlap instead of each waiting at
+    // the end of a long ring walk (the same operations, so the same bits).
+    const CHUNK: usize = 4096;
+    limit.par_chunks_mut(CHUNK).zip(normals.par_chunks_mut(CHUNK)).enumerate().for_each_init(
+        || (DirectScratch::new(n), [0u32; 2 * FAST_VALENCE + 1], Vec::with_capacity(CHUNK)),
+        |(d, ring, fast), (c, (limit, normals))| {
+            fast.clear();
+            for (i, (p, normal)) in limit.iter_mut().zip(normals.iter_mut()).enumerate() {
+                let v = c * CHUNK + i;
+                let corner = corners.get(v).is_some_and(|&s| s > 0.0);
+                let k = if corner { 0 } else { fast_ring(v as u32, ring) };
+                (*p, *normal) = if k > 0 {
+                    fast.push(i as u32);
+                    ring_sums(&masks[k], &ring[..2 * k + 1], points)
+                } else {
+                    let v = VertexId(v as u32);
+                    d.ring.clear();
+                    match if corner { None } else { derived_smooth_ring(parent, split, sharpness, v, &mut d.ring) } {
+                        Some(slot) => {
+                            let ring = std::mem::take(&mut d.ring);
+                            let out = apply_ring(d.mask(Scheme::CatmullClark, slot), &ring, points);
+                            d.ring = ring;
+                            out
+                        }
+                        None => d.general(Scheme::CatmullClark, mesh, &sharp, corner, v, points),
                     }
-                    None => d.general(Scheme::CatmullClark, mesh, &sharp, corner, v, points),
-                }
-            };
+                };
+            }
+            for &i in fast.iter() {
+                normals[i as usize] = normals[i as usize].normalize_or_zero();
+            }
         },
     );
 }
