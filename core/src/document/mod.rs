@@ -25,6 +25,7 @@ pub mod modelling;
 pub mod reference_images;
 mod scheme;
 pub mod symmetry;
+mod symmetry_lineage;
 pub mod units;
 
 pub use edit::Edit;

@@ -6,8 +6,9 @@
 //! - **One half** (every vertex on one side of the plane or on it): the surface of every scheme
 //!   but the curve mesh is made on the *mirrored whole* ([`MirroredWhole`]: the cage made whole by
 //!   [`apply_mirror`], rebuilt only when the half's connectivity or the set of its plane vertices
-//!   changes, so a drag only moves positions and NUSD warm-starts). The designer edits the real
-//!   half; the virtual half follows exactly (bitwise reflections).
+//!   changes, so a drag only moves positions and NUSD warm-starts; after a modelling edit of the
+//!   half the new whole keeps its lineage from the old one, so NUSD warm-starts then too). The
+//!   designer edits the real half; the virtual half follows exactly (bitwise reflections).
 //! - **Both halves** (a symmetric cage, or one after Apply mirror): editing either half edits the
 //!   other. [`Document::apply`] expands every move of cage points with [`mirror_moves`] (the
 //!   partner goes to the reflection; both partners moved meet at the nearest symmetric pair), and
@@ -31,8 +32,9 @@
 use crate::document::Document;
 use crate::document::Edit;
 use crate::document::SchemeKind;
+use crate::document::symmetry_lineage::{self, Sides};
 use crate::mesh::edit::{
-    Axis, CarryRule, DEFAULT_MIRROR_TOLERANCE, Edited, MirrorPartner, MirrorPlane, Provenance, VertexOrigin,
+    Axis, CarryRule, DEFAULT_MIRROR_TOLERANCE, Edited, Lineage, MirrorPartner, MirrorPlane, Provenance, VertexOrigin,
     apply_mirror, carry_edge_property, carry_vertex_property, mirror_moves, mirror_partners,
 };
 use crate::mesh::{EdgeId, VertexId};
@@ -256,11 +258,27 @@ enum Source {
 /// The mirrored whole of a one-half document, for its surface: built by [`apply_mirror`] once
 /// per connectivity and set of plane vertices, then only re-positioned. The whole's first
 /// vertices are the half's, so cage vertex `i` of the surface is the document's vertex `i`.
+///
+/// Each whole built after another carries its lineage from that one ([`Document::lineage`],
+/// composed in `symmetry_lineage.rs`) when the half is the one the previous whole was made of,
+/// edited by the modelling edit the document keeps (or unchanged), so the NUSD surface
+/// warm-starts after a topology edit with the mirror on. Any other half (an undo, a file loaded)
+/// gives a whole with no lineage: a cold start.
 #[derive(Clone, Debug, Default)]
 pub struct MirroredWhole {
     /// The half's topology generation, plane and plane vertices the template was built for.
     key: Option<(u64, Axis, u64, Vec<bool>)>,
-    template: Option<(Edited, Vec<Source>)>,
+    template: Option<Template>,
+}
+
+/// The whole's connectivity for one key, where its positions come from, where the half's
+/// elements lie in it, and its lineage from the whole before.
+#[derive(Clone, Debug)]
+struct Template {
+    edited: Edited,
+    sources: Vec<Source>,
+    sides: Sides,
+    lineage: Option<Arc<Lineage>>,
 }
 
 impl MirroredWhole {
@@ -276,7 +294,7 @@ impl MirroredWhole {
         let on_plane: Vec<bool> = doc.cage.positions().iter().map(|&p| plane.distance(p).abs() <= tol).collect();
         let key = (doc.cage.topology_generation(), plane.axis, plane.offset.to_bits(), on_plane);
         if self.key.as_ref() != Some(&key) || self.template.is_none() {
-            self.template = None;
+            let previous = self.template.take().zip(self.key.take());
             let edited = apply_mirror(&doc.cage, plane, DEFAULT_MIRROR_TOLERANCE)?;
             let sources = edited
                 .provenance
@@ -289,11 +307,31 @@ impl MirroredWhole {
                     other => Err(Error::Topology(format!("mirror: unexpected vertex origin {other:?}"))),
                 })
                 .collect::<Result<Vec<_>>>()?;
-            self.template = Some((edited, sources));
+            let sides = Sides::new(&doc.cage, &edited)?;
+            let lineage = match previous {
+                Some((old, (half_topology, ..))) => {
+                    // The half's edit since the previous whole: none, or the document's last one.
+                    let unchanged_half;
+                    let half_edit = if half_topology == doc.cage.topology_generation() {
+                        unchanged_half = symmetry_lineage::unchanged(&doc.cage);
+                        Some(&unchanged_half)
+                    } else {
+                        doc.lineage().filter(|l| l.from == half_topology).map(|l| &l.provenance)
+                    };
+                    match half_edit {
+                        Some(p) => symmetry_lineage::whole_lineage(&old.sides, p, &edited, &sides)?.map(Arc::new),
+                        None => None,
+                    }
+                }
+                None => None,
+            };
+            self.template = Some(Template { edited, sources, sides, lineage });
             self.key = Some(key);
         }
-        let Some((edited, sources)) = &self.template else { return Ok(None) };
-        Ok(Some(whole_document(doc, plane, &edited.mesh, &edited.provenance, sources)?))
+        let Some(t) = &self.template else { return Ok(None) };
+        let mut whole = whole_document(doc, plane, &t.edited.mesh, &t.edited.provenance, &t.sources)?;
+        whole.lineage = t.lineage.clone();
+        Ok(Some(whole))
     }
 }
 
