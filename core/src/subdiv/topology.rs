@@ -210,40 +210,86 @@ struct Plan<'a> {
 impl<'a> Plan<'a> {
     fn new(parent: &'a PolyMesh, rule: SplitRule) -> Self {
         let (nv, ne, nf) = (parent.vertex_count(), parent.edge_count(), parent.face_count());
-        let mut corner = vec![u32::MAX; parent.halfedge_count()];
+        let valence: Vec<u32> = (0..nf as u32)
+            .into_par_iter()
+            .with_min_len(PARALLEL_CHUNK)
+            .map(|f| parent.face_valence(FaceId(f)) as u32)
+            .collect();
         let mut first_child = Vec::with_capacity(nf + 1);
         let mut face_point = vec![VertexId::INVALID; nf];
         let mut face_point_face = Vec::new();
         let mut children = 0u32;
-        for f in parent.faces() {
+        for (f, &n) in valence.iter().enumerate() {
             first_child.push(children);
-            let mut n = 0;
-            for h in parent.face_halfedges(f) {
-                corner[h.index()] = n;
-                n += 1;
-            }
             let quads = match rule {
                 SplitRule::Quads => true,
                 SplitRule::Triangles => false,
                 SplitRule::Mixed => n != 3,
             };
             if quads {
-                face_point[f.index()] = VertexId((nv + ne + face_point_face.len()) as u32);
-                face_point_face.push(f);
+                face_point[f] = VertexId((nv + ne + face_point_face.len()) as u32);
+                face_point_face.push(FaceId(f as u32));
                 children += n;
             } else {
                 children += 4;
             }
         }
         first_child.push(children);
-        let mut slot = Vec::with_capacity(corner.len());
-        let mut interior = Vec::with_capacity(corner.len());
-        for (h, &k) in corner.iter().enumerate() {
-            slot.push(interior.len() as u32);
-            if k != u32::MAX {
-                interior.push(h as u32);
-            }
+        // A halfedge's corner: the steps back round its face to the face's first halfedge.
+        let corner: Vec<u32> = (0..parent.halfedge_count() as u32)
+            .into_par_iter()
+            .with_min_len(PARALLEL_CHUNK)
+            .map(|h| {
+                let f = parent.face(HalfedgeId(h));
+                if !f.is_valid() {
+                    return u32::MAX;
+                }
+                let (first, mut at, mut k) = (parent.face_halfedge(f), HalfedgeId(h), 0);
+                while at != first {
+                    at = parent.prev(at);
+                    k += 1;
+                }
+                k
+            })
+            .collect();
+        // Slots by chunks: each chunk's halfedges with a face counted in parallel, the counts
+        // summed, then each chunk numbered from its sum.
+        let counts: Vec<u32> =
+            corner.par_chunks(PARALLEL_CHUNK).map(|c| c.iter().filter(|&&k| k != u32::MAX).count() as u32).collect();
+        let firsts: Vec<u32> = counts
+            .iter()
+            .scan(0, |sum, &c| {
+                let first = *sum;
+                *sum += c;
+                Some(first)
+            })
+            .collect();
+        let with_faces = counts.iter().sum::<u32>() as usize;
+        let mut slot = vec![0u32; corner.len()];
+        let mut interior = vec![0u32; with_faces];
+        let mut pieces = Vec::with_capacity(counts.len());
+        let mut rest = &mut interior[..];
+        for &c in &counts {
+            let (piece, tail) = std::mem::take(&mut rest).split_at_mut(c as usize);
+            pieces.push(piece);
+            rest = tail;
         }
+        slot.par_chunks_mut(PARALLEL_CHUNK)
+            .zip(corner.par_chunks(PARALLEL_CHUNK))
+            .zip(pieces)
+            .zip(firsts)
+            .enumerate()
+            .for_each(|(k, (((slot, corner), interior), first))| {
+                let mut next = first;
+                let mut inner = interior.iter_mut();
+                for (i, (s, &c)) in slot.iter_mut().zip(corner).enumerate() {
+                    *s = next;
+                    if c != u32::MAX {
+                        *inner.next().expect("counted") = (k * PARALLEL_CHUNK + i) as u32;
+                        next += 1;
+                    }
+                }
+            });
         Plan { parent, halves: 4 * ne as u32, corner, slot, interior, first_child, face_point, face_point_face }
     }
 
