@@ -14,10 +14,6 @@
 //! `step_out`, the STEP export it shares with the command line).
 //! Run with `cargo bench -p taut-app --bench editor_ops`. `TAUT_BENCH_QUICK=1` runs fewer repeats.
 
-/// The allocator the `taut` binary uses (`src/main.rs`), so the times are the editor's.
-#[global_allocator]
-static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
-
 #[allow(dead_code, unused_imports)]
 #[path = "../src/editor/mod.rs"]
 mod editor;
@@ -148,6 +144,8 @@ impl Table {
 }
 
 fn main() {
+    // The allocator settings of the `taut` binary, so the times are the editor's.
+    taut_core::memory::keep_freed_memory();
     let quick = std::env::var_os("TAUT_BENCH_QUICK").is_some();
     let repeats = if quick { 3 } else { 9 };
     let ring = torus(200, 100, 2.0, 0.6).unwrap();

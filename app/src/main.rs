@@ -24,14 +24,6 @@ mod subdivide_cmd;
 mod surface_cmd;
 
 use clap::{Parser, Subcommand};
-
-/// mimalloc keeps the pages it was given for the next allocation instead of handing them back
-/// to the system at every free, as glibc's allocator does with large blocks: a topology edit
-/// rebuilds every subdivision level (tens of MB on a large cage), and with glibc a third of a
-/// fresh Catmull–Clark level 3 went to the kernel faulting in and clearing new pages
-/// (`docs/subdivision.md`). The benchmarks that time Taut use it too.
-#[global_allocator]
-static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 use std::process::ExitCode;
 
 /// Taut: smooth surfaces from coarse polygon cages (NUSD smoothing with tension).
@@ -77,6 +69,7 @@ enum Command {
 }
 
 fn main() -> ExitCode {
+    taut_core::memory::keep_freed_memory();
     // A bug must still end in one readable line, not a backtrace.
     std::panic::set_hook(Box::new(|info| {
         let what = info

@@ -13,10 +13,6 @@
 //!
 //! Run with `cargo bench -p taut-core --bench cage_fit`. `TAUT_BENCH_QUICK=1` skips the 1 M input.
 
-/// The allocator the `taut` binary uses (`app/src/main.rs`), so the times are the editor's.
-#[global_allocator]
-static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
-
 use std::hint::black_box;
 use std::time::Instant;
 use taut_core::DVec3;
@@ -199,6 +195,8 @@ fn solves(n: u32) {
 }
 
 fn main() {
+    // The allocator settings of the `taut` binary, so the times are the editor's.
+    taut_core::memory::keep_freed_memory();
     let quick = std::env::var_os("TAUT_BENCH_QUICK").is_some();
     println!("threads: {}", rayon::current_num_threads());
     pipeline("100k", 224);

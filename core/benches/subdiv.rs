@@ -28,10 +28,6 @@
 //! 25 runs. Run with `cargo bench -p taut-core --bench subdiv`; `TAUT_BENCH_QUICK=1` runs fewer
 //! repeats.
 
-/// The allocator the `taut` binary uses (`app/src/main.rs`), so the times are the editor's.
-#[global_allocator]
-static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
-
 use opensubdiv_rs::far::{
     PrimvarRefiner, StencilTableFactory, StencilTableOptions, TopologyDescriptor, TopologyRefiner,
     TopologyRefinerFactory, UniformOptions,
@@ -367,6 +363,8 @@ fn blender_row(cage: &PolyMesh, levels: usize, repeats: usize, ours: &Ours, same
 }
 
 fn main() {
+    // The allocator settings of the `taut` binary, so the times are the editor's.
+    taut_core::memory::keep_freed_memory();
     let quick = std::env::var_os("TAUT_BENCH_QUICK").is_some();
     let repeats = if quick { 3 } else { 25 };
     println!("threads: {}", rayon::current_num_threads());

@@ -20,10 +20,6 @@
 //! Run with `cargo bench -p taut-core --bench topology_edit`; `TAUT_BENCH_QUICK=1` runs fewer
 //! repeats.
 
-/// The allocator the `taut` binary uses (`app/src/main.rs`), so the times are the editor's.
-#[global_allocator]
-static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
-
 use std::time::{Duration, Instant};
 use taut_core::document::modelling::MeshEdit;
 use taut_core::document::symmetry::MirroredWhole;
@@ -69,6 +65,8 @@ fn complete(doc: &Document) {
 }
 
 fn main() {
+    // The allocator settings of the `taut` binary, so the times are the editor's.
+    taut_core::memory::keep_freed_memory();
     let quick = std::env::var_os("TAUT_BENCH_QUICK").is_some();
     let repeats = if quick { 2 } else { 7 };
     let cage = torus(64, 32, 2.0, 0.7).unwrap();

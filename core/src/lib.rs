@@ -17,6 +17,7 @@ pub mod document;
 pub mod error;
 pub mod gregory;
 pub mod io;
+pub mod memory;
 pub mod mesh;
 pub mod nusd;
 pub mod subdiv;
