@@ -1,0 +1,446 @@
+//! The plan of one split ([`super::SplitTopology::split`]): where every child element of a parent
+//! face and halfedge goes, and the child halfedges derived from it, by index functions for every
+//! rule and per parent halfedge for a split into quads.
+
+use super::SplitRule;
+use crate::DVec3;
+use crate::mesh::{EdgeId, FaceId, HalfedgeId, PolyMesh, VertexId};
+use rayon::prelude::*;
+
+/// The four halfedge arrays of a child mesh.
+pub(super) struct ChildHalfedges {
+    pub(super) to: Vec<VertexId>,
+    pub(super) next: Vec<HalfedgeId>,
+    pub(super) prev: Vec<HalfedgeId>,
+    pub(super) face: Vec<FaceId>,
+}
+
+impl ChildHalfedges {
+    fn new(nh: usize) -> Self {
+        ChildHalfedges {
+            to: vec![VertexId::INVALID; nh],
+            next: vec![HalfedgeId::INVALID; nh],
+            prev: vec![HalfedgeId::INVALID; nh],
+            face: vec![FaceId::INVALID; nh],
+        }
+    }
+}
+
+/// One rayon task's share of [`ChildHalfedges`]: the entries `first..` of each array.
+struct HalfedgeSlices<'a> {
+    first: u32,
+    to: &'a mut [VertexId],
+    next: &'a mut [HalfedgeId],
+    prev: &'a mut [HalfedgeId],
+    face: &'a mut [FaceId],
+}
+
+impl<'a> HalfedgeSlices<'a> {
+    /// `all` cut at `ends` (increasing child halfedge indices, the last one `all`'s length)
+    /// into consecutive pieces.
+    fn cut(all: &'a mut ChildHalfedges, ends: &[usize]) -> Vec<Self> {
+        let (mut to, mut next) = (&mut all.to[..], &mut all.next[..]);
+        let (mut prev, mut face) = (&mut all.prev[..], &mut all.face[..]);
+        let mut first = 0;
+        let mut out = Vec::with_capacity(ends.len());
+        for &end in ends {
+            let k = end - first;
+            let (a, rest_to) = std::mem::take(&mut to).split_at_mut(k);
+            let (b, rest_next) = std::mem::take(&mut next).split_at_mut(k);
+            let (c, rest_prev) = std::mem::take(&mut prev).split_at_mut(k);
+            let (d, rest_face) = std::mem::take(&mut face).split_at_mut(k);
+            out.push(HalfedgeSlices { first: first as u32, to: a, next: b, prev: c, face: d });
+            (to, next, prev, face) = (rest_to, rest_next, rest_prev, rest_face);
+            first = end;
+        }
+        out
+    }
+
+    #[inline(always)]
+    fn set(&mut self, x: u32, to: u32, next: u32, prev: u32, face: FaceId) {
+        let i = (x - self.first) as usize;
+        self.to[i] = VertexId(to);
+        self.next[i] = HalfedgeId(next);
+        self.prev[i] = HalfedgeId(prev);
+        self.face[i] = face;
+    }
+}
+
+/// Child elements made per rayon task.
+pub(super) const PARALLEL_CHUNK: usize = 4096;
+
+/// What the child halfedges are derived from: the parent mesh and, per parent face and
+/// halfedge, where its children go.
+///
+/// Child edges (the vertices' and faces' numbering is in the module docs): parent halfedge `h`
+/// gives child edge `h`, the half of its edge at its origin (halfedge `2h` from the origin to the
+/// edge point, `2h + 1` back), so the halves of parent edge `e` are child edges `2e` and `2e + 1`.
+/// Every parent halfedge with a face then gives one edge inside that face, numbered after the
+/// halves in halfedge order: from its edge point to the face point (a face split into quads) or
+/// to the previous halfedge's edge point (a triangle split in four). As [`PolyMesh`] requires,
+/// halfedge `2c` of child edge `c` runs from its lower vertex to its higher.
+pub(super) struct Plan<'a> {
+    pub(super) parent: &'a PolyMesh,
+    /// `4 · parent edges`: the first child halfedge inside a face.
+    pub(super) halves: u32,
+    /// Per parent halfedge: its corner index in its face (from the face's first halfedge).
+    pub(super) corner: Vec<u32>,
+    /// Per parent halfedge: the number of halfedges with a face before it.
+    pub(super) slot: Vec<u32>,
+    /// The parent halfedges with a face, in order (the inverse of `slot`).
+    pub(super) interior: Vec<u32>,
+    /// Per parent face: its first child face (one entry more, the child face count).
+    pub(super) first_child: Vec<u32>,
+    pub(super) face_point: Vec<VertexId>,
+    pub(super) face_point_face: Vec<FaceId>,
+}
+
+impl<'a> Plan<'a> {
+    pub(super) fn new(parent: &'a PolyMesh, rule: SplitRule) -> Self {
+        let (nv, ne, nf) = (parent.vertex_count(), parent.edge_count(), parent.face_count());
+        let valence: Vec<u32> = (0..nf as u32)
+            .into_par_iter()
+            .with_min_len(PARALLEL_CHUNK)
+            .map(|f| parent.face_valence(FaceId(f)) as u32)
+            .collect();
+        let mut first_child = Vec::with_capacity(nf + 1);
+        let mut face_point = vec![VertexId::INVALID; nf];
+        let mut face_point_face = Vec::new();
+        let mut children = 0u32;
+        for (f, &n) in valence.iter().enumerate() {
+            first_child.push(children);
+            let quads = match rule {
+                SplitRule::Quads => true,
+                SplitRule::Triangles => false,
+                SplitRule::Mixed => n != 3,
+            };
+            if quads {
+                face_point[f] = VertexId((nv + ne + face_point_face.len()) as u32);
+                face_point_face.push(FaceId(f as u32));
+                children += n;
+            } else {
+                children += 4;
+            }
+        }
+        first_child.push(children);
+        // A halfedge's corner: the steps back round its face to the face's first halfedge.
+        let corner: Vec<u32> = (0..parent.halfedge_count() as u32)
+            .into_par_iter()
+            .with_min_len(PARALLEL_CHUNK)
+            .map(|h| {
+                let f = parent.face(HalfedgeId(h));
+                if !f.is_valid() {
+                    return u32::MAX;
+                }
+                let (first, mut at, mut k) = (parent.face_halfedge(f), HalfedgeId(h), 0);
+                while at != first {
+                    at = parent.prev(at);
+                    k += 1;
+                }
+                k
+            })
+            .collect();
+        // Slots by chunks: each chunk's halfedges with a face counted in parallel, the counts
+        // summed, then each chunk numbered from its sum.
+        let counts: Vec<u32> =
+            corner.par_chunks(PARALLEL_CHUNK).map(|c| c.iter().filter(|&&k| k != u32::MAX).count() as u32).collect();
+        let firsts: Vec<u32> = counts
+            .iter()
+            .scan(0, |sum, &c| {
+                let first = *sum;
+                *sum += c;
+                Some(first)
+            })
+            .collect();
+        let with_faces = counts.iter().sum::<u32>() as usize;
+        let mut slot = vec![0u32; corner.len()];
+        let mut interior = vec![0u32; with_faces];
+        let mut pieces = Vec::with_capacity(counts.len());
+        let mut rest = &mut interior[..];
+        for &c in &counts {
+            let (piece, tail) = std::mem::take(&mut rest).split_at_mut(c as usize);
+            pieces.push(piece);
+            rest = tail;
+        }
+        slot.par_chunks_mut(PARALLEL_CHUNK)
+            .zip(corner.par_chunks(PARALLEL_CHUNK))
+            .zip(pieces)
+            .zip(firsts)
+            .enumerate()
+            .for_each(|(k, (((slot, corner), interior), first))| {
+                let mut next = first;
+                let mut inner = interior.iter_mut();
+                for (i, (s, &c)) in slot.iter_mut().zip(corner).enumerate() {
+                    *s = next;
+                    if c != u32::MAX {
+                        *inner.next().expect("counted") = (k * PARALLEL_CHUNK + i) as u32;
+                        next += 1;
+                    }
+                }
+            });
+        Plan { parent, halves: 4 * ne as u32, corner, slot, interior, first_child, face_point, face_point_face }
+    }
+
+    pub(super) fn vertex_count(&self) -> usize {
+        self.parent.vertex_count() + self.parent.edge_count() + self.face_point_face.len()
+    }
+
+    /// The child halfedges of any rule, each a function of its index alone.
+    pub(super) fn halfedges(&self, nh: usize) -> ChildHalfedges {
+        let mut out = ChildHalfedges::new(nh);
+        let ends: Vec<usize> = (1..=nh.div_ceil(PARALLEL_CHUNK)).map(|k| (k * PARALLEL_CHUNK).min(nh)).collect();
+        HalfedgeSlices::cut(&mut out, &ends).into_par_iter().for_each(|mut s| {
+            for x in s.first..s.first + s.to.len() as u32 {
+                s.set(x, self.to(x).0, self.next(x), self.prev(x), self.face(x));
+            }
+        });
+        out
+    }
+
+    /// The child halfedges of a split into quads, filled per parent halfedge `h`: the two halves
+    /// `2h`, `2h + 1` of its edge and the two halfedges `H + 2 slot(h)`, `+ 1` of the edge from its
+    /// edge point to its face point (`H` = [`Plan::halves`]). Each child halfedge is a function of
+    /// the few parent elements round `h`, read once for all four rather than once per child
+    /// halfedge and array as [`Plan::to`], [`Plan::next`], … do (the same values: the tests
+    /// compare both). The quad at corner `h` of face `f` (prev `p`) is
+    /// `2h → H + 2 slot(h) → H + 2 slot(p) + 1 → 2 (p ^ 1) + 1`.
+    pub(super) fn quad_halfedges(&self, nh: usize) -> ChildHalfedges {
+        let parent = self.parent;
+        let (halves, nv) = (self.halves, parent.vertex_count() as u32);
+        let np = parent.halfedge_count();
+        let mut out = ChildHalfedges::new(nh);
+        // Tasks by ranges of parent halfedges; each writes one piece of the halves and one of
+        // the edges inside faces.
+        let starts: Vec<usize> = (0..np.div_ceil(PARALLEL_CHUNK)).map(|k| k * PARALLEL_CHUNK).collect();
+        let interior_at = |h: usize| self.slot.get(h).map_or(self.interior.len(), |&s| s as usize);
+        let half_ends: Vec<usize> = starts.iter().map(|&h| 2 * (h + PARALLEL_CHUNK).min(np)).collect();
+        let inner_ends: Vec<usize> =
+            starts.iter().map(|&h| halves as usize + 2 * interior_at((h + PARALLEL_CHUNK).min(np))).collect();
+        let ends: Vec<usize> = half_ends.into_iter().chain(inner_ends).collect();
+        let mut half_pieces = HalfedgeSlices::cut(&mut out, &ends);
+        let inner_pieces = half_pieces.split_off(starts.len());
+        half_pieces.into_par_iter().zip(inner_pieces).zip(starts).for_each(|((mut half, mut inner), h0)| {
+            let h1 = (h0 + PARALLEL_CHUNK).min(np) as u32;
+            let inside = |h: u32| halves + 2 * self.slot[h as usize];
+            let corner_face = |f: FaceId, h: u32| FaceId(self.first_child[f.index()] + self.corner[h as usize]);
+            for h in h0 as u32..h1 {
+                let id = HalfedgeId(h);
+                let (t, m) = (h ^ 1, nv + (h >> 1));
+                let (f, ft) = (parent.face(id), parent.face(HalfedgeId(t)));
+                let (next, prev) = (parent.next(id).0, parent.prev(id).0);
+                let twin_next = parent.next(HalfedgeId(t)).0;
+                // 2h: from h's origin to its edge point.
+                let (after, face) =
+                    if f.is_valid() { (inside(h), corner_face(f, h)) } else { (2 * t + 1, FaceId::INVALID) };
+                half.set(2 * h, m, after, 2 * (prev ^ 1) + 1, face);
+                // 2h + 1: back to the origin, in the twin's face at the corner of the twin's next.
+                let (before, face) =
+                    if ft.is_valid() { (inside(t) + 1, corner_face(ft, twin_next)) } else { (2 * t, FaceId::INVALID) };
+                half.set(2 * h + 1, parent.to_vertex(HalfedgeId(t)).0, 2 * twin_next, before, face);
+                if f.is_valid() {
+                    let point = self.face_point[f.index()].0;
+                    let b = inside(h);
+                    inner.set(b, point, inside(prev) + 1, 2 * h, corner_face(f, h));
+                    inner.set(b + 1, m, 2 * t + 1, inside(next), corner_face(f, next));
+                }
+            }
+        });
+        out
+    }
+
+    /// The edge point on parent halfedge `h`'s edge.
+    #[inline]
+    pub(super) fn edge_point(&self, h: u32) -> u32 {
+        self.parent.vertex_count() as u32 + (h >> 1)
+    }
+
+    #[inline]
+    pub(super) fn next_of(&self, h: u32) -> u32 {
+        self.parent.next(HalfedgeId(h)).0
+    }
+
+    #[inline]
+    pub(super) fn prev_of(&self, h: u32) -> u32 {
+        self.parent.prev(HalfedgeId(h)).0
+    }
+
+    /// The parent face of halfedge `h` and its face point (invalid for a triangle split in four);
+    /// `None` on the boundary.
+    #[inline]
+    pub(super) fn face_of(&self, h: u32) -> Option<(FaceId, VertexId)> {
+        let f = self.parent.face(HalfedgeId(h));
+        f.is_valid().then(|| (f, self.face_point[f.index()]))
+    }
+
+    /// The child face at the corner where parent halfedge `h` of face `f` starts.
+    #[inline]
+    pub(super) fn corner_face(&self, f: FaceId, h: u32) -> FaceId {
+        FaceId(self.first_child[f.index()] + self.corner[h as usize])
+    }
+
+    /// The child halfedge from vertex `x` to vertex `y` on the interior edge of parent halfedge `h`.
+    #[inline]
+    pub(super) fn inside(&self, h: u32, x: u32, y: u32) -> u32 {
+        self.halves + 2 * self.slot[h as usize] + u32::from(x > y)
+    }
+
+    /// For child halfedge `x` inside a face: the parent halfedge it comes from, its face, the face
+    /// point (invalid for a triangle), and whether `x` runs from `h`'s edge point to the previous
+    /// edge point (a triangle's corner-triangle side).
+    #[inline(always)]
+    pub(super) fn interior(&self, x: u32) -> (u32, FaceId, VertexId, bool) {
+        let h = self.interior[((x - self.halves) >> 1) as usize];
+        let (f, point) = self.face_of(h).expect("interior edges lie in faces");
+        let (mh, mp) = (self.edge_point(h), self.edge_point(self.prev_of(h)));
+        (h, f, point, !point.is_valid() && x == self.inside(h, mh, mp))
+    }
+
+    #[inline(always)]
+    pub(super) fn to(&self, x: u32) -> VertexId {
+        if x < self.halves {
+            let h = x >> 1;
+            return if x & 1 == 0 { VertexId(self.edge_point(h)) } else { self.parent.from_vertex(HalfedgeId(h)) };
+        }
+        let (h, _, point, back) = self.interior(x);
+        match (point.is_valid(), x & 1, back) {
+            (true, 0, _) => point,
+            (false, _, true) => VertexId(self.edge_point(self.prev_of(h))),
+            _ => VertexId(self.edge_point(h)),
+        }
+    }
+
+    #[inline(always)]
+    pub(super) fn face(&self, x: u32) -> FaceId {
+        if x < self.halves {
+            let h = x >> 1;
+            // The half back to the origin lies in the twin's face, at the corner of its next.
+            let (side, corner) = if x & 1 == 0 { (h, h) } else { (h ^ 1, self.next_of(h ^ 1)) };
+            return self.face_of(side).map_or(FaceId::INVALID, |(f, _)| self.corner_face(f, corner));
+        }
+        let (h, f, point, back) = self.interior(x);
+        if point.is_valid() {
+            self.corner_face(f, if x & 1 == 0 { h } else { self.next_of(h) })
+        } else if back {
+            self.corner_face(f, h)
+        } else {
+            FaceId(self.first_child[f.index()] + 3)
+        }
+    }
+
+    #[inline(always)]
+    pub(super) fn next(&self, x: u32) -> u32 {
+        if x < self.halves {
+            let h = x >> 1;
+            if x & 1 == 1 {
+                return 2 * self.next_of(h ^ 1);
+            }
+            let mh = self.edge_point(h);
+            return match self.face_of(h) {
+                None => 2 * (h ^ 1) + 1,
+                Some((_, point)) if point.is_valid() => self.inside(h, mh, point.0),
+                Some(_) => self.inside(h, mh, self.edge_point(self.prev_of(h))),
+            };
+        }
+        let (h, _, point, back) = self.interior(x);
+        let p = self.prev_of(h);
+        match (point.is_valid(), x & 1, back) {
+            (true, 0, _) => self.inside(p, point.0, self.edge_point(p)),
+            (true, _, _) => 2 * (h ^ 1) + 1,
+            (false, _, true) => 2 * (p ^ 1) + 1,
+            (false, _, false) => {
+                let n = self.next_of(h);
+                self.inside(n, self.edge_point(h), self.edge_point(n))
+            }
+        }
+    }
+
+    #[inline(always)]
+    pub(super) fn prev(&self, x: u32) -> u32 {
+        if x < self.halves {
+            let h = x >> 1;
+            if x & 1 == 0 {
+                return 2 * (self.prev_of(h) ^ 1) + 1;
+            }
+            let t = h ^ 1;
+            let mt = self.edge_point(t);
+            return match self.face_of(t) {
+                None => 2 * t,
+                Some((_, point)) if point.is_valid() => self.inside(t, point.0, mt),
+                Some(_) => {
+                    let n = self.next_of(t);
+                    self.inside(n, self.edge_point(n), mt)
+                }
+            };
+        }
+        let (h, _, point, back) = self.interior(x);
+        match (point.is_valid(), x & 1, back) {
+            (true, 0, _) | (false, _, true) => 2 * h,
+            (true, _, _) => {
+                let n = self.next_of(h);
+                self.inside(n, self.edge_point(n), point.0)
+            }
+            (false, _, false) => {
+                let p = self.prev_of(h);
+                self.inside(p, self.edge_point(self.prev_of(p)), self.edge_point(p))
+            }
+        }
+    }
+
+    pub(super) fn vertex_halfedge(&self, v: u32) -> HalfedgeId {
+        let (nv, ne) = (self.parent.vertex_count() as u32, self.parent.edge_count() as u32);
+        if v < nv {
+            let h = self.parent.vertex_halfedge(VertexId(v));
+            return if h.is_valid() { HalfedgeId(2 * h.0) } else { HalfedgeId::INVALID };
+        }
+        if v < nv + ne {
+            // A boundary edge point's outgoing halfedge must be its boundary one.
+            let e = v - nv;
+            let boundary_first = self.parent.is_boundary_halfedge(HalfedgeId(2 * e));
+            return HalfedgeId(if boundary_first { 4 * e + 3 } else { 4 * e + 1 });
+        }
+        let f = self.face_point_face[(v - nv - ne) as usize];
+        let h = self.parent.face_halfedge(f).0;
+        HalfedgeId(self.inside(h, v, self.edge_point(h)))
+    }
+
+    pub(super) fn face_halfedges(&self) -> Vec<HalfedgeId> {
+        let mut out = Vec::with_capacity(*self.first_child.last().expect("one entry per face and one more") as usize);
+        for f in self.parent.faces() {
+            let first = self.parent.face_halfedge(f).0;
+            if self.face_point[f.index()].is_valid() {
+                out.extend(self.parent.face_halfedges(f).map(|h| HalfedgeId(2 * h.0)));
+            } else {
+                let (h1, h2) = (self.next_of(first), self.prev_of(first));
+                let [m0, m1, m2] = [first, h1, h2].map(|h| self.edge_point(h));
+                let corners = [2 * first, 2 * (first ^ 1) + 1, self.inside(h2, m2, m1), self.inside(h1, m0, m1)];
+                out.extend(corners.map(HalfedgeId));
+            }
+        }
+        out
+    }
+
+    pub(super) fn face_parents(&self) -> Vec<FaceId> {
+        let mut out = Vec::with_capacity(*self.first_child.last().expect("one entry per face and one more") as usize);
+        for (f, w) in self.first_child.windows(2).enumerate() {
+            out.extend(std::iter::repeat_n(FaceId(f as u32), (w[1] - w[0]) as usize));
+        }
+        out
+    }
+
+    /// The linear prolongation: parent vertices kept, edge points at midpoints, face points at
+    /// centroids.
+    pub(super) fn positions(&self) -> Vec<DVec3> {
+        let parent = self.parent;
+        let mut out = Vec::with_capacity(self.vertex_count());
+        out.extend_from_slice(parent.positions());
+        out.par_extend((0..parent.edge_count() as u32).into_par_iter().with_min_len(PARALLEL_CHUNK).map(|e| {
+            let (a, b) = parent.edge_vertices(EdgeId(e));
+            0.5 * (parent.position(a) + parent.position(b))
+        }));
+        out.par_extend(self.face_point_face.par_iter().with_min_len(PARALLEL_CHUNK).map(|&f| {
+            let (sum, n) = parent.face_vertices(f).fold((DVec3::ZERO, 0), |(s, n), v| (s + parent.position(v), n + 1));
+            sum / n as f64
+        }));
+        out
+    }
+}
