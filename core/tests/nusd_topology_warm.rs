@@ -3,11 +3,15 @@
 //! around the edit. References: cold solves of the edited document (the fixed point run to
 //! 1e-12, and the default solve), and the old solve itself for the vertices the edit leaves.
 
+#[path = "common/warm.rs"]
+mod warm;
+
 use std::collections::HashMap;
 use taut_core::document::modelling::MeshEdit;
 use taut_core::mesh::primitives::torus;
-use taut_core::nusd::surface::{LevelTiming, SurfaceSolver};
+use taut_core::nusd::surface::SurfaceSolver;
 use taut_core::{DVec3, Document, Edit, PolyMesh, VertexId};
+use warm::{assert_warm_cheaper, exact, key, max_distance, solved};
 
 /// A torus cage of 40 × 12 quads made uneven (a bulge and a twist), so no symmetry helps.
 fn uneven_torus() -> PolyMesh {
@@ -51,24 +55,6 @@ fn edited(doc: &Document, op: &MeshEdit) -> Document {
     assert!(after.apply(Edit::Mesh(op.clone())).unwrap());
     assert!(after.lineage().is_some(), "a modelling edit keeps its provenance with the document");
     after
-}
-
-fn solved(doc: &Document) -> SurfaceSolver {
-    let mut solver = SurfaceSolver::new(doc).unwrap();
-    solver.solve().unwrap();
-    solver
-}
-
-fn exact(doc: &Document) -> Vec<DVec3> {
-    let mut tight = doc.clone();
-    tight.settings.tol = 1e-12;
-    tight.settings.max_iterations = 400_000;
-    solved(&tight).surface_positions().to_vec()
-}
-
-fn max_distance(a: &[DVec3], b: &[DVec3]) -> f64 {
-    assert_eq!(a.len(), b.len());
-    a.iter().zip(b).map(|(p, q)| (*p - *q).length()).fold(0.0, f64::max)
 }
 
 #[test]
@@ -118,21 +104,8 @@ fn the_warm_start_takes_far_fewer_sweeps_than_a_cold_solve() {
         warm.update(&after).unwrap();
         warm.solve().unwrap();
         let cold = solved(&after);
-        // Sweeps as the solver counts them: `work` weighs a sweep of a region by its share of
-        // the level, `sweeps` counts each once.
-        let (w, c) = (warm.timings(), cold.timings());
-        let total = |t: &[LevelTiming]| t.iter().map(|l| l.work).sum::<f64>();
-        let sweeps = |t: &[LevelTiming]| t.iter().map(|l| l.sweeps).collect::<Vec<_>>();
-        eprintln!("{name}: warm {:.1} level sweeps {:?}, cold {:.1} {:?}", total(w), sweeps(w), total(c), sweeps(c));
-        assert!(total(w) < bound * total(c), "{name}: warm {w:?} against cold {c:?}");
-        // The finest level: no more sweeps than cold, and their work a small part of it.
-        assert!(w[2].sweeps <= c[2].sweeps && w[2].work < 2.0 * bound * c[2].work, "{name}: {:?} {:?}", w[2], c[2]);
+        assert_warm_cheaper(name, &warm, &cold, bound);
     }
-}
-
-/// Bit patterns of a position, for matching domain points exactly.
-fn key(p: DVec3) -> [u64; 3] {
-    [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()]
 }
 
 #[test]

@@ -5,13 +5,17 @@
 //! without the mirror (`nusd_topology_warm.rs`). References: cold solves of the new whole (the
 //! fixed point run to 1e-12, and the default solve), and the old solve for what the edit leaves.
 
+#[path = "common/warm.rs"]
+mod warm;
+
 use std::collections::HashMap;
 use taut_core::document::modelling::MeshEdit;
 use taut_core::document::symmetry::{MirrorHalves, MirroredWhole};
 use taut_core::mesh::edit::{Axis, MirrorPlane, delete_vertices};
 use taut_core::mesh::primitives::torus;
-use taut_core::nusd::surface::{LevelTiming, SurfaceSolver};
+use taut_core::nusd::surface::SurfaceSolver;
 use taut_core::{DVec3, Document, EdgeId, Edit, VertexId};
+use warm::{assert_warm_cheaper, exact, key, max_distance, solved};
 
 /// The half x ≥ 0 of a torus of `nu` × `nv` quads about the z axis (its two cut rings lie in the
 /// plane x = 0, the seam), with the mirror on across that plane; `uneven` bulges and shears it
@@ -93,24 +97,6 @@ fn edited(doc: &Document, edit: &Edit, cache: &mut MirroredWhole) -> (Document, 
     let whole = cache.whole(&after).unwrap().expect("one half: a mirrored whole");
     assert!(whole.lineage().is_some(), "{edit:?}: the new whole keeps its lineage from the whole before");
     (after, whole)
-}
-
-fn solved(doc: &Document) -> SurfaceSolver {
-    let mut solver = SurfaceSolver::new(doc).unwrap();
-    solver.solve().unwrap();
-    solver
-}
-
-fn exact(doc: &Document) -> Vec<DVec3> {
-    let mut tight = doc.clone();
-    tight.settings.tol = 1e-12;
-    tight.settings.max_iterations = 400_000;
-    solved(&tight).surface_positions().to_vec()
-}
-
-fn max_distance(a: &[DVec3], b: &[DVec3]) -> f64 {
-    assert_eq!(a.len(), b.len());
-    a.iter().zip(b).map(|(p, q)| (*p - *q).length()).fold(0.0, f64::max)
 }
 
 /// A half, the cache that made its whole, and the whole.
@@ -218,18 +204,8 @@ fn the_warm_start_takes_far_fewer_sweeps_than_a_cold_solve() {
         warm.update(&after).unwrap();
         warm.solve().unwrap();
         let cold = solved(&after);
-        let (w, c) = (warm.timings(), cold.timings());
-        let total = |t: &[LevelTiming]| t.iter().map(|l| l.work).sum::<f64>();
-        let sweeps = |t: &[LevelTiming]| t.iter().map(|l| l.sweeps).collect::<Vec<_>>();
-        eprintln!("{name}: warm {:.1} level sweeps {:?}, cold {:.1} {:?}", total(w), sweeps(w), total(c), sweeps(c));
-        assert!(total(w) < bound * total(c), "{name}: warm {w:?} against cold {c:?}");
-        assert!(w[2].sweeps <= c[2].sweeps && w[2].work < 2.0 * bound * c[2].work, "{name}: {:?} {:?}", w[2], c[2]);
+        assert_warm_cheaper(name, &warm, &cold, bound);
     }
-}
-
-/// Bit patterns of a position, for matching domain points exactly.
-fn key(p: DVec3) -> [u64; 3] {
-    [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()]
 }
 
 #[test]
