@@ -82,6 +82,15 @@ fn check_first_level_weights(cage: &PolyMesh) -> Result<()> {
     }
 }
 
+/// Runs `f` on one of rayon's worker threads (at once when called from one). Building and
+/// evaluating a refinement is a chain of a few dozen parallel loops; started from a thread outside
+/// the pool, each of them was handed to the pool and waited for, the caller sleeping and waking
+/// once per loop, which cost about 0.3 ms of a fresh level-3 torus (about 8 ms on 2 threads).
+/// From a worker each loop starts at once.
+fn on_workers<R: Send>(f: impl FnOnce() -> R + Send) -> R {
+    if rayon::current_thread_index().is_some() { f() } else { rayon::scope(|_| f()) }
+}
+
 /// One level below the cage.
 #[derive(Clone, Debug)]
 struct Level {
@@ -167,6 +176,10 @@ impl Refinement {
         corners: &[f64],
         levels: u32,
     ) -> Result<Self> {
+        on_workers(|| Refinement::build(cage, scheme, sharpness, corners, levels))
+    }
+
+    fn build(cage: &PolyMesh, scheme: Scheme, sharpness: &[f64], corners: &[f64], levels: u32) -> Result<Self> {
         let cage_sharpness = effective_sharpness(cage, sharpness)?;
         let cage_corners = starting_corners(cage, &cage_sharpness, corners)?;
         if levels > MAX_LEVELS {
@@ -345,10 +358,12 @@ impl Refinement {
     /// Every level's positions and the finest level's limit positions and normals from new cage
     /// positions, into `out` (whose buffers are reused).
     pub fn evaluate(&self, cage_positions: &[DVec3], out: &mut RefinedPositions) -> Result<()> {
-        self.evaluate_levels(cage_positions, out)?;
-        self.evaluate_limit(out);
-        out.source = self.id;
-        Ok(())
+        on_workers(|| {
+            self.evaluate_levels(cage_positions, out)?;
+            self.evaluate_limit(out);
+            out.source = self.id;
+            Ok(())
+        })
     }
 
     /// The limit positions and normals of the finest level: through the limit stencils once a
@@ -464,9 +479,11 @@ impl Refinement {
         out.levels.resize_with(self.levels.len() + 1, Vec::new);
         out.levels[0].clear();
         out.levels[0].extend_from_slice(cage_positions);
-        for l in 0..self.levels.len() {
-            self.refine_level(l, out);
-        }
+        on_workers(|| {
+            for l in 0..self.levels.len() {
+                self.refine_level(l, out);
+            }
+        });
         Ok(())
     }
 
