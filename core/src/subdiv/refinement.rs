@@ -36,6 +36,7 @@ use super::sparse::{SparseRows, Users};
 use super::topology::{SplitRule, SplitTopology};
 use crate::mesh::{EdgeId, PolyMesh, VertexId};
 use crate::{DVec3, Error, Result};
+use rayon::prelude::*;
 use std::sync::OnceLock;
 use std::sync::atomic::{AtomicU64, Ordering};
 
@@ -211,17 +212,22 @@ impl Refinement {
         };
         for _ in 0..levels {
             let (parent, parent_sharpness, parent_corners) = out.finest_topology();
-            let split = SplitTopology::split(parent, rule)?;
+            let split = match out.levels.last() {
+                Some(above) => SplitTopology::split_again(&above.split, rule)?,
+                None => SplitTopology::split(parent, rule)?,
+            };
             // Child vertices come first as their parents, child edges first as the halves of
             // theirs (`SplitTopology`'s numbering), and nothing else is sharp.
-            let mut corners = vec![0.0; split.mesh.vertex_count()];
-            for (c, &s) in corners.iter_mut().zip(parent_corners) {
-                *c = child_sharpness(s);
-            }
-            let mut sharpness = vec![0.0; split.mesh.edge_count()];
-            for (halves, &s) in sharpness.chunks_exact_mut(2).zip(parent_sharpness) {
-                halves.fill(child_sharpness(s));
-            }
+            let corners: Vec<f64> = (0..split.mesh.vertex_count())
+                .into_par_iter()
+                .with_min_len(4096)
+                .map(|v| parent_corners.get(v).map_or(0.0, |&s| child_sharpness(s)))
+                .collect();
+            let sharpness: Vec<f64> = (0..split.mesh.edge_count())
+                .into_par_iter()
+                .with_min_len(4096)
+                .map(|e| parent_sharpness.get(e / 2).map_or(0.0, |&s| child_sharpness(s)))
+                .collect();
             out.levels.push(Level { split, sharpness, corners, stencils: OnceLock::new() });
         }
         // Below the cage every face is a quad (Catmull–Clark) or a triangle (Loop) by construction.

@@ -96,7 +96,113 @@ pub(super) struct Plan<'a> {
 }
 
 impl<'a> Plan<'a> {
-    pub(super) fn new(parent: &'a PolyMesh, rule: SplitRule) -> Self {
+    /// The plan of splitting `parent` by `rule`. `made_by_quads`: when `parent` is itself the
+    /// child of a split into quads, that split's [`Plan::halves`]; the faces are then all quads
+    /// and every halfedge's corner follows from its index ([`Plan::quad_child_corner`]), so
+    /// nothing is walked to find them.
+    pub(super) fn new(parent: &'a PolyMesh, rule: SplitRule, made_by_quads: Option<u32>) -> Self {
+        let (nv, ne, nf) = (parent.vertex_count(), parent.edge_count(), parent.face_count());
+        let (first_child, face_point, face_point_face, corner) = match made_by_quads {
+            Some(halves) => {
+                // Every face a quad, split into 4 (quads, or quads around a face point for
+                // `Mixed`; `Triangles` refuses quads before planning).
+                let first_child =
+                    (0..nf as u32 + 1).into_par_iter().with_min_len(PARALLEL_CHUNK).map(|f| 4 * f).collect();
+                let face_point = (0..nf as u32)
+                    .into_par_iter()
+                    .with_min_len(PARALLEL_CHUNK)
+                    .map(|f| VertexId((nv + ne) as u32 + f))
+                    .collect();
+                let face_point_face = (0..nf as u32).into_par_iter().with_min_len(PARALLEL_CHUNK).map(FaceId).collect();
+                let corner = (0..parent.halfedge_count() as u32)
+                    .into_par_iter()
+                    .with_min_len(PARALLEL_CHUNK)
+                    .map(|h| {
+                        if parent.face(HalfedgeId(h)).is_valid() {
+                            Plan::quad_child_corner(halves, h)
+                        } else {
+                            u32::MAX
+                        }
+                    })
+                    .collect();
+                (first_child, face_point, face_point_face, corner)
+            }
+            None => Plan::walked_faces(parent, rule),
+        };
+        let np = parent.halfedge_count();
+        if made_by_quads.is_some() && 4 * nf == np {
+            // Closed: every halfedge has a face, and its slot is its index.
+            let identity = || (0..np as u32).into_par_iter().with_min_len(PARALLEL_CHUNK).collect::<Vec<u32>>();
+            let (slot, interior) = rayon::join(identity, identity);
+            return Plan {
+                parent,
+                halves: 4 * ne as u32,
+                corner,
+                slot,
+                interior,
+                first_child,
+                face_point,
+                face_point_face,
+            };
+        }
+        // Slots by chunks: each chunk's halfedges with a face counted in parallel, the counts
+        // summed, then each chunk numbered from its sum.
+        let counts: Vec<u32> =
+            corner.par_chunks(PARALLEL_CHUNK).map(|c| c.iter().filter(|&&k| k != u32::MAX).count() as u32).collect();
+        let firsts: Vec<u32> = counts
+            .iter()
+            .scan(0, |sum, &c| {
+                let first = *sum;
+                *sum += c;
+                Some(first)
+            })
+            .collect();
+        let with_faces = counts.iter().sum::<u32>() as usize;
+        let mut slot = vec![0u32; corner.len()];
+        let mut interior = vec![0u32; with_faces];
+        let mut pieces = Vec::with_capacity(counts.len());
+        let mut rest = &mut interior[..];
+        for &c in &counts {
+            let (piece, tail) = std::mem::take(&mut rest).split_at_mut(c as usize);
+            pieces.push(piece);
+            rest = tail;
+        }
+        slot.par_chunks_mut(PARALLEL_CHUNK)
+            .zip(corner.par_chunks(PARALLEL_CHUNK))
+            .zip(pieces)
+            .zip(firsts)
+            .enumerate()
+            .for_each(|(k, (((slot, corner), interior), first))| {
+                let mut next = first;
+                let mut inner = interior.iter_mut();
+                for (i, (s, &c)) in slot.iter_mut().zip(corner).enumerate() {
+                    *s = next;
+                    if c != u32::MAX {
+                        *inner.next().expect("counted") = (k * PARALLEL_CHUNK + i) as u32;
+                        next += 1;
+                    }
+                }
+            });
+        Plan { parent, halves: 4 * ne as u32, corner, slot, interior, first_child, face_point, face_point_face }
+    }
+
+    /// A child of a split into quads, halfedge `h` of its face: the quad at corner `k` of a parent
+    /// face is `2k' → H + 2s → H + 2s' + 1 → odd half` ([`Plan::quad_halfedges`], with the
+    /// parent's `H` = `halves`), and its first halfedge is the even half.
+    #[inline]
+    pub(super) fn quad_child_corner(halves: u32, h: u32) -> u32 {
+        match (h < halves, h & 1) {
+            (true, 0) => 0,
+            (false, 0) => 1,
+            (false, _) => 2,
+            (true, _) => 3,
+        }
+    }
+
+    /// The first child face, face point and corner of every face and halfedge of any `parent`,
+    /// by walking its faces.
+    #[allow(clippy::type_complexity)]
+    fn walked_faces(parent: &PolyMesh, rule: SplitRule) -> (Vec<u32>, Vec<VertexId>, Vec<FaceId>, Vec<u32>) {
         let (nv, ne, nf) = (parent.vertex_count(), parent.edge_count(), parent.face_count());
         let valence: Vec<u32> = (0..nf as u32)
             .into_par_iter()
@@ -140,45 +246,7 @@ impl<'a> Plan<'a> {
                 k
             })
             .collect();
-        // Slots by chunks: each chunk's halfedges with a face counted in parallel, the counts
-        // summed, then each chunk numbered from its sum.
-        let counts: Vec<u32> =
-            corner.par_chunks(PARALLEL_CHUNK).map(|c| c.iter().filter(|&&k| k != u32::MAX).count() as u32).collect();
-        let firsts: Vec<u32> = counts
-            .iter()
-            .scan(0, |sum, &c| {
-                let first = *sum;
-                *sum += c;
-                Some(first)
-            })
-            .collect();
-        let with_faces = counts.iter().sum::<u32>() as usize;
-        let mut slot = vec![0u32; corner.len()];
-        let mut interior = vec![0u32; with_faces];
-        let mut pieces = Vec::with_capacity(counts.len());
-        let mut rest = &mut interior[..];
-        for &c in &counts {
-            let (piece, tail) = std::mem::take(&mut rest).split_at_mut(c as usize);
-            pieces.push(piece);
-            rest = tail;
-        }
-        slot.par_chunks_mut(PARALLEL_CHUNK)
-            .zip(corner.par_chunks(PARALLEL_CHUNK))
-            .zip(pieces)
-            .zip(firsts)
-            .enumerate()
-            .for_each(|(k, (((slot, corner), interior), first))| {
-                let mut next = first;
-                let mut inner = interior.iter_mut();
-                for (i, (s, &c)) in slot.iter_mut().zip(corner).enumerate() {
-                    *s = next;
-                    if c != u32::MAX {
-                        *inner.next().expect("counted") = (k * PARALLEL_CHUNK + i) as u32;
-                        next += 1;
-                    }
-                }
-            });
-        Plan { parent, halves: 4 * ne as u32, corner, slot, interior, first_child, face_point, face_point_face }
+        (first_child, face_point, face_point_face, corner)
     }
 
     pub(super) fn vertex_count(&self) -> usize {
@@ -403,28 +471,47 @@ impl<'a> Plan<'a> {
         HalfedgeId(self.inside(h, v, self.edge_point(h)))
     }
 
-    pub(super) fn face_halfedges(&self) -> Vec<HalfedgeId> {
-        let mut out = Vec::with_capacity(*self.first_child.last().expect("one entry per face and one more") as usize);
-        for f in self.parent.faces() {
-            let first = self.parent.face_halfedge(f).0;
-            if self.face_point[f.index()].is_valid() {
-                out.extend(self.parent.face_halfedges(f).map(|h| HalfedgeId(2 * h.0)));
-            } else {
-                let (h1, h2) = (self.next_of(first), self.prev_of(first));
-                let [m0, m1, m2] = [first, h1, h2].map(|h| self.edge_point(h));
-                let corners = [2 * first, 2 * (first ^ 1) + 1, self.inside(h2, m2, m1), self.inside(h1, m0, m1)];
-                out.extend(corners.map(HalfedgeId));
+    /// Per child face, its first halfedge and its parent face, filled in parallel by ranges of
+    /// parent faces (the children of a range of parent faces are a range of child faces).
+    pub(super) fn face_halfedges_and_parents(&self) -> (Vec<HalfedgeId>, Vec<FaceId>) {
+        let children = *self.first_child.last().expect("one entry per face and one more") as usize;
+        let mut halfedges = vec![HalfedgeId::INVALID; children];
+        let mut parents = vec![FaceId::INVALID; children];
+        let nf = self.parent.face_count();
+        let mut pieces = Vec::with_capacity(nf.div_ceil(PARALLEL_CHUNK));
+        let (mut rest_h, mut rest_p) = (&mut halfedges[..], &mut parents[..]);
+        for f0 in (0..nf).step_by(PARALLEL_CHUNK) {
+            let f1 = (f0 + PARALLEL_CHUNK).min(nf);
+            let k = (self.first_child[f1] - self.first_child[f0]) as usize;
+            let (h, tail_h) = std::mem::take(&mut rest_h).split_at_mut(k);
+            let (p, tail_p) = std::mem::take(&mut rest_p).split_at_mut(k);
+            pieces.push((f0..f1, h, p));
+            (rest_h, rest_p) = (tail_h, tail_p);
+        }
+        pieces.into_par_iter().for_each(|(faces, halfedges, parents)| {
+            let mut at = 0;
+            for f in faces {
+                let f = FaceId(f as u32);
+                let first = self.parent.face_halfedge(f).0;
+                if self.face_point[f.index()].is_valid() {
+                    for h in self.parent.face_halfedges(f) {
+                        halfedges[at] = HalfedgeId(2 * h.0);
+                        parents[at] = f;
+                        at += 1;
+                    }
+                } else {
+                    let (h1, h2) = (self.next_of(first), self.prev_of(first));
+                    let [m0, m1, m2] = [first, h1, h2].map(|h| self.edge_point(h));
+                    let corners = [2 * first, 2 * (first ^ 1) + 1, self.inside(h2, m2, m1), self.inside(h1, m0, m1)];
+                    for c in corners {
+                        halfedges[at] = HalfedgeId(c);
+                        parents[at] = f;
+                        at += 1;
+                    }
+                }
             }
-        }
-        out
-    }
-
-    pub(super) fn face_parents(&self) -> Vec<FaceId> {
-        let mut out = Vec::with_capacity(*self.first_child.last().expect("one entry per face and one more") as usize);
-        for (f, w) in self.first_child.windows(2).enumerate() {
-            out.extend(std::iter::repeat_n(FaceId(f as u32), (w[1] - w[0]) as usize));
-        }
-        out
+        });
+        (halfedges, parents)
     }
 
     /// The linear prolongation: parent vertices kept, edge points at midpoints, face points at

@@ -134,7 +134,7 @@ fn quad_halfedges_are_the_index_functions() {
     for cage in [pyramid_with_pentagon(), open_mixed(), isolated, grid] {
         let first = SplitTopology::split(&cage, SplitRule::Quads).unwrap();
         for parent in [&cage, &first.mesh] {
-            let plan = Plan::new(parent, SplitRule::Quads);
+            let plan = Plan::new(parent, SplitRule::Quads, None);
             let nh = (plan.halves + 2 * plan.interior.len() as u32) as usize;
             let (fast, slow) = (plan.quad_halfedges(nh), plan.halfedges(nh));
             assert_eq!(fast.to, slow.to);
@@ -143,6 +143,75 @@ fn quad_halfedges_are_the_index_functions() {
             assert_eq!(fast.face, slow.face);
         }
     }
+}
+
+#[test]
+fn a_split_again_plans_what_walking_the_faces_plans() {
+    // Below a split into quads, the plan read from the halfedges' indices must be the plan walked
+    // round the faces, closed (torus) or open (grid with a hole, a mixed cage), and the children
+    // the same.
+    let torus = {
+        let (nu, nv) = (6u32, 5u32);
+        let p = (0..nu * nv).map(|k| DVec3::new((k % nu) as f64, (k / nu) as f64, (k % 3) as f64)).collect();
+        let faces: Vec<[u32; 4]> = (0..nv)
+            .flat_map(|j| (0..nu).map(move |i| (i, j)))
+            .map(|(i, j)| {
+                let (i1, j1) = ((i + 1) % nu, (j + 1) % nv);
+                [j * nu + i, j * nu + i1, j1 * nu + i1, j1 * nu + i]
+            })
+            .collect();
+        PolyMesh::from_polygons(p, &faces).unwrap()
+    };
+    let grid = {
+        let (nx, ny) = (9u32, 7u32);
+        let p = (0..nx * ny).map(|k| DVec3::new((k % nx) as f64, (k / nx) as f64, 0.0)).collect();
+        let faces: Vec<[u32; 4]> = (0..ny - 1)
+            .flat_map(|j| (0..nx - 1).map(move |i| (i, j)))
+            .filter(|&(i, j)| (i, j) != (4, 3))
+            .map(|(i, j)| [j * nx + i, j * nx + i + 1, (j + 1) * nx + i + 1, (j + 1) * nx + i])
+            .collect();
+        PolyMesh::from_polygons(p, &faces).unwrap()
+    };
+    for cage in [torus, grid, pyramid_with_pentagon(), open_mixed()] {
+        let mut above = SplitTopology::split(&cage, SplitRule::Quads).unwrap();
+        for _ in 0..2 {
+            for rule in [SplitRule::Quads, SplitRule::Mixed] {
+                let walked = Plan::new(&above.mesh, rule, None);
+                let read = Plan::new(&above.mesh, rule, Some(4 * cage_edges(&above)));
+                assert_eq!(read.corner, walked.corner);
+                assert_eq!(read.slot, walked.slot);
+                assert_eq!(read.interior, walked.interior);
+                assert_eq!(read.first_child, walked.first_child);
+                assert_eq!(read.face_point, walked.face_point);
+                assert_eq!(read.face_point_face, walked.face_point_face);
+                let (again, once) = (
+                    SplitTopology::split_again(&above, rule).unwrap(),
+                    SplitTopology::split(&above.mesh, rule).unwrap(),
+                );
+                assert_same_mesh(&again.mesh, &once.mesh);
+                assert_eq!(again.face_parent, once.face_parent);
+            }
+            above = SplitTopology::split_again(&above, SplitRule::Quads).unwrap();
+        }
+    }
+}
+
+fn assert_same_mesh(a: &PolyMesh, b: &PolyMesh) {
+    assert_eq!(a.positions(), b.positions());
+    assert_eq!(a.halfedge_count(), b.halfedge_count());
+    for h in (0..a.halfedge_count() as u32).map(HalfedgeId) {
+        assert_eq!(
+            (a.to_vertex(h), a.next(h), a.prev(h), a.face(h)),
+            (b.to_vertex(h), b.next(h), b.prev(h), b.face(h))
+        );
+    }
+    assert!(a.vertices().all(|v| a.vertex_halfedge(v) == b.vertex_halfedge(v)));
+    assert!(a.faces().all(|f| a.face_halfedge(f) == b.face_halfedge(f)));
+}
+
+/// The edges of the mesh `split` was made from.
+fn cage_edges(split: &SplitTopology) -> u32 {
+    split.parent_edges
 }
 
 #[test]
