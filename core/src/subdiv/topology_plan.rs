@@ -93,6 +93,9 @@ pub(super) struct Plan<'a> {
     pub(super) first_child: Vec<u32>,
     pub(super) face_point: Vec<VertexId>,
     pub(super) face_point_face: Vec<FaceId>,
+    /// When the parent is a split into quads of a closed mesh: that split's [`Plan::halves`]
+    /// (every slot is then its halfedge, and first child faces and corners follow from indices).
+    closed_quads: Option<u32>,
 }
 
 impl<'a> Plan<'a> {
@@ -143,6 +146,7 @@ impl<'a> Plan<'a> {
                 first_child,
                 face_point,
                 face_point_face,
+                closed_quads: made_by_quads,
             };
         }
         // Slots by chunks: each chunk's halfedges with a face counted in parallel, the counts
@@ -183,7 +187,17 @@ impl<'a> Plan<'a> {
                     }
                 }
             });
-        Plan { parent, halves: 4 * ne as u32, corner, slot, interior, first_child, face_point, face_point_face }
+        Plan {
+            parent,
+            halves: 4 * ne as u32,
+            corner,
+            slot,
+            interior,
+            first_child,
+            face_point,
+            face_point_face,
+            closed_quads: None,
+        }
     }
 
     /// A child of a split into quads, halfedge `h` of its face: the quad at corner `k` of a parent
@@ -287,33 +301,70 @@ impl<'a> Plan<'a> {
         let ends: Vec<usize> = half_ends.into_iter().chain(inner_ends).collect();
         let mut half_pieces = HalfedgeSlices::cut(&mut out, &ends);
         let inner_pieces = half_pieces.split_off(starts.len());
-        half_pieces.into_par_iter().zip(inner_pieces).zip(starts).for_each(|((mut half, mut inner), h0)| {
-            let h1 = (h0 + PARALLEL_CHUNK).min(np) as u32;
-            let inside = |h: u32| halves + 2 * self.slot[h as usize];
-            let corner_face = |f: FaceId, h: u32| FaceId(self.first_child[f.index()] + self.corner[h as usize]);
-            for h in h0 as u32..h1 {
-                let id = HalfedgeId(h);
-                let (t, m) = (h ^ 1, nv + (h >> 1));
-                let (f, ft) = (parent.face(id), parent.face(HalfedgeId(t)));
-                let (next, prev) = (parent.next(id).0, parent.prev(id).0);
-                let twin_next = parent.next(HalfedgeId(t)).0;
-                // 2h: from h's origin to its edge point.
-                let (after, face) =
-                    if f.is_valid() { (inside(h), corner_face(f, h)) } else { (2 * t + 1, FaceId::INVALID) };
-                half.set(2 * h, m, after, 2 * (prev ^ 1) + 1, face);
-                // 2h + 1: back to the origin, in the twin's face at the corner of the twin's next.
-                let (before, face) =
-                    if ft.is_valid() { (inside(t) + 1, corner_face(ft, twin_next)) } else { (2 * t, FaceId::INVALID) };
-                half.set(2 * h + 1, parent.to_vertex(HalfedgeId(t)).0, 2 * twin_next, before, face);
-                if f.is_valid() {
-                    let point = self.face_point[f.index()].0;
-                    let b = inside(h);
-                    inner.set(b, point, inside(prev) + 1, 2 * h, corner_face(f, h));
-                    inner.set(b + 1, m, 2 * t + 1, inside(next), corner_face(f, next));
-                }
+        let pieces = half_pieces.into_par_iter().zip(inner_pieces).zip(starts);
+        match self.closed_quads {
+            // Below a split into quads of a closed cage, slots, first child faces, corners and
+            // face points are functions of the indices (the same values the arrays hold).
+            Some(above) => {
+                let first_face_point = (nv as usize + parent.edge_count()) as u32;
+                pieces.for_each(|((half, inner), h0)| {
+                    self.fill_quads(
+                        half,
+                        inner,
+                        h0 as u32..(h0 + PARALLEL_CHUNK).min(np) as u32,
+                        |h| halves + 2 * h,
+                        |f, h| FaceId(4 * f.0 + Plan::quad_child_corner(above, h)),
+                        |f| first_face_point + f.0,
+                    )
+                })
             }
-        });
+            None => pieces.for_each(|((half, inner), h0)| {
+                self.fill_quads(
+                    half,
+                    inner,
+                    h0 as u32..(h0 + PARALLEL_CHUNK).min(np) as u32,
+                    |h| halves + 2 * self.slot[h as usize],
+                    |f, h| FaceId(self.first_child[f.index()] + self.corner[h as usize]),
+                    |f| self.face_point[f.index()].0,
+                )
+            }),
+        }
         out
+    }
+
+    /// [`Plan::quad_halfedges`] of parent halfedges `range`, with the plan's slots (`inside`),
+    /// child faces (`corner_face`) and face points given as functions.
+    #[inline(always)]
+    fn fill_quads(
+        &self,
+        mut half: HalfedgeSlices,
+        mut inner: HalfedgeSlices,
+        range: std::ops::Range<u32>,
+        inside: impl Fn(u32) -> u32,
+        corner_face: impl Fn(FaceId, u32) -> FaceId,
+        face_point: impl Fn(FaceId) -> u32,
+    ) {
+        let parent = self.parent;
+        let nv = parent.vertex_count() as u32;
+        for h in range {
+            let id = HalfedgeId(h);
+            let (t, m) = (h ^ 1, nv + (h >> 1));
+            let (f, ft) = (parent.face(id), parent.face(HalfedgeId(t)));
+            let (next, prev) = (parent.next(id).0, parent.prev(id).0);
+            let twin_next = parent.next(HalfedgeId(t)).0;
+            // 2h: from h's origin to its edge point.
+            let (after, face) = if f.is_valid() { (inside(h), corner_face(f, h)) } else { (2 * t + 1, FaceId::INVALID) };
+            half.set(2 * h, m, after, 2 * (prev ^ 1) + 1, face);
+            // 2h + 1: back to the origin, in the twin's face at the corner of the twin's next.
+            let (before, face) =
+                if ft.is_valid() { (inside(t) + 1, corner_face(ft, twin_next)) } else { (2 * t, FaceId::INVALID) };
+            half.set(2 * h + 1, parent.to_vertex(HalfedgeId(t)).0, 2 * twin_next, before, face);
+            if f.is_valid() {
+                let b = inside(h);
+                inner.set(b, face_point(f), inside(prev) + 1, 2 * h, corner_face(f, h));
+                inner.set(b + 1, m, 2 * t + 1, inside(next), corner_face(f, next));
+            }
+        }
     }
 
     /// The edge point on parent halfedge `h`'s edge.
