@@ -353,7 +353,8 @@ impl<'a> Plan<'a> {
             let (next, prev) = (parent.next(id).0, parent.prev(id).0);
             let twin_next = parent.next(HalfedgeId(t)).0;
             // 2h: from h's origin to its edge point.
-            let (after, face) = if f.is_valid() { (inside(h), corner_face(f, h)) } else { (2 * t + 1, FaceId::INVALID) };
+            let (after, face) =
+                if f.is_valid() { (inside(h), corner_face(f, h)) } else { (2 * t + 1, FaceId::INVALID) };
             half.set(2 * h, m, after, 2 * (prev ^ 1) + 1, face);
             // 2h + 1: back to the origin, in the twin's face at the corner of the twin's next.
             let (before, face) =
