@@ -204,10 +204,11 @@ pub(crate) fn fractional_weight(vertex: f64, parent: impl Iterator<Item = f64>) 
     if count == 0 { 0.0 } else { (sum / count as f64).min(1.0) }
 }
 
-/// The sharpness of `e` in `sharp`, a per-edge table of a level.
+/// The sharpness of `e` in `sharp`, a per-edge table of a level; an empty table is a level with
+/// no sharp edge (the fresh path passes none there, so its rules read no table).
 #[inline]
 pub(crate) fn sharp(sharpness: &[f64], e: EdgeId) -> f64 {
-    sharpness[e.index()]
+    sharpness.get(e.index()).copied().unwrap_or(0.0)
 }
 
 #[cfg(test)]

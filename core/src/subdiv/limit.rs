@@ -157,7 +157,7 @@ fn derived_smooth_ring(
     ring: &mut Vec<u32>,
 ) -> Option<u32> {
     let mut walk = RingWalk::new(Scheme::CatmullClark, v, ring);
-    let sharp = |e: Option<EdgeId>| e.map_or(0.0, |e| sharpness[e.index()]);
+    let sharp = |e: Option<EdgeId>| e.map_or(0.0, |e| super::crease::sharp(sharpness, e));
     if !split.quad_spokes(parent, v, |e, to, across| walk.spoke(ring, sharp(e), to, across)) {
         ring.truncate(walk.first);
         return None;

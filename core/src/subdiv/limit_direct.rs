@@ -26,7 +26,7 @@ pub(crate) fn limit_into(
     let n = mesh.vertex_count();
     limit.resize(n, DVec3::ZERO);
     normals.resize(n, DVec3::ZERO);
-    let sharp = |e: EdgeId| sharpness[e.index()];
+    let sharp = |e: EdgeId| crate::subdiv::crease::sharp(sharpness, e);
     if let (Scheme::CatmullClark, Some((parent, split))) = (scheme, split) {
         quad_limit_into(parent, split, sharpness, corners, mesh, points, limit, normals);
         return;
@@ -74,7 +74,7 @@ fn quad_limit_into(
 ) {
     let n = mesh.vertex_count();
     let masks: Vec<RingMask> = (0..=FAST_VALENCE).map(|k| RingMask::smooth(Scheme::CatmullClark, k.max(3))).collect();
-    let sharp = |e: EdgeId| sharpness[e.index()];
+    let sharp = |e: EdgeId| crate::subdiv::crease::sharp(sharpness, e);
     let (nv, first_face_point) = (split.parent_vertex_count() as u32, split.first_face_point() as u32);
     let edge_point = |h: HalfedgeId| nv + (h.0 >> 1);
     let face_point = |h: HalfedgeId| split.face_point(parent.face(h)).map_or(u32::MAX, |p| p.0);
@@ -95,7 +95,8 @@ fn quad_limit_into(
                 return 0;
             }
             for h in parent.outgoing(VertexId(v)) {
-                if sharpness[h.index()] > 0.0 {
+                // The half of h's edge at v is child edge h.
+                if sharp(EdgeId(h.0)) > 0.0 {
                     return 0;
                 }
                 push(edge_point(h), face_point(h));
@@ -106,7 +107,7 @@ fn quad_limit_into(
             if parent.is_boundary_halfedge(a) || parent.is_boundary_halfedge(b) {
                 return 0;
             }
-            if sharpness[a.index()] > 0.0 || sharpness[b.index()] > 0.0 {
+            if sharp(EdgeId(a.0)) > 0.0 || sharp(EdgeId(b.0)) > 0.0 {
                 return 0;
             }
             push(parent.to_vertex(b).0, edge_point(parent.next(b)));

@@ -92,6 +92,11 @@ fn on_workers<R: Send>(f: impl FnOnce() -> R + Send) -> R {
     if rayon::current_thread_index().is_some() { f() } else { rayon::scope(|_| f()) }
 }
 
+/// The largest of `values` (0 for none).
+fn largest(values: &[f64]) -> f64 {
+    values.iter().copied().fold(0.0, f64::max)
+}
+
 /// One level below the cage.
 #[derive(Clone, Debug)]
 struct Level {
@@ -121,6 +126,9 @@ pub struct Refinement {
     cage_sharpness: Vec<f64>,
     cage_corners: Vec<f64>,
     levels: Vec<Level>,
+    /// The largest edge and vertex sharpness of the cage (boundary edges infinite): a level
+    /// whose largest, carried down, are 0 has no sharp edge or corner.
+    cage_largest: (f64, f64),
     /// The finest level's limit stencils and, for every vertex of that level, the vertices whose
     /// limit reads it; built on first use ([`Refinement::limit_stencils`]).
     limit: OnceLock<(LimitStencils, Users)>,
@@ -201,10 +209,12 @@ impl Refinement {
             )));
         }
         check_first_level_weights(cage)?;
+        let cage_largest = (largest(&cage_sharpness), largest(&cage_corners));
         let mut out = Refinement {
             scheme,
             cage: cage.clone(),
             cage_sharpness,
+            cage_largest,
             cage_corners,
             levels: Vec::new(),
             limit: OnceLock::new(),
@@ -265,6 +275,17 @@ impl Refinement {
 
     fn finest_topology(&self) -> (&PolyMesh, &[f64], &[f64]) {
         self.topology(self.level_count())
+    }
+
+    /// [`Refinement::topology`] for the rules and limit masks applied directly: on a level with
+    /// no sharp edge or corner, no sharpness tables (empty, read as all 0: the same values, not
+    /// looked up).
+    fn rule_topology(&self, level: u32) -> (&PolyMesh, &[f64], &[f64]) {
+        let (mut edges, mut corners) = self.cage_largest;
+        for _ in 0..level {
+            (edges, corners) = (child_sharpness(edges), child_sharpness(corners));
+        }
+        if edges == 0.0 && corners == 0.0 { (self.mesh(level), &[], &[]) } else { self.topology(level) }
     }
 
     /// The sharpness of every vertex of `level` (corners; 0 elsewhere).
@@ -381,7 +402,7 @@ impl Refinement {
             limit.evaluate(points, &mut out.limit, &mut out.normals);
             return;
         }
-        let (finest, sharpness, corners) = self.finest_topology();
+        let (finest, sharpness, corners) = self.rule_topology(self.level_count());
         // Catmull–Clark rings are read from the level above (`SplitTopology::quad_spokes`).
         let split = match (self.scheme, self.levels.len()) {
             (Scheme::CatmullClark, l @ 1..) => Some((self.mesh(l as u32 - 1), self.split(l as u32))),
@@ -392,7 +413,7 @@ impl Refinement {
 
     /// Level `index + 1`'s positions from level `index`'s in `out`, by the rules applied directly.
     fn refine_level(&self, index: usize, out: &mut RefinedPositions) {
-        let (parent, sharpness, corners) = self.topology(index as u32);
+        let (parent, sharpness, corners) = self.rule_topology(index as u32);
         let (coarse, fine) = out.levels.split_at_mut(index + 1);
         refine_into(self.scheme, parent, sharpness, corners, &self.levels[index].split, &coarse[index], &mut fine[0]);
     }
@@ -436,7 +457,7 @@ impl Refinement {
                 self.evaluate_limit(out);
                 return Ok(recomputed + self.rows_from(l));
             }
-            let (parent, sharpness, corners) = self.topology(l as u32);
+            let (parent, sharpness, corners) = self.rule_topology(l as u32);
             let (coarse, fine) = out.levels.split_at_mut(l + 1);
             let split = &self.levels[l].split;
             refine_rows(self.scheme, parent, sharpness, corners, split, &coarse[l], &mut fine[0], &out.next);

@@ -93,6 +93,9 @@ fn cages() -> Vec<Case> {
     let (torus, torus_sharpness) = creased_torus();
     let loop_pyramid = triangulated(&pyramid);
     let loop_sharpness = (0..loop_pyramid.edge_count()).map(|e| [0.0, 0.75, f64::INFINITY, 1.0][e % 4]).collect();
+    let semi_sharp = torus_sharpness.iter().map(|&s| if s.is_finite() { s } else { 0.0 }).collect();
+    let mut semi_corners = vec![0.0; torus.vertex_count()];
+    semi_corners[3] = 1.25;
     let mut loop_corners = vec![0.0; loop_pyramid.vertex_count()];
     loop_corners[1] = 0.5;
     vec![
@@ -102,6 +105,8 @@ fn cages() -> Vec<Case> {
         ("cone", cone(), Scheme::CatmullClark, vec![], vec![], 3),
         ("cone, one level", cone(), Scheme::CatmullClark, vec![], vec![], 1),
         ("creased torus", torus.clone(), Scheme::CatmullClark, torus_sharpness.clone(), vec![], 3),
+        // Semi-sharp only: smooth from level 2 on, where the direct rules read no sharpness.
+        ("semi-sharp torus", torus.clone(), Scheme::CatmullClark, semi_sharp, semi_corners, 3),
         ("Loop pyramid", loop_pyramid, Scheme::Loop, loop_sharpness, loop_corners, 3),
         ("Loop open strip", triangulated(&open_strip()), Scheme::Loop, vec![], vec![], 3),
         ("Loop torus", triangulated(&torus), Scheme::Loop, vec![], vec![], 2),
