@@ -3,6 +3,7 @@
 //! starts after a drag that cost a cycle or two. References: the plain iteration run to 1e-11,
 //! solves run to 1e-12, and fresh solves of the same document.
 
+use taut_core::nusd::surface::multigrid::SWEEPS;
 use taut_core::nusd::surface::{Budget, Phase, SurfaceSolver};
 use taut_core::{DVec3, Document, PolyMesh, VertexId};
 use taut_tests::{cube, document, grid};
@@ -92,9 +93,14 @@ fn multigrid_reaches_the_plain_iterations_fixed_point() {
 
 #[test]
 fn sweeps_per_level_stay_flat_up_to_level_5() {
-    // Bound: 45 sweeps of a level (smoothing sweeps and residual passes) for every multigrid
-    // level 2–5 and 60 for level 1 (solved plainly unless cage vertices move), where the plain
-    // iteration takes 17, 72, 125, 83 and 179 on the default scene.
+    // Bound, in sweeps of a level (smoothing sweeps and residual passes; a cycle is
+    // 2 × SWEEPS + 1 = 7 of them): 4 cycles at levels 3–5 in both variants and at level 2 with
+    // the cage fixed, 5 cycles at levels 1–2 with the waist unfixed, and 17 at level 1 with the
+    // cage fixed (solved plainly: two windows of the step estimate). Measured 17, 28, 28, 21, 21
+    // and 35, 35, 28, 21, 21 with the curvature-corrected start of a new level
+    // (`Level::refine`); from the parent average alone it was 17, 35, 35, 28, 21 and 42, 35, 35,
+    // 21, 21, over these bounds. The plain iteration takes 17, 72, 125, 83 and 179 on the
+    // default scene.
     let mut scene = default_scene();
     scene.settings.levels = 5;
     let mut unfixed = scene.clone();
@@ -105,7 +111,16 @@ fn sweeps_per_level_stay_flat_up_to_level_5() {
         let solver = solved(&doc, true);
         let sweeps: Vec<usize> = solver.timings().iter().map(|t| t.sweeps).collect();
         assert_eq!(sweeps.len(), 6);
-        assert!(sweeps[1] <= 60 && sweeps[2..].iter().all(|&s| s <= 45), "{name}: sweeps per level {sweeps:?}");
+        let cycle = 2 * SWEEPS + 1;
+        let bounds = if name == "default scene" {
+            [17, 4 * cycle, 4 * cycle, 4 * cycle, 4 * cycle]
+        } else {
+            [5 * cycle, 5 * cycle, 4 * cycle, 4 * cycle, 4 * cycle]
+        };
+        assert!(
+            sweeps[1..].iter().zip(bounds).all(|(&s, b)| s <= b),
+            "{name}: sweeps per level {sweeps:?}, bounds {bounds:?}"
+        );
         assert!(solver.status().converged(solver.reports()), "{name}");
         let plain = solved(&doc, false);
         let plain_sweeps: Vec<usize> = plain.timings().iter().map(|t| t.sweeps).collect();
@@ -186,9 +201,13 @@ fn a_drag_re_converges_in_a_cycle_or_two_of_the_finest_level() {
         solver.solve().unwrap();
         let warm = solver.timings()[4];
         // One cycle leaves the change under the threshold, one more confirms it (a third when the
-        // measured contraction is over a half).
+        // measured contraction is over a half): at most 3 cycles of 2 × SWEEPS + 1 sweeps, where a
+        // fresh solve of level 4 takes 4. (The bound used to be 2/3 of a fresh solve's sweeps;
+        // it moved with the fresh start, and the curvature-corrected start made a fresh solve 28
+        // sweeps against the warm 21, so it is stated in cycles of the level now.)
+        assert!(fresh_sweeps > 3 * (2 * SWEEPS + 1), "a fresh solve took {fresh_sweeps}: the bound below says nothing");
         assert!(
-            warm.cycles <= 3 && 3 * warm.sweeps <= 2 * fresh_sweeps,
+            warm.cycles <= 3 && warm.sweeps <= 3 * (2 * SWEEPS + 1),
             "drag {k}: {} cycles, {} sweeps on level 4 (a fresh solve took {fresh_sweeps})",
             warm.cycles,
             warm.sweeps

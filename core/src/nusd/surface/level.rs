@@ -84,7 +84,8 @@ impl Level {
         }
     }
 
-    /// The next finer level, starting from this level's solution prolonged.
+    /// The next finer level, starting from this level's solution prolonged, its new vertices
+    /// moved by their own curvature term (see [`corrected_start`]).
     pub fn refine(&self, cage: &PolyMesh, controls: &Controls<'_>) -> crate::Result<Level> {
         let topology = self.topology.refine()?;
         let n = topology.vertex_count();
@@ -95,6 +96,7 @@ impl Level {
         topology.prolong(&self.state.p, &mut p);
         topology.prolong(&self.state.r, &mut r);
         let operator = Operator::build(&topology, &domain, cage, controls);
+        corrected_start(&operator, self.vertex_count(), &r, &mut p);
         let transfer = Some(Transfer::new(&topology, self.topology.vertex_count()));
         Ok(Level {
             topology,
@@ -167,6 +169,19 @@ impl Level {
         }
         self.region = region;
         self.epoch = epoch;
+    }
+}
+
+/// Moves each new moving vertex (index `coarse_count` and up) of a level just made from its
+/// parents' average by `−K_v R_v`, `R_v` its own start (the parents' average of the converged
+/// coarse `R`): where its own equation `ΔP_v = K_v R_v` puts it when its neighbours lie on the
+/// coarse surface (on a polyline, the cubic through the two parents). Only the start changes,
+/// not the fixed point.
+fn corrected_start(operator: &Operator, coarse_count: usize, r: &[DVec3], p: &mut [DVec3]) {
+    for v in coarse_count..p.len() {
+        if operator.role[v] == Role::Moving {
+            p[v] -= operator.k[v] * r[v];
+        }
     }
 }
 
