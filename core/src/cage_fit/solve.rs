@@ -92,7 +92,6 @@ pub fn compose(a: &SparseRows, b: &SparseRows) -> SparseRows {
 }
 
 /// `Aᵀ y` for a sparse row matrix.
-#[cfg(test)]
 fn apply_transposed(a: &SparseRows, y: &[DVec3]) -> Vec<DVec3> {
     let mut out = vec![DVec3::ZERO; a.column_count];
     for (i, &yi) in y.iter().enumerate() {
@@ -103,48 +102,12 @@ fn apply_transposed(a: &SparseRows, y: &[DVec3]) -> Vec<DVec3> {
     out
 }
 
-/// The transpose of a sparse row matrix, each of its rows (a column of `a`) listing `a`'s rows in
-/// increasing order: applied, it sums exactly as [`apply_transposed`] does, in the same order, so
-/// the result is bit for bit the same, but its rows are independent and run in parallel.
-pub fn transpose(a: &SparseRows) -> SparseRows {
-    let mut offsets = vec![0u32; a.column_count + 1];
-    for &c in &a.columns {
-        offsets[c as usize + 1] += 1;
-    }
-    for k in 0..a.column_count {
-        offsets[k + 1] += offsets[k];
-    }
-    let mut next: Vec<u32> = offsets[..a.column_count].to_vec();
-    let mut columns = vec![0u32; a.columns.len()];
-    let mut weights = vec![0.0; a.columns.len()];
-    for i in 0..a.row_count() {
-        for (c, w) in a.row(i) {
-            let slot = &mut next[c as usize];
-            columns[*slot as usize] = i as u32;
-            weights[*slot as usize] = w;
-            *slot += 1;
-        }
-    }
-    SparseRows { offsets, columns, weights, column_count: a.row_count() }
-}
-
-/// `a y` into `out` in parallel by rows, however few: the transposed rows of a least-squares
-/// system are few (the cage's vertices) and long (the samples each reaches). Each row is summed
-/// on its own, so the result does not depend on the thread count.
-fn apply_long_rows(a: &SparseRows, y: &[DVec3], out: &mut [DVec3]) {
-    use rayon::prelude::*;
-    out.par_iter_mut().with_min_len(16).enumerate().for_each(|(i, o)| *o = a.apply_row(i, y));
-}
-
 /// Least squares `min |L x − c|²` by CGLS from `x`, per coordinate at once; stops when the
 /// gradient's norm falls below `relative` times its start, or after `max_iterations`.
 pub fn least_squares(l: &SparseRows, c: &[DVec3], x: &mut [DVec3], relative: f64, max_iterations: usize) -> usize {
     let dot = |u: &[DVec3], v: &[DVec3]| u.iter().zip(v).fold(DVec3::ZERO, |s, (a, b)| s + *a * *b);
-    // `Lᵀ r` by the transposed rows: in parallel, and summed in the order `apply_transposed` sums.
-    let lt = transpose(l);
     let mut r: Vec<DVec3> = c.iter().zip(l.apply(x)).map(|(c, lx)| *c - lx).collect();
-    let mut s = vec![DVec3::ZERO; lt.row_count()];
-    apply_long_rows(&lt, &r, &mut s);
+    let mut s = apply_transposed(l, &r);
     let mut p = s.clone();
     let mut gamma = dot(&s, &s);
     let start = gamma;
@@ -160,7 +123,7 @@ pub fn least_squares(l: &SparseRows, c: &[DVec3], x: &mut [DVec3], relative: f64
         for (ri, qi) in r.iter_mut().zip(&q) {
             *ri -= alpha * *qi;
         }
-        apply_long_rows(&lt, &r, &mut s);
+        s = apply_transposed(l, &r);
         let next = dot(&s, &s);
         let beta =
             DVec3::select(gamma.cmpgt(DVec3::ZERO), next / gamma.max(DVec3::splat(f64::MIN_POSITIVE)), DVec3::ZERO);
@@ -245,9 +208,5 @@ mod tests {
         for g in apply_transposed(&ab, &r) {
             assert!(g.abs().max_element() < 1e-9, "{g}");
         }
-        // The transposed rows sum in the same order: bit for bit the same product.
-        let mut by_rows = vec![DVec3::ZERO; 4];
-        apply_long_rows(&transpose(&ab), &r, &mut by_rows);
-        assert_eq!(by_rows, apply_transposed(&ab, &r));
     }
 }
