@@ -63,31 +63,24 @@ pub(crate) fn parse_stl(bytes: &[u8], origin: &Path) -> Result<Soup> {
 }
 
 fn parse_binary(bytes: &[u8], count: usize, size: usize, origin: &Path) -> Result<Soup> {
-    use rayon::prelude::*;
+    let mut soup = Soup { positions: Vec::with_capacity(3 * count), ..Soup::default() };
     let f32_at = |k: usize| f32::from_le_bytes([bytes[k], bytes[k + 1], bytes[k + 2], bytes[k + 3]]);
-    // Records are independent: read in parallel, in order; the first bad corner is reported.
-    let mut positions = Vec::with_capacity(3 * count);
-    positions.par_extend(bytes[HEADER..size].par_chunks_exact(RECORD).with_min_len(4096).enumerate().flat_map_iter(
-        |(t, _)| {
-            let record = HEADER + t * RECORD;
-            (0..3).map(move |corner| {
-                let at = record + 12 + 12 * corner;
-                DVec3::new(f64::from(f32_at(at)), f64::from(f32_at(at + 4)), f64::from(f32_at(at + 8)))
-            })
-        },
-    ));
-    if let Some(k) = positions.par_iter().position_first(|p| !p.is_finite()) {
-        return Err(Error::format(
-            origin,
-            format!(
-                "triangle {} has a non-finite corner ({:?}); every coordinate must be a finite number",
-                k / 3,
-                positions[k].to_array()
-            ),
-        ));
-    }
-    let mut soup = Soup { positions, ..Soup::default() };
     for t in 0..count {
+        let record = HEADER + t * RECORD;
+        for corner in 0..3 {
+            let at = record + 12 + 12 * corner;
+            let p = DVec3::new(f64::from(f32_at(at)), f64::from(f32_at(at + 4)), f64::from(f32_at(at + 8)));
+            if !p.is_finite() {
+                return Err(Error::format(
+                    origin,
+                    format!(
+                        "triangle {t} has a non-finite corner ({:?}); every coordinate must be a finite number",
+                        p.to_array()
+                    ),
+                ));
+            }
+            soup.positions.push(p);
+        }
         let base = 3 * t as u32;
         soup.faces.push([base, base + 1, base + 2]);
     }

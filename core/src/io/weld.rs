@@ -246,8 +246,7 @@ pub fn weld_faces(positions: &[DVec3], faces: &FaceList) -> Result<Welded> {
             sides.push((a.min(b), a.max(b), ((c as u32) << 1) | backward));
         }
     }
-    // Every entry is distinct (it names its corner), so the parallel sort's order is the one order.
-    sides.par_sort_unstable();
+    sides.sort_unstable();
     let mut k = 0;
     while k < sides.len() {
         let mut end = k + 1;
@@ -408,9 +407,8 @@ impl Kept {
 
 /// `(face, earlier face, reversed)` for every kept face whose cycle repeats an earlier one's.
 fn find_duplicates(kept: &Kept) -> Vec<(u32, u32, bool)> {
-    let mut keyed: Vec<(u64, u32)> =
-        (0..kept.len()).into_par_iter().map(|f| (cycle_hash(kept.cycle(f)), f as u32)).collect();
-    keyed.par_sort_unstable();
+    let mut keyed: Vec<(u64, u32)> = (0..kept.len()).map(|f| (cycle_hash(kept.cycle(f)), f as u32)).collect();
+    keyed.sort_unstable();
     let mut out = Vec::new();
     let mut dropped = vec![false; kept.len()];
     let mut k = 0;
