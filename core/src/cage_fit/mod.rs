@@ -22,8 +22,8 @@
 //! runs on the calling thread with rayon inside, reports progress and can be cancelled through
 //! [`Progress`], and gives the same result on any number of threads. Steps that run on one
 //! thread and do not depend on each other overlap: the simplification with indexing the
-//! original, and the measures' preparation with the rounds and with the QEM cage's queries (on
-//! a scoped helper thread, which reports nothing).
+//! original, and the measures' preparation with the rounds and with the QEM cage's queries (as
+//! tasks of rayon's pool, which report nothing).
 //!
 //! Weak spots: the Loop surface has no creases, so sharp edges of the original come out rounded;
 //! the volume measure needs a closed original; the cage is a triangle cage (Loop), not quads.
@@ -344,15 +344,20 @@ pub fn fit_cage(dense: &DenseMesh, params: &CageFitParams, progress: &mut dyn Pr
 
     // Preparing a measure (refining the cage, one Loop step, indexing the sampled surface) runs on
     // one thread; the QEM cage's and the paper's round's are prepared beside the rounds, which
-    // leave a core idle in their own one-thread parts (the samples' hierarchy, the volume steps).
+    // leave a core idle in their own one-thread parts (the samples' hierarchy, the volume steps,
+    // the least squares).
     let round_one = cages[0].1.clone();
-    let (prepared, rounds_done) = std::thread::scope(|s| {
-        let side = s.spawn(|| -> Result<(evaluate::Prepared, Option<evaluate::Prepared>)> {
-            let qem = evaluate::prepare(&qem_cage, &original)?;
-            let first = round_one.as_ref().map(|c| evaluate::prepare(c, &original)).transpose()?;
-            Ok((qem, first))
+    let mut prepared: Option<Result<(evaluate::Prepared, Option<evaluate::Prepared>)>> = None;
+    let rounds_done = rayon::in_place_scope(|s| {
+        // A task of rayon's own pool, not a thread more: on a busy machine it only waits its turn.
+        s.spawn(|_| {
+            prepared = Some((|| {
+                let qem = evaluate::prepare(&qem_cage, &original)?;
+                let first = round_one.as_ref().map(|c| evaluate::prepare(c, &original)).transpose()?;
+                Ok((qem, first))
+            })());
         });
-        let done = (|| -> Result<Option<()>> {
+        (|| -> Result<Option<()>> {
             if params.rounds > 1 && cages[0].1.is_some() {
                 step!("two-sided rounds");
                 let sampling = two_sided::Sampling::new(&qem_cage, two_sided::LEVELS)?;
@@ -381,26 +386,25 @@ pub fn fit_cage(dense: &DenseMesh, params: &CageFitParams, progress: &mut dyn Pr
                 }
             }
             Ok(Some(()))
-        })();
-        (side.join().unwrap_or_else(|panic| std::panic::resume_unwind(panic)), done)
+        })()
     });
     if rounds_done?.is_none() {
         return Ok(None);
     }
-    let (qem_prepared, mut first_prepared) = prepared?;
+    let (qem_prepared, mut first_prepared) = prepared.expect("the scope ran its task")?;
 
     step!("evaluate QEM cage");
     // The last round's measure is prepared while the QEM cage's queries run.
     let last_cage = cages.last().filter(|(r, _)| r.round != 1).and_then(|(_, c)| c.as_ref());
-    let (measured, last_prepared) = std::thread::scope(|s| {
-        let side = s.spawn(|| last_cage.map(|c| evaluate::prepare(c, &original)).transpose());
-        let measured = evaluate::measure(qem_prepared, &original, &mut monitor);
-        (measured, side.join().unwrap_or_else(|panic| std::panic::resume_unwind(panic)))
+    let mut last_prepared = None;
+    let measured = rayon::in_place_scope(|s| {
+        s.spawn(|_| last_prepared = Some(last_cage.map(|c| evaluate::prepare(c, &original)).transpose()));
+        evaluate::measure(qem_prepared, &original, &mut monitor)
     });
     let Some((qem, qem_surface)) = measured? else {
         return Ok(None);
     };
-    let mut last_prepared = last_prepared?;
+    let mut last_prepared = last_prepared.expect("the scope ran its task")?;
     step!("evaluate fitted cage");
     // Candidates no worse than the QEM cage in either distance; of those the smallest mean.
     let mut best: Option<(u32, PolyMesh, LimitSurface, Evaluation)> = None;
