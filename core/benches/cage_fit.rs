@@ -89,7 +89,11 @@ fn pipeline(label: &str, n: u32) {
     });
     let fit = fit.unwrap();
     let r = &fit.report;
-    let simplify_s = r.steps.iter().find(|s| s.step == "simplify").map_or(0.0, |s| s.seconds);
+    // The fit simplifies while it indexes the original on the other core: the simplification's
+    // own rate is measured alone.
+    let simplify_s = seconds(|| {
+        black_box(simplify(&dense, 2000).unwrap());
+    });
     println!(
         "{label}: {} triangles → {} faces; import {import:.2} s, prepare {prepare:.2} s, fit {total:.2} s (target < 5 s at 1 M)",
         r.input_triangles, r.cage_faces
@@ -98,7 +102,7 @@ fn pipeline(label: &str, n: u32) {
         println!("  {:<22} {:>8.3} s", s.step, s.seconds);
     }
     println!(
-        "  simplification {:.2} M triangles/s (target ≥ 1), {:.0}× a streaming pass over the mesh ({:.1} ms)",
+        "  simplification alone {:.2} M triangles/s (target ≥ 1), {:.0}× a streaming pass over the mesh ({:.1} ms)",
         r.input_triangles as f64 / simplify_s / 1e6,
         simplify_s / stream,
         stream * 1e3

@@ -99,12 +99,19 @@ impl<'a> Original<'a> {
     }
 }
 
-/// Measures a cage; `None` when cancelled.
-pub fn evaluate(
-    cage: &PolyMesh,
-    original: &Original<'_>,
-    monitor: &mut Monitor<'_>,
-) -> Result<Option<(Evaluation, LimitSurface)>> {
+/// A cage's sampled limit surface, indexed, and its volume change: the part of a measure that
+/// runs on one thread (refinement, one Loop step, the hierarchy's build), so that several cages
+/// can be prepared side by side before [`measure`] runs their queries.
+#[derive(Debug)]
+pub struct Prepared {
+    mesh: PolyMesh,
+    index: SurfaceIndex,
+    volume_change: Option<f64>,
+    cage_vertices: usize,
+}
+
+/// Prepares a cage's measure against `original`.
+pub fn prepare(cage: &PolyMesh, original: &Original<'_>) -> Result<Prepared> {
     let levels = sample_levels(cage.face_count(), original.triangles);
     let mesh = limit_mesh(cage, levels)?;
     let volume_change = match original.volume {
@@ -112,6 +119,25 @@ pub fn evaluate(
         _ => None,
     };
     let index = SurfaceIndex::new(mesh.positions(), &mesh.triangles())?;
+    Ok(Prepared { mesh, index, volume_change, cage_vertices: cage.vertex_count() })
+}
+
+/// Measures a cage; `None` when cancelled.
+pub fn evaluate(
+    cage: &PolyMesh,
+    original: &Original<'_>,
+    monitor: &mut Monitor<'_>,
+) -> Result<Option<(Evaluation, LimitSurface)>> {
+    measure(prepare(cage, original)?, original, monitor)
+}
+
+/// Measures a prepared cage (distances both ways); `None` when cancelled.
+pub fn measure(
+    prepared: Prepared,
+    original: &Original<'_>,
+    monitor: &mut Monitor<'_>,
+) -> Result<Option<(Evaluation, LimitSurface)>> {
+    let Prepared { mesh, index, volume_change, cage_vertices } = prepared;
     let positions = mesh.positions();
     let Some(to_original) = monitor.map(positions.len() + original.samples.len(), |k| {
         if k < positions.len() {
@@ -134,7 +160,7 @@ pub fn evaluate(
         hausdorff: max(forward).max(max(backward)) * scale,
         mean: 0.5 * (mean(forward) + mean(backward)) * scale,
         // The refined mesh numbers the cage's vertices first, at their limit points.
-        limit_points_max: max(&forward[..cage.vertex_count()]) * scale,
+        limit_points_max: max(&forward[..cage_vertices]) * scale,
     };
     let distance = forward.to_vec();
     Ok(Some((evaluation, LimitSurface { mesh, distance })))

@@ -272,7 +272,6 @@ fn prepare(mut positions: Vec<DVec3>, input: &[[u32; 3]]) -> Result<DenseMesh> {
             across[c1 as usize / 3][c1 as usize % 3] = c0 / 3;
         }
     }
-    drop(uses);
 
     // Split vertices into fans: corners (t, k) at the same vertex are one fan when joined by a
     // chain of manifold edges around it. Union–find over corners.
@@ -322,8 +321,9 @@ fn prepare(mut positions: Vec<DVec3>, input: &[[u32; 3]]) -> Result<DenseMesh> {
     }
     report.split_vertices = fan_vertex.len();
 
-    // Pieces and borders of the prepared mesh.
-    let uses = EdgeUses::new(&triangles);
+    // Pieces and borders of the prepared mesh: with no vertex split the triangles are those the
+    // uses above were listed from.
+    let uses = if fan_vertex.is_empty() { uses } else { EdgeUses::new(&triangles) };
     report.border_edges = uses.groups().filter(|u| u.len() == 1).count();
     if let Some(list) = uses.groups().find(|u| !is_manifold(u, &triangles)) {
         let c = list[0] as usize;

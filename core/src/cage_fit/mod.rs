@@ -20,7 +20,10 @@
 //!
 //! Input comes through [`DenseMesh`], which makes scans manifold (see [`input`]). Everything
 //! runs on the calling thread with rayon inside, reports progress and can be cancelled through
-//! [`Progress`], and gives the same result on any number of threads.
+//! [`Progress`], and gives the same result on any number of threads. Steps that run on one
+//! thread and do not depend on each other overlap: the simplification with indexing the
+//! original, and the measures' preparation with the rounds and with the QEM cage's queries (as
+//! tasks of rayon's pool, which report nothing).
 //!
 //! Weak spots: the Loop surface has no creases, so sharp edges of the original come out rounded;
 //! the volume measure needs a closed original; the cage is a triangle cage (Loop), not quads.
@@ -282,17 +285,22 @@ pub fn fit_cage(dense: &DenseMesh, params: &CageFitParams, progress: &mut dyn Pr
         };
     }
 
-    step!("simplify");
+    step!("simplify and index original");
+    // meshoptimizer's simplifier and parry's hierarchy build each run on one thread and neither
+    // needs the other: side by side they take the longer of the two on two cores.
     // A closed piece cannot go below a tetrahedron's four faces.
-    let simplified = simplify::simplify(dense, target.max(4 * dense.report.components))?;
+    let (simplified, index) = rayon::join(
+        || simplify::simplify(dense, target.max(4 * dense.report.components)),
+        || surface_index::SurfaceIndex::new(&dense.positions, &dense.triangles),
+    );
+    let (simplified, index) = (simplified?, index?);
     let qem_cage = simplified.cage;
 
     step!("limit matrix");
     let matrix = loop_limit_matrix(&qem_cage)?;
     let limit = matrix.apply(qem_cage.positions());
 
-    step!("index original");
-    let index = surface_index::SurfaceIndex::new(&dense.positions, &dense.triangles)?;
+    step!("sample original");
     let volume = dense.closed.then(|| dense.signed_volume());
     let original = evaluate::Original::new(&index, &dense.positions, dense.triangles.len(), volume);
 
@@ -334,37 +342,69 @@ pub fn fit_cage(dense: &DenseMesh, params: &CageFitParams, progress: &mut dyn Pr
         }
     }
 
-    if params.rounds > 1 && cages[0].1.is_some() {
-        step!("two-sided rounds");
-        let sampling = two_sided::Sampling::new(&qem_cage, two_sided::LEVELS)?;
-        let stride = original.samples.len().div_ceil(two_sided::POINTS).max(1);
-        let points: Vec<DVec3> = original.samples.iter().step_by(stride).copied().collect();
-        let mut x = cages.last().and_then(|(_, c)| c.as_ref()).map(|c| c.positions().to_vec()).unwrap_or_default();
-        for round in 2..=params.rounds {
-            let Some((_, iterations)) =
-                two_sided::round(&sampling, &original, &points, &mut x, ROUND_ITERATIONS, true, &mut monitor)?
-            else {
-                return Ok(None);
-            };
-            let report = RoundReport {
-                round,
-                ray_hits: 0,
-                closest_points: sampling.rows.row_count() + original.samples.len(),
-                border: 0,
-                iterations,
-                evaluation: None,
-                failure: None,
-            };
-            let mut cage = qem_cage.clone();
-            cage.positions_mut().copy_from_slice(&x);
-            cages.push((report, Some(cage)));
-        }
+    // Preparing a measure (refining the cage, one Loop step, indexing the sampled surface) runs on
+    // one thread; the QEM cage's and the paper's round's are prepared beside the rounds, which
+    // leave a core idle in their own one-thread parts (the samples' hierarchy, the volume steps,
+    // the least squares).
+    let round_one = cages[0].1.clone();
+    let mut prepared: Option<Result<(evaluate::Prepared, Option<evaluate::Prepared>)>> = None;
+    let rounds_done = rayon::in_place_scope(|s| {
+        // A task of rayon's own pool, not a thread more: on a busy machine it only waits its turn.
+        s.spawn(|_| {
+            prepared = Some((|| {
+                let qem = evaluate::prepare(&qem_cage, &original)?;
+                let first = round_one.as_ref().map(|c| evaluate::prepare(c, &original)).transpose()?;
+                Ok((qem, first))
+            })());
+        });
+        (|| -> Result<Option<()>> {
+            if params.rounds > 1 && cages[0].1.is_some() {
+                step!("two-sided rounds");
+                let sampling = two_sided::Sampling::new(&qem_cage, two_sided::LEVELS)?;
+                let stride = original.samples.len().div_ceil(two_sided::POINTS).max(1);
+                let points: Vec<DVec3> = original.samples.iter().step_by(stride).copied().collect();
+                let mut x =
+                    cages.last().and_then(|(_, c)| c.as_ref()).map(|c| c.positions().to_vec()).unwrap_or_default();
+                for round in 2..=params.rounds {
+                    let Some((_, iterations)) =
+                        two_sided::round(&sampling, &original, &points, &mut x, ROUND_ITERATIONS, true, &mut monitor)?
+                    else {
+                        return Ok(None);
+                    };
+                    let report = RoundReport {
+                        round,
+                        ray_hits: 0,
+                        closest_points: sampling.rows.row_count() + original.samples.len(),
+                        border: 0,
+                        iterations,
+                        evaluation: None,
+                        failure: None,
+                    };
+                    let mut cage = qem_cage.clone();
+                    cage.positions_mut().copy_from_slice(&x);
+                    cages.push((report, Some(cage)));
+                }
+            }
+            Ok(Some(()))
+        })()
+    });
+    if rounds_done?.is_none() {
+        return Ok(None);
     }
+    let (qem_prepared, mut first_prepared) = prepared.expect("the scope ran its task")?;
 
     step!("evaluate QEM cage");
-    let Some((qem, qem_surface)) = evaluate::evaluate(&qem_cage, &original, &mut monitor)? else {
+    // The last round's measure is prepared while the QEM cage's queries run.
+    let last_cage = cages.last().filter(|(r, _)| r.round != 1).and_then(|(_, c)| c.as_ref());
+    let mut last_prepared = None;
+    let measured = rayon::in_place_scope(|s| {
+        s.spawn(|_| last_prepared = Some(last_cage.map(|c| evaluate::prepare(c, &original)).transpose()));
+        evaluate::measure(qem_prepared, &original, &mut monitor)
+    });
+    let Some((qem, qem_surface)) = measured? else {
         return Ok(None);
     };
+    let mut last_prepared = last_prepared.expect("the scope ran its task")?;
     step!("evaluate fitted cage");
     // Candidates no worse than the QEM cage in either distance; of those the smallest mean.
     let mut best: Option<(u32, PolyMesh, LimitSurface, Evaluation)> = None;
@@ -376,7 +416,12 @@ pub fn fit_cage(dense: &DenseMesh, params: &CageFitParams, progress: &mut dyn Pr
         if report.round != 1 && report.round != last {
             continue;
         }
-        let Some((evaluation, surface)) = evaluate::evaluate(&cage, &original, &mut monitor)? else {
+        let ready = if report.round == 1 { first_prepared.take() } else { last_prepared.take() };
+        let prepared = match ready {
+            Some(p) => p,
+            None => evaluate::prepare(&cage, &original)?,
+        };
+        let Some((evaluation, surface)) = evaluate::measure(prepared, &original, &mut monitor)? else {
             return Ok(None);
         };
         report.evaluation = Some(evaluation.clone());
