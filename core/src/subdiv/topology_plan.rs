@@ -133,24 +133,33 @@ impl<'a> Plan<'a> {
             None => Plan::walked_faces(parent, rule),
         };
         let np = parent.halfedge_count();
-        if made_by_quads.is_some() && 4 * nf == np {
-            // Closed: every halfedge has a face, and its slot is its index.
-            let identity = || (0..np as u32).into_par_iter().with_min_len(PARALLEL_CHUNK).collect::<Vec<u32>>();
-            let (slot, interior) = rayon::join(identity, identity);
-            return Plan {
-                parent,
-                halves: 4 * ne as u32,
-                corner,
-                slot,
-                interior,
-                first_child,
-                face_point,
-                face_point_face,
-                closed_quads: made_by_quads,
-            };
+        // Closed below a split into quads: every halfedge has a face, and its slot is its index.
+        let closed_quads = made_by_quads.filter(|_| 4 * nf == np);
+        let (slot, interior) = match closed_quads {
+            Some(_) => {
+                let identity = || (0..np as u32).into_par_iter().with_min_len(PARALLEL_CHUNK).collect::<Vec<u32>>();
+                rayon::join(identity, identity)
+            }
+            None => Plan::slots(&corner),
+        };
+        Plan {
+            parent,
+            halves: 4 * ne as u32,
+            corner,
+            slot,
+            interior,
+            first_child,
+            face_point,
+            face_point_face,
+            closed_quads,
         }
-        // Slots by chunks: each chunk's halfedges with a face counted in parallel, the counts
-        // summed, then each chunk numbered from its sum.
+    }
+
+    /// Per parent halfedge, the number of halfedges with a face before it (its slot), and the
+    /// halfedges with a face in order, from the corners (`u32::MAX` on the boundary). By chunks:
+    /// each chunk's halfedges with a face counted in parallel, the counts summed, then each chunk
+    /// numbered from its sum.
+    fn slots(corner: &[u32]) -> (Vec<u32>, Vec<u32>) {
         let counts: Vec<u32> =
             corner.par_chunks(PARALLEL_CHUNK).map(|c| c.iter().filter(|&&k| k != u32::MAX).count() as u32).collect();
         let firsts: Vec<u32> = counts
@@ -187,17 +196,7 @@ impl<'a> Plan<'a> {
                     }
                 }
             });
-        Plan {
-            parent,
-            halves: 4 * ne as u32,
-            corner,
-            slot,
-            interior,
-            first_child,
-            face_point,
-            face_point_face,
-            closed_quads: None,
-        }
+        (slot, interior)
     }
 
     /// A child of a split into quads, halfedge `h` of its face: the quad at corner `k` of a parent
