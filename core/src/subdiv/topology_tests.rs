@@ -120,17 +120,8 @@ fn quad_halfedges_are_the_index_functions() {
         p.push(DVec3::splat(7.0));
         PolyMesh::from_polygons(p, &strip.polygons()).unwrap()
     };
-    let grid = {
-        // 90 × 70 quads with a hole: over 12,000 parent halfedges, several tasks.
-        let (nx, ny) = (91u32, 71u32);
-        let p = (0..nx * ny).map(|k| DVec3::new((k % nx) as f64, (k / nx) as f64, 0.0)).collect();
-        let faces: Vec<[u32; 4]> = (0..ny - 1)
-            .flat_map(|j| (0..nx - 1).map(move |i| (i, j)))
-            .filter(|&(i, j)| !(40..45).contains(&i) || !(30..33).contains(&j))
-            .map(|(i, j)| [j * nx + i, j * nx + i + 1, (j + 1) * nx + i + 1, (j + 1) * nx + i])
-            .collect();
-        PolyMesh::from_polygons(p, &faces).unwrap()
-    };
+    // 90 × 70 quads with a hole: over 12,000 parent halfedges, several tasks.
+    let grid = grid_with_hole(91, 71, 40..45, 30..33);
     for cage in [pyramid_with_pentagon(), open_mixed(), isolated, grid] {
         let first = SplitTopology::split(&cage, SplitRule::Quads).unwrap();
         for parent in [&cage, &first.mesh] {
@@ -150,34 +141,14 @@ fn a_split_again_plans_what_walking_the_faces_plans() {
     // Below a split into quads, the plan read from the halfedges' indices must be the plan walked
     // round the faces, closed (torus) or open (grid with a hole, a mixed cage), and the children
     // the same.
-    let torus = {
-        let (nu, nv) = (6u32, 5u32);
-        let p = (0..nu * nv).map(|k| DVec3::new((k % nu) as f64, (k / nu) as f64, (k % 3) as f64)).collect();
-        let faces: Vec<[u32; 4]> = (0..nv)
-            .flat_map(|j| (0..nu).map(move |i| (i, j)))
-            .map(|(i, j)| {
-                let (i1, j1) = ((i + 1) % nu, (j + 1) % nv);
-                [j * nu + i, j * nu + i1, j1 * nu + i1, j1 * nu + i]
-            })
-            .collect();
-        PolyMesh::from_polygons(p, &faces).unwrap()
-    };
-    let grid = {
-        let (nx, ny) = (9u32, 7u32);
-        let p = (0..nx * ny).map(|k| DVec3::new((k % nx) as f64, (k / nx) as f64, 0.0)).collect();
-        let faces: Vec<[u32; 4]> = (0..ny - 1)
-            .flat_map(|j| (0..nx - 1).map(move |i| (i, j)))
-            .filter(|&(i, j)| (i, j) != (4, 3))
-            .map(|(i, j)| [j * nx + i, j * nx + i + 1, (j + 1) * nx + i + 1, (j + 1) * nx + i])
-            .collect();
-        PolyMesh::from_polygons(p, &faces).unwrap()
-    };
+    let torus = crate::mesh::primitives::torus(6, 5, 2.0, 0.7).unwrap();
+    let grid = grid_with_hole(9, 7, 4..5, 3..4);
     for cage in [torus, grid, pyramid_with_pentagon(), open_mixed()] {
         let mut above = SplitTopology::split(&cage, SplitRule::Quads).unwrap();
         for _ in 0..2 {
             for rule in [SplitRule::Quads, SplitRule::Mixed] {
                 let walked = Plan::new(&above.mesh, rule, None);
-                let read = Plan::new(&above.mesh, rule, Some(4 * cage_edges(&above)));
+                let read = Plan::new(&above.mesh, rule, Some(4 * above.parent_edges));
                 assert_eq!(read.corner, walked.corner);
                 assert_eq!(read.slot, walked.slot);
                 assert_eq!(read.interior, walked.interior);
@@ -209,9 +180,16 @@ fn assert_same_mesh(a: &PolyMesh, b: &PolyMesh) {
     assert!(a.faces().all(|f| a.face_halfedge(f) == b.face_halfedge(f)));
 }
 
-/// The edges of the mesh `split` was made from.
-fn cage_edges(split: &SplitTopology) -> u32 {
-    split.parent_edges
+/// A flat grid of `(nx − 1) × (ny − 1)` quads without the quads at columns `holes_x` of rows
+/// `holes_y`.
+fn grid_with_hole(nx: u32, ny: u32, holes_x: std::ops::Range<u32>, holes_y: std::ops::Range<u32>) -> PolyMesh {
+    let p = (0..nx * ny).map(|k| DVec3::new((k % nx) as f64, (k / nx) as f64, 0.0)).collect();
+    let faces: Vec<[u32; 4]> = (0..ny - 1)
+        .flat_map(|j| (0..nx - 1).map(move |i| (i, j)))
+        .filter(|&(i, j)| !holes_x.contains(&i) || !holes_y.contains(&j))
+        .map(|(i, j)| [j * nx + i, j * nx + i + 1, (j + 1) * nx + i + 1, (j + 1) * nx + i])
+        .collect();
+    PolyMesh::from_polygons(p, &faces).unwrap()
 }
 
 #[test]
