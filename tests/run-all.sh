@@ -51,6 +51,11 @@ if [ -z "${XDG_RUNTIME_DIR:-}" ]; then
     export XDG_RUNTIME_DIR="$(mktemp -d)"
 fi
 
+# A one-shot build gains nothing from incremental caches, which take gigabytes of disk; set
+# CARGO_INCREMENTAL=1 to keep them between runs. The free space is printed to explain a full disk.
+export CARGO_INCREMENTAL="${CARGO_INCREMENTAL:-0}"
+echo "free disk for target/: $(df -h --output=avail . | tail -1 | tr -d ' ')"
+
 # The real-window test drives the release binary, as a designer runs it.
 cargo build --release --locked -p taut-app
 export TAUT_EDITOR_BIN="$PWD/target/release/taut"
