@@ -101,10 +101,11 @@ fn largest(values: &[f64]) -> f64 {
 #[derive(Clone, Debug)]
 struct Level {
     split: SplitTopology,
-    /// Effective sharpness of this level's edges.
-    sharpness: Vec<f64>,
-    /// Sharpness of this level's vertices (corners).
-    corners: Vec<f64>,
+    /// Effective sharpness of this level's edges; on a level with no sharp edge or corner (all
+    /// 0), made on first use: the fresh path reads no table there ([`Refinement::rule_topology`]).
+    sharpness: OnceLock<Vec<f64>>,
+    /// Sharpness of this level's vertices (corners), made on first use where all are 0.
+    corners: OnceLock<Vec<f64>>,
     /// This level's stencils, built on first use ([`Refinement::stencils`]).
     stencils: OnceLock<LevelStencils>,
 }
@@ -221,23 +222,29 @@ impl Refinement {
             id: NEXT_ID.fetch_add(1, Ordering::Relaxed),
         };
         for _ in 0..levels {
-            let (parent, parent_sharpness, parent_corners) = out.finest_topology();
             let split = match out.levels.last() {
                 Some(above) => SplitTopology::split_again(&above.split, rule)?,
-                None => SplitTopology::split(parent, rule)?,
+                None => SplitTopology::split(&out.cage, rule)?,
             };
-            // Child vertices come first as their parents, child edges first as the halves of
-            // theirs (`SplitTopology`'s numbering), and nothing else is sharp.
-            let corners: Vec<f64> = (0..split.mesh.vertex_count())
-                .into_par_iter()
-                .with_min_len(4096)
-                .map(|v| parent_corners.get(v).map_or(0.0, |&s| child_sharpness(s)))
-                .collect();
-            let sharpness: Vec<f64> = (0..split.mesh.edge_count())
-                .into_par_iter()
-                .with_min_len(4096)
-                .map(|e| parent_sharpness.get(e / 2).map_or(0.0, |&s| child_sharpness(s)))
-                .collect();
+            let level = out.levels.len() as u32 + 1;
+            let (sharpness, corners) = if out.is_smooth(level) {
+                (OnceLock::new(), OnceLock::new())
+            } else {
+                // Child vertices come first as their parents, child edges first as the halves of
+                // theirs (`SplitTopology`'s numbering), and nothing else is sharp.
+                let (parent_sharpness, parent_corners) = (out.sharpness(level - 1), out.corners(level - 1));
+                let corners: Vec<f64> = (0..split.mesh.vertex_count())
+                    .into_par_iter()
+                    .with_min_len(4096)
+                    .map(|v| parent_corners.get(v).map_or(0.0, |&s| child_sharpness(s)))
+                    .collect();
+                let sharpness: Vec<f64> = (0..split.mesh.edge_count())
+                    .into_par_iter()
+                    .with_min_len(4096)
+                    .map(|e| parent_sharpness.get(e / 2).map_or(0.0, |&s| child_sharpness(s)))
+                    .collect();
+                (OnceLock::from(sharpness), OnceLock::from(corners))
+            };
             out.levels.push(Level { split, sharpness, corners, stencils: OnceLock::new() });
         }
         // Below the cage every face is a quad (Catmull–Clark) or a triangle (Loop) by construction.
@@ -281,18 +288,27 @@ impl Refinement {
     /// no sharp edge or corner, no sharpness tables (empty, read as all 0: the same values, not
     /// looked up).
     fn rule_topology(&self, level: u32) -> (&PolyMesh, &[f64], &[f64]) {
+        if self.is_smooth(level) { (self.mesh(level), &[], &[]) } else { self.topology(level) }
+    }
+
+    /// Whether `level` has no sharp edge or corner: the cage's largest edge and vertex sharpness,
+    /// carried down to it, are 0.
+    fn is_smooth(&self, level: u32) -> bool {
         let (mut edges, mut corners) = self.cage_largest;
         for _ in 0..level {
             (edges, corners) = (child_sharpness(edges), child_sharpness(corners));
         }
-        if edges == 0.0 && corners == 0.0 { (self.mesh(level), &[], &[]) } else { self.topology(level) }
+        edges == 0.0 && corners == 0.0
     }
 
     /// The sharpness of every vertex of `level` (corners; 0 elsewhere).
     pub fn corners(&self, level: u32) -> &[f64] {
         match level {
             0 => &self.cage_corners,
-            l => &self.levels[l as usize - 1].corners,
+            l => {
+                let level = &self.levels[l as usize - 1];
+                level.corners.get_or_init(|| vec![0.0; level.split.mesh.vertex_count()])
+            }
         }
     }
 
@@ -324,7 +340,10 @@ impl Refinement {
     pub fn sharpness(&self, level: u32) -> &[f64] {
         match level {
             0 => &self.cage_sharpness,
-            l => &self.levels[l as usize - 1].sharpness,
+            l => {
+                let level = &self.levels[l as usize - 1];
+                level.sharpness.get_or_init(|| vec![0.0; level.split.mesh.edge_count()])
+            }
         }
     }
 
@@ -356,7 +375,8 @@ impl Refinement {
                 mesh(m)
                     + 12 * m.edge_count()
                     + 4 * m.face_count()
-                    + 8 * m.edge_count()
+                    + l.sharpness.get().map_or(0, |s| 8 * s.len())
+                    + l.corners.get().map_or(0, |c| 8 * c.len())
                     + l.stencils.get().map_or(0, |s| s.rows.memory_bytes() + s.users.memory_bytes())
             })
             .sum();

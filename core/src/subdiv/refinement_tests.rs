@@ -159,6 +159,41 @@ fn direct_rules_agree_with_the_lazy_stencils_and_a_drag_with_a_fresh_evaluation(
 }
 
 #[test]
+fn every_level_carries_the_sharpness_down_whether_its_tables_are_made_at_once_or_on_first_use() {
+    for (name, cage, scheme, sharpness, corners, levels) in cages() {
+        let r = Refinement::with_corners(&cage, scheme, &sharpness, &corners, levels).unwrap();
+        for l in 1..=levels {
+            let (parent_edges, parent_corners) = (r.sharpness(l - 1).to_vec(), r.corners(l - 1).to_vec());
+            let (mesh, split) = (r.mesh(l), r.split(l));
+            // A half of a parent edge carries its sharpness less 1; an edge inside a face is smooth.
+            let edges = r.sharpness(l);
+            assert_eq!(edges.len(), mesh.edge_count(), "{name}: level {l} edge table");
+            for e in mesh.edges() {
+                let want = split.edge_parent(e).map_or(0.0, |p| child_sharpness(parent_edges[p.index()]));
+                assert_eq!(edges[e.index()], want, "{name}: level {l} edge {}", e.0);
+            }
+            // A parent vertex carries its sharpness less 1; edge and face points are smooth.
+            let vertices = r.corners(l);
+            assert_eq!(vertices.len(), mesh.vertex_count(), "{name}: level {l} vertex table");
+            for (v, &s) in vertices.iter().enumerate() {
+                let want = parent_corners.get(v).map_or(0.0, |&c| child_sharpness(c));
+                assert_eq!(s, want, "{name}: level {l} vertex {v}");
+            }
+        }
+    }
+    // A smooth closed cage's levels make their (all-zero) tables only when asked.
+    let cage = pillow();
+    let r = Refinement::new(&cage, Scheme::CatmullClark, &[], 2).unwrap();
+    let before = r.memory_bytes();
+    assert!(r.sharpness(2).iter().chain(r.corners(2)).all(|&s| s == 0.0));
+    assert_eq!(
+        r.memory_bytes(),
+        before + 8 * (r.mesh(2).edge_count() + r.mesh(2).vertex_count()),
+        "the smooth level's tables were made before they were asked for"
+    );
+}
+
+#[test]
 fn topology_and_positions_do_not_depend_on_the_thread_count() {
     let run = |threads: usize| {
         let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();

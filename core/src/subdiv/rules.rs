@@ -112,7 +112,7 @@ pub(crate) fn refine_into(
     points: &[DVec3],
     out: &mut Vec<DVec3>,
 ) {
-    out.resize(split.mesh.vertex_count(), DVec3::ZERO);
+    crate::subdiv::resize_zeroed(out, split.mesh.vertex_count());
     let first_face_point = split.first_face_point();
     let (near, face_points) = out.split_at_mut(first_face_point);
     let point = |i: usize, face_points: &[DVec3]| {
@@ -215,17 +215,26 @@ fn vertex_point(scheme: Scheme, mesh: &PolyMesh, sharpness: &[f64], corner: f64,
         return;
     }
     let edge_sharpness = || mesh.outgoing(v).map(|h| sharp(sharpness, h.edge()));
-    // One walk round `v` counts its spokes, faces and sharp edges (a smooth vertex, nearly every
-    // one, needs no other before its mask).
+    // One walk round `v` counts its spokes, faces and sharp edges and keeps the first
+    // `SPOKES` spokes' ends and faces, so a smooth vertex (nearly every one) applies its mask
+    // without walking again.
     let (mut spokes, mut faces, mut sharp_edges) = (0, 0, 0);
+    let mut ring = [(0u32, FaceId::INVALID); SPOKES];
     for h in mesh.outgoing(v) {
+        if spokes < SPOKES {
+            ring[spokes] = (mesh.to_vertex(h).0, mesh.face(h));
+        }
         spokes += 1;
         faces += usize::from(!mesh.is_boundary_halfedge(h));
         sharp_edges += usize::from(sharp(sharpness, h.edge()) > 0.0);
     }
     let parent_rule = Rule::of(corner, sharp_edges);
     if matches!(parent_rule, Rule::Smooth | Rule::Dart) {
-        counted_smooth_vertex(scheme, mesh, v, spokes, faces, 1.0, b);
+        if spokes <= SPOKES {
+            ring_smooth_vertex(scheme, mesh, v, &ring[..spokes], faces, b);
+        } else {
+            counted_smooth_vertex(scheme, mesh, v, spokes, faces, 1.0, b);
+        }
         return;
     }
     let child_corner = child_sharpness(corner);
@@ -266,6 +275,42 @@ fn rule_mask(
 fn smooth_vertex(scheme: Scheme, mesh: &PolyMesh, v: VertexId, scale: f64, b: &mut impl Sink) {
     let faces = mesh.outgoing(v).filter(|&h| !mesh.is_boundary_halfedge(h)).count();
     counted_smooth_vertex(scheme, mesh, v, mesh.valence(v), faces, scale, b);
+}
+
+/// The most spokes [`vertex_point`] keeps from its counting walk.
+const SPOKES: usize = 16;
+
+/// [`counted_smooth_vertex`] (unscaled) from `v`'s spokes' ends and faces in rotation order, as
+/// the walk round `v` gives them: the same terms added in the same order, so the same bits.
+#[inline]
+fn ring_smooth_vertex(
+    scheme: Scheme,
+    mesh: &PolyMesh,
+    v: VertexId,
+    ring: &[(u32, FaceId)],
+    faces: usize,
+    b: &mut impl Sink,
+) {
+    let n = ring.len();
+    match scheme {
+        Scheme::CatmullClark => {
+            let w = 1.0 / (n * n) as f64;
+            b.add(v.0, 1.0 - (n + faces) as f64 * w);
+            for &(to, f) in ring {
+                b.add(to, w);
+                if f.is_valid() {
+                    b.add_face_point(mesh, f, w);
+                }
+            }
+        }
+        Scheme::Loop => {
+            let beta = loop_beta(n);
+            b.add(v.0, 1.0 - n as f64 * beta);
+            for &(to, _) in ring {
+                b.add(to, beta);
+            }
+        }
+    }
 }
 
 /// [`smooth_vertex`] with `v`'s valence `n` and its number of faces already counted.

@@ -156,8 +156,14 @@ impl SplitTopology {
 
     /// The rank of parent face `f`'s face point among the face points (its index minus
     /// [`first_face_point`](Self::first_face_point)); `None` for a triangle split into triangles.
+    /// A split into quads gives every face a face point in face order, so there the rank is the
+    /// face's index, read from no table.
     #[inline]
     pub fn face_point_rank(&self, f: FaceId) -> Option<usize> {
+        if self.rule == SplitRule::Quads {
+            debug_assert_eq!(self.face_point[f.index()].index(), self.first_face_point() + f.index());
+            return Some(f.index());
+        }
         self.face_point(f).map(|p| p.index() - self.first_face_point())
     }
 
@@ -168,6 +174,10 @@ impl SplitTopology {
 
     /// The face point of parent face `f`; `None` for a triangle split into triangles.
     pub fn face_point(&self, f: FaceId) -> Option<VertexId> {
+        if self.rule == SplitRule::Quads {
+            // Every face has one, in face order (see `face_point_rank`).
+            return Some(VertexId((self.first_face_point() + f.index()) as u32));
+        }
         let p = self.face_point[f.index()];
         p.is_valid().then_some(p)
     }

@@ -16,13 +16,20 @@ pub(super) struct ChildHalfedges {
 }
 
 impl ChildHalfedges {
+    /// `nh` halfedges, every entry invalid until the fill writes it. The arrays are megabytes at
+    /// a fine level (8 MB at level 3 of a 2,048-face cage); they are cleared by all threads at
+    /// once, which one thread took 0.3–0.6 ms to do while the others waited.
     fn new(nh: usize) -> Self {
-        ChildHalfedges {
-            to: vec![VertexId::INVALID; nh],
-            next: vec![HalfedgeId::INVALID; nh],
-            prev: vec![HalfedgeId::INVALID; nh],
-            face: vec![FaceId::INVALID; nh],
+        fn filled<T: Copy + Send + Sync>(value: T, n: usize) -> Vec<T> {
+            let mut v = Vec::with_capacity(n);
+            v.par_extend(rayon::iter::repeat_n(value, n).with_min_len(1 << 16));
+            v
         }
+        let ((to, next), (prev, face)) = rayon::join(
+            || rayon::join(|| filled(VertexId::INVALID, nh), || filled(HalfedgeId::INVALID, nh)),
+            || rayon::join(|| filled(HalfedgeId::INVALID, nh), || filled(FaceId::INVALID, nh)),
+        );
+        ChildHalfedges { to, next, prev, face }
     }
 }
 
