@@ -103,16 +103,27 @@ impl SplitTopology {
         }
         let plan = Plan::new(parent, rule, made_by_quads);
         let nh = (plan.halves + 2 * plan.interior.len() as u32) as usize;
+        // The halfedges and the per-vertex arrays read only the plan and the parent: made side
+        // by side, one part's waits on memory overlap the other's work.
+        let ((halfedges, (face_halfedge, face_parent)), (positions, vertex_halfedge)) = rayon::join(
+            || {
+                let halfedges = if rule == SplitRule::Quads { plan.quad_halfedges(nh) } else { plan.halfedges(nh) };
+                (halfedges, plan.face_halfedges_and_parents())
+            },
+            || {
+                let vertex_halfedge = (0..plan.vertex_count() as u32)
+                    .into_par_iter()
+                    .with_min_len(PARALLEL_CHUNK)
+                    .map(|v| plan.vertex_halfedge(v))
+                    .collect();
+                (plan.positions(), vertex_halfedge)
+            },
+        );
         let ChildHalfedges { to: halfedge_to, next: halfedge_next, prev: halfedge_prev, face: halfedge_face } =
-            if rule == SplitRule::Quads { plan.quad_halfedges(nh) } else { plan.halfedges(nh) };
-        let (face_halfedge, face_parent) = plan.face_halfedges_and_parents();
+            halfedges;
         let mesh = PolyMesh::from_halfedges(HalfedgeArrays {
-            positions: plan.positions(),
-            vertex_halfedge: (0..plan.vertex_count() as u32)
-                .into_par_iter()
-                .with_min_len(PARALLEL_CHUNK)
-                .map(|v| plan.vertex_halfedge(v))
-                .collect(),
+            positions,
+            vertex_halfedge,
             halfedge_to,
             halfedge_next,
             halfedge_prev,
