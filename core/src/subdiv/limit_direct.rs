@@ -24,8 +24,8 @@ pub(crate) fn limit_into(
     normals: &mut Vec<DVec3>,
 ) {
     let n = mesh.vertex_count();
-    crate::subdiv::resize_zeroed(limit, n);
-    crate::subdiv::resize_zeroed(normals, n);
+    crate::subdiv::resize_parallel(limit, n, DVec3::ZERO);
+    crate::subdiv::resize_parallel(normals, n, DVec3::ZERO);
     let sharp = |e: EdgeId| crate::subdiv::crease::sharp(sharpness, e);
     if let (Scheme::CatmullClark, Some((parent, split))) = (scheme, split) {
         quad_limit_into(parent, split, sharpness, corners, mesh, points, limit, normals);

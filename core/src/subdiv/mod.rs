@@ -31,14 +31,15 @@ pub use rules::Scheme;
 pub use sparse::SparseRows;
 pub use topology::{SplitRule, SplitTopology, VertexOrigin};
 
-/// `v.resize(n, DVec3::ZERO)`, the new entries written by all threads: a fresh evaluation's output
-/// buffers are megabytes, which one thread clears at memory speed while the others wait.
-pub(crate) fn resize_zeroed(v: &mut Vec<crate::DVec3>, n: usize) {
+/// `v.resize(n, value)`, the new entries written by all threads: a fine level's arrays and a
+/// fresh evaluation's output buffers are megabytes, which one thread clears at memory speed while
+/// the others wait.
+pub(crate) fn resize_parallel<T: Copy + Send + Sync>(v: &mut Vec<T>, n: usize, value: T) {
     use rayon::prelude::*;
     if n <= v.len() {
         v.truncate(n);
     } else {
         let grow = n - v.len();
-        v.par_extend(rayon::iter::repeat_n(crate::DVec3::ZERO, grow).with_min_len(1 << 14));
+        v.par_extend(rayon::iter::repeat_n(value, grow).with_min_len(1 << 14));
     }
 }

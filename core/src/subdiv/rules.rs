@@ -112,7 +112,7 @@ pub(crate) fn refine_into(
     points: &[DVec3],
     out: &mut Vec<DVec3>,
 ) {
-    crate::subdiv::resize_zeroed(out, split.mesh.vertex_count());
+    crate::subdiv::resize_parallel(out, split.mesh.vertex_count(), DVec3::ZERO);
     let first_face_point = split.first_face_point();
     let (near, face_points) = out.split_at_mut(first_face_point);
     let point = |i: usize, face_points: &[DVec3]| {

@@ -22,7 +22,7 @@ impl ChildHalfedges {
     fn new(nh: usize) -> Self {
         fn filled<T: Copy + Send + Sync>(value: T, n: usize) -> Vec<T> {
             let mut v = Vec::with_capacity(n);
-            v.par_extend(rayon::iter::repeat_n(value, n).with_min_len(1 << 16));
+            crate::subdiv::resize_parallel(&mut v, n, value);
             v
         }
         let ((to, next), (prev, face)) = rayon::join(
