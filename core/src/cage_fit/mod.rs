@@ -365,9 +365,18 @@ pub fn fit_cage(dense: &DenseMesh, params: &CageFitParams, progress: &mut dyn Pr
                 let points: Vec<DVec3> = original.samples.iter().step_by(stride).copied().collect();
                 let mut x =
                     cages.last().and_then(|(_, c)| c.as_ref()).map(|c| c.positions().to_vec()).unwrap_or_default();
+                let mut memory = two_sided::Memory::default();
                 for round in 2..=params.rounds {
-                    let Some((_, iterations)) =
-                        two_sided::round(&sampling, &original, &points, &mut x, ROUND_ITERATIONS, true, &mut monitor)?
+                    let Some((_, iterations)) = two_sided::round(
+                        &sampling,
+                        &original,
+                        &points,
+                        &mut x,
+                        ROUND_ITERATIONS,
+                        true,
+                        &mut memory,
+                        &mut monitor,
+                    )?
                     else {
                         return Ok(None);
                     };

@@ -92,6 +92,25 @@ pub fn compose(a: &SparseRows, b: &SparseRows) -> SparseRows {
 }
 
 /// `Aᵀ y` for a sparse row matrix.
+/// A linear map from the cage's points to values at other points, with its transpose: what
+/// [`least_squares`] needs of its matrix.
+pub trait LinearMap: Sync {
+    /// `A x`.
+    fn apply(&self, x: &[DVec3]) -> Vec<DVec3>;
+    /// `Aᵀ y`.
+    fn apply_transposed(&self, y: &[DVec3]) -> Vec<DVec3>;
+}
+
+impl LinearMap for SparseRows {
+    fn apply(&self, x: &[DVec3]) -> Vec<DVec3> {
+        SparseRows::apply(self, x)
+    }
+
+    fn apply_transposed(&self, y: &[DVec3]) -> Vec<DVec3> {
+        apply_transposed(self, y)
+    }
+}
+
 fn apply_transposed(a: &SparseRows, y: &[DVec3]) -> Vec<DVec3> {
     let mut out = vec![DVec3::ZERO; a.column_count];
     for (i, &yi) in y.iter().enumerate() {
@@ -104,10 +123,10 @@ fn apply_transposed(a: &SparseRows, y: &[DVec3]) -> Vec<DVec3> {
 
 /// Least squares `min |L x − c|²` by CGLS from `x`, per coordinate at once; stops when the
 /// gradient's norm falls below `relative` times its start, or after `max_iterations`.
-pub fn least_squares(l: &SparseRows, c: &[DVec3], x: &mut [DVec3], relative: f64, max_iterations: usize) -> usize {
+pub fn least_squares(l: &impl LinearMap, c: &[DVec3], x: &mut [DVec3], relative: f64, max_iterations: usize) -> usize {
     let dot = |u: &[DVec3], v: &[DVec3]| u.iter().zip(v).fold(DVec3::ZERO, |s, (a, b)| s + *a * *b);
     let mut r: Vec<DVec3> = c.iter().zip(l.apply(x)).map(|(c, lx)| *c - lx).collect();
-    let mut s = apply_transposed(l, &r);
+    let mut s = l.apply_transposed(&r);
     let mut p = s.clone();
     let mut gamma = dot(&s, &s);
     let start = gamma;
@@ -123,7 +142,7 @@ pub fn least_squares(l: &SparseRows, c: &[DVec3], x: &mut [DVec3], relative: f64
         for (ri, qi) in r.iter_mut().zip(&q) {
             *ri -= alpha * *qi;
         }
-        s = apply_transposed(l, &r);
+        s = l.apply_transposed(&r);
         let next = dot(&s, &s);
         let beta =
             DVec3::select(gamma.cmpgt(DVec3::ZERO), next / gamma.max(DVec3::splat(f64::MIN_POSITIVE)), DVec3::ZERO);

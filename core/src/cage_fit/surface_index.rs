@@ -56,6 +56,29 @@ impl SurfaceIndex {
         (point, triangle, weights)
     }
 
+    /// [`closest_point`](Self::closest_point) when it is at most `max` from `p`, else `None`;
+    /// the search skips every part of the hierarchy farther than `max`, so a good bound (a point
+    /// of the surface known to be near) makes it several times faster for the same answer.
+    pub fn closest_point_within(&self, p: DVec3, max: f64) -> Option<DVec3> {
+        self.mesh.project_local_point_with_max_dist(to_parry(p), false, max).map(|q| from_parry(q.point))
+    }
+
+    /// [`closest_on_triangle`](Self::closest_on_triangle) when it is at most `max` from `p`, else
+    /// `None` (see [`closest_point_within`](Self::closest_point_within)).
+    pub fn closest_on_triangle_within(&self, p: DVec3, max: f64) -> Option<(DVec3, usize, [f64; 3])> {
+        let (projection, (triangle, location)) =
+            self.mesh.project_local_point_and_get_location_with_max_dist(to_parry(p), false, max)?;
+        let weights = location.barycentric_coordinates().unwrap_or([1.0 / 3.0; 3]);
+        Some((from_parry(projection.point), triangle as usize, weights))
+    }
+
+    /// Moves the vertices (the same number, the triangles unchanged) and refits the hierarchy
+    /// to them, which costs a fraction of indexing them anew.
+    pub fn set_positions(&mut self, positions: &[DVec3]) {
+        let vertices: Vec<_> = positions.iter().map(|&p| to_parry(p)).collect();
+        self.mesh.set_vertices(&vertices);
+    }
+
     /// The distance from `p` to the surface.
     pub fn distance(&self, p: DVec3) -> f64 {
         (self.closest_point(p) - p).length()
@@ -99,6 +122,44 @@ mod tests {
             let [a, b, c] = [[0, 1, 2], [0, 2, 3]][t].map(|i| p[i]);
             assert!((w[0] * a + w[1] * b + w[2] * c - x).length() < 1e-12, "{q}: {x} in {t} at {w:?}");
             assert!((x - index.closest_point(q)).length() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn bounded_queries_answer_as_the_unbounded_ones_within_the_bound_and_refitting_as_a_new_index() {
+        // A bumpy sphere of 2,000-odd triangles and points around it.
+        let sphere = crate::mesh::primitives::icosphere(3, 1.0).unwrap();
+        let bumpy: Vec<DVec3> =
+            sphere.positions().iter().map(|p| *p * (1.0 + 0.1 * (5.0 * p.x).sin() * (3.0 * p.y).cos())).collect();
+        let triangles = sphere.triangles();
+        let mut index = SurfaceIndex::new(&bumpy, &triangles).unwrap();
+        let points: Vec<DVec3> = (0..200)
+            .map(|k| {
+                let t = k as f64 * 0.7;
+                DVec3::new(t.sin() * 1.4, (1.3 * t).cos() * 0.9, (0.4 * t).sin() * 1.2) * (0.5 + 0.005 * k as f64)
+            })
+            .collect();
+        for &p in &points {
+            let (x, t, w) = index.closest_on_triangle(p);
+            let d = (x - p).length();
+            // A bound beyond a point of the surface at least as far: the same answer, the same
+            // triangle (the search is strict: a bound equal to the distance finds nothing).
+            let corner = bumpy[triangles[t][0] as usize];
+            let bound = (corner - p).length().max(d) * (1.0 + 1e-9);
+            assert_eq!(index.closest_point_within(p, bound), Some(index.closest_point(p)));
+            assert_eq!(index.closest_on_triangle_within(p, bound), Some((x, t, w)));
+            // A bound short of the distance finds nothing.
+            assert_eq!(index.closest_point_within(p, 0.5 * d), None);
+            assert_eq!(index.closest_on_triangle_within(p, 0.5 * d), None);
+        }
+        // Moved vertices, refitted: the answers of an index built on them.
+        let moved: Vec<DVec3> = bumpy.iter().map(|p| *p * 1.05 + DVec3::new(0.02, -0.01, 0.03)).collect();
+        index.set_positions(&moved);
+        let fresh = SurfaceIndex::new(&moved, &triangles).unwrap();
+        for &p in &points {
+            let (a, b) = (index.closest_on_triangle(p), fresh.closest_on_triangle(p));
+            assert!((a.0 - b.0).length() < 1e-12, "{p}: {a:?} vs {b:?}");
+            assert!(((a.0 - p).length() - fresh.distance(p)).abs() < 1e-12);
         }
     }
 }

@@ -26,11 +26,12 @@
 
 use super::Monitor;
 use super::evaluate::Original;
-use super::solve::least_squares;
+use super::solve::{LinearMap, least_squares};
 use super::surface_index::SurfaceIndex;
 use crate::mesh::PolyMesh;
 use crate::subdiv::{Refinement, Scheme, SparseRows, loop_limit_matrix};
 use crate::{DVec3, Result};
+use rayon::prelude::*;
 
 /// Refinement levels at which the rounds sample the limit surface: 16 samples a cage triangle.
 /// Three levels (64) fitted the real scans of the MeshLab comparison no closer (Hausdorff and
@@ -47,6 +48,8 @@ pub const POINTS: usize = 1 << 15;
 pub struct Sampling {
     /// Row `j`: the limit point of refined vertex `j` as a combination of the cage's vertices.
     pub rows: SparseRows,
+    /// The transpose of `rows`, for the least squares' transposed products.
+    transposed: SparseRows,
     /// The refined triangles joining the samples.
     pub triangles: Vec<[u32; 3]>,
 }
@@ -62,7 +65,7 @@ impl Sampling {
         }
         let finest = refinement.mesh(levels);
         let rows = loop_limit_matrix(finest)?.compose(&stencils);
-        Ok(Sampling { rows, triangles: finest.triangles() })
+        Ok(Sampling { transposed: rows.transpose(), rows, triangles: finest.triangles() })
     }
 }
 
@@ -97,9 +100,32 @@ struct Pulls {
     distances: Vec<f64>,
 }
 
+/// What a round found, kept for the next: where each sample's closest point on the original
+/// was, where each point of the original met the sampled surface (triangle and barycentric
+/// weights), and that surface's index. The cage moves little from one round to the next, so the
+/// same places moved with it bound the next round's distances, and the index is refitted rather
+/// than built again.
+#[derive(Debug, Default)]
+pub struct Memory {
+    forward: Vec<DVec3>,
+    backward: Vec<(usize, [f64; 3])>,
+    surface: Option<SurfaceIndex>,
+}
+
+/// The closest point of `index` to `p` by a search bounded by `bound`, the distance to a point
+/// of the surface known to be that near, or an unbounded search without one. The bound is
+/// widened by a relative 1e-9 (the known point is recomputed in floating point), and should it
+/// still miss, the search is repeated without it: the answer is the unbounded search's.
+fn closest_within<T>(bound: Option<f64>, within: impl Fn(f64) -> Option<T>, unbounded: impl Fn() -> T) -> T {
+    bound.filter(|b| b.is_finite()).and_then(|b| within(b * (1.0 + 1e-9) + 1e-300)).unwrap_or_else(unbounded)
+}
+
 /// Measures the cage `x` against the original (`points` its sampled points for the backward
-/// side) and, unless `solve` is false, moves it by one weighted least-squares round of at most `iterations` CGLS steps. Returns the distances
-/// measured before the move, the CGLS steps taken, and `None` when cancelled.
+/// side) and, unless `solve` is false, moves it by one weighted least-squares round of at most
+/// `iterations` CGLS steps. `memory` carries what one round found to the next (start each fit
+/// with an empty one). Returns the distances measured before the move, the CGLS steps taken,
+/// and `None` when cancelled.
+#[allow(clippy::too_many_arguments)]
 pub fn round(
     sampling: &Sampling,
     original: &Original<'_>,
@@ -107,16 +133,49 @@ pub fn round(
     x: &mut [DVec3],
     iterations: usize,
     solve: bool,
+    memory: &mut Memory,
     monitor: &mut Monitor<'_>,
 ) -> Result<Option<(Distances, usize)>> {
     let samples = sampling.rows.apply(x);
-    let Some(forward) = monitor.map(samples.len(), |j| original.index.closest_point(samples[j])) else {
+    // The original does not move: last round's closest point is still on it.
+    let known = (memory.forward.len() == samples.len()).then_some(&memory.forward);
+    let Some(forward) = monitor.map(samples.len(), |j| {
+        let p = samples[j];
+        closest_within(
+            known.map(|k| (k[j] - p).length()),
+            |b| original.index.closest_point_within(p, b),
+            || original.index.closest_point(p),
+        )
+    }) else {
         return Ok(None);
     };
-    let surface = SurfaceIndex::new(&samples, &sampling.triangles)?;
-    let Some(backward) = monitor.map(points.len(), |i| surface.closest_on_triangle(points[i])) else {
+    let surface = match memory.surface.take() {
+        Some(mut index) => {
+            index.set_positions(&samples);
+            index
+        }
+        None => SurfaceIndex::new(&samples, &sampling.triangles)?,
+    };
+    // Last round's meeting point, moved with the samples, is on this round's surface.
+    let known = (memory.backward.len() == points.len()).then_some(&memory.backward);
+    let at = |(t, w): (usize, [f64; 3])| {
+        let [a, b, c] = sampling.triangles[t].map(|i| samples[i as usize]);
+        w[0] * a + w[1] * b + w[2] * c
+    };
+    let Some(backward) = monitor.map(points.len(), |i| {
+        let p = points[i];
+        closest_within(
+            known.map(|k| (at(k[i]) - p).length()),
+            |b| surface.closest_on_triangle_within(p, b),
+            || surface.closest_on_triangle(p),
+        )
+    }) else {
         return Ok(None);
     };
+    memory.forward.clone_from(&forward);
+    memory.backward.clear();
+    memory.backward.extend(backward.iter().map(|&(_, t, w)| (t, w)));
+    memory.surface = Some(surface);
 
     let mut pulls = Pulls { rows: Vec::new(), goals: Vec::new(), distances: Vec::new() };
     for (j, goal) in forward.iter().enumerate() {
@@ -151,16 +210,7 @@ pub fn round(
             ((1.0 + relative * relative) / count as f64).sqrt()
         })
         .collect();
-    let system = SparseRows::build_parallel(x.len(), pulls.rows.len(), |k, builder| {
-        let (corners, weights) = pulls.rows[k];
-        for (&corner, &w) in corners.iter().zip(&weights) {
-            if w != 0.0 {
-                for (c, v) in sampling.rows.row(corner as usize) {
-                    builder.add(c, scale[k] * w * v);
-                }
-            }
-        }
-    });
+    let system = PullSystem { sampling, pulls: &pulls.rows, scale: &scale };
     let goals: Vec<DVec3> = pulls.goals.iter().zip(&scale).map(|(g, s)| *g * *s).collect();
     let mut moved = x.to_vec();
     let steps = least_squares(&system, &goals, &mut moved, 1e-4, iterations);
@@ -171,6 +221,50 @@ pub fn round(
         x.copy_from_slice(&moved);
     }
     Ok(Some((distances, steps)))
+}
+
+/// The weighted least-squares matrix of a round, kept as the product of its two factors: the
+/// pulls (each a weighted combination of at most three samples, scaled) after the sampling
+/// (each sample a combination of cage vertices). Multiplied out, a backward pull's row would
+/// hold its three samples' rows; applied factor by factor, each sample's row is read once per
+/// product, about a third of the work, and the transposed product gathers by the sampling's
+/// transpose in parallel.
+struct PullSystem<'a> {
+    sampling: &'a Sampling,
+    pulls: &'a [([u32; 3], [f64; 3])],
+    scale: &'a [f64],
+}
+
+impl LinearMap for PullSystem<'_> {
+    fn apply(&self, x: &[DVec3]) -> Vec<DVec3> {
+        let samples = self.sampling.rows.apply(x);
+        self.pulls
+            .par_iter()
+            .zip(self.scale)
+            .with_min_len(4096)
+            .map(|((corners, weights), &s)| {
+                let mut sum = DVec3::ZERO;
+                for (&c, &w) in corners.iter().zip(weights) {
+                    if w != 0.0 {
+                        sum += w * samples[c as usize];
+                    }
+                }
+                s * sum
+            })
+            .collect()
+    }
+
+    fn apply_transposed(&self, y: &[DVec3]) -> Vec<DVec3> {
+        let mut at_samples = vec![DVec3::ZERO; self.sampling.rows.row_count()];
+        for (((corners, weights), &s), &yk) in self.pulls.iter().zip(self.scale).zip(y) {
+            for (&c, &w) in corners.iter().zip(weights) {
+                if w != 0.0 {
+                    at_samples[c as usize] += (s * w) * yk;
+                }
+            }
+        }
+        self.sampling.transposed.apply(&at_samples)
+    }
 }
 
 /// Moves the cage by the least change that gives its sampled limit surface the original's
@@ -231,6 +325,43 @@ mod tests {
         let radii: Vec<f64> = x.iter().map(|p| p.length()).collect();
         let (lo, hi) = radii.iter().fold((f64::MAX, 0.0f64), |(a, b), &r| (a.min(r), b.max(r)));
         assert!(hi - lo < 1e-9 * hi && hi > 1.0, "{lo} … {hi}");
+    }
+
+    #[test]
+    fn the_factored_system_is_the_multiplied_out_matrix_and_its_transpose() {
+        let cage = icosphere(1, 1.0).unwrap();
+        let sampling = Sampling::new(&cage, 2).unwrap();
+        let n = sampling.rows.row_count() as u32;
+        // Forward pulls of single samples and backward pulls of three, scaled unevenly.
+        let pulls: Vec<([u32; 3], [f64; 3])> = (0..300u32)
+            .map(|k| {
+                if k % 2 == 0 {
+                    ([k % n, 0, 0], [1.0, 0.0, 0.0])
+                } else {
+                    ([k % n, (k * 7) % n, (k * 13) % n], [0.2, 0.3, 0.5])
+                }
+            })
+            .collect();
+        let scale: Vec<f64> = (0..300).map(|k| 0.5 + (k as f64 * 0.37).sin().abs()).collect();
+        let system = PullSystem { sampling: &sampling, pulls: &pulls, scale: &scale };
+        let mut dense = SparseRows::with_columns(cage.vertex_count());
+        for (k, (corners, weights)) in pulls.iter().enumerate() {
+            let mut row = Vec::new();
+            for (&c, &w) in corners.iter().zip(weights) {
+                if w != 0.0 {
+                    row.extend(sampling.rows.row(c as usize).map(|(col, v)| (col, scale[k] * w * v)));
+                }
+            }
+            dense.push_row(row);
+        }
+        let x: Vec<DVec3> = (0..cage.vertex_count()).map(|i| DVec3::new(i as f64, (i as f64).cos(), 1.0)).collect();
+        let y: Vec<DVec3> = (0..300).map(|k| DVec3::new((k as f64).sin(), 2.0, -(k as f64))).collect();
+        let close = |a: &[DVec3], b: &[DVec3]| {
+            let size = b.iter().map(|v| v.length()).fold(0.0, f64::max);
+            a.len() == b.len() && a.iter().zip(b).all(|(p, q)| (*p - *q).length() <= 1e-13 * size)
+        };
+        assert!(close(&system.apply(&x), &LinearMap::apply(&dense, &x)));
+        assert!(close(&system.apply_transposed(&y), &LinearMap::apply_transposed(&dense, &y)));
     }
 
     #[test]

@@ -149,6 +149,31 @@ impl SparseRows {
         out
     }
 
+    /// The transpose: row `c` lists the rows that read column `c`, in ascending order, with
+    /// their weights. Applying it in parallel adds each output's terms in the order a scatter
+    /// over the rows in order would (`out[c] += w · y[i]` for `i` ascending), so the same bits.
+    pub fn transpose(&self) -> SparseRows {
+        let mut offsets = vec![0u32; self.column_count + 1];
+        for &c in &self.columns {
+            offsets[c as usize + 1] += 1;
+        }
+        for c in 0..self.column_count {
+            offsets[c + 1] += offsets[c];
+        }
+        let mut fill = offsets.clone();
+        let mut columns = vec![0u32; self.columns.len()];
+        let mut weights = vec![0.0; self.weights.len()];
+        for i in 0..self.row_count() {
+            for (c, w) in self.row(i) {
+                let at = fill[c as usize] as usize;
+                columns[at] = i as u32;
+                weights[at] = w;
+                fill[c as usize] += 1;
+            }
+        }
+        SparseRows { offsets, columns, weights, column_count: self.row_count() }
+    }
+
     /// The product `self · inner`: row `i` maps the columns of `inner` to what row `i` of `self`
     /// gives from the rows of `inner` (so applying the product equals applying `inner`, then
     /// `self`). Used to flatten level-by-level stencils into stencils on the cage.
@@ -256,6 +281,35 @@ impl RowBuilder {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_transpose_gathers_what_a_scatter_over_the_rows_adds_bit_for_bit() {
+        // Uneven rows over 50 columns, with weights whose sums depend on the order of addition.
+        let mut a = SparseRows::with_columns(50);
+        for i in 0..400u32 {
+            let entries: Vec<(u32, f64)> =
+                (0..1 + i % 7).map(|k| ((i * 13 + k * 29) % 50, 1.0 / (1.0 + f64::from(i * 7 + k)))).collect();
+            a.push_row(entries);
+        }
+        let y: Vec<DVec3> = (0..400).map(|i| DVec3::new((i as f64).sin(), 1e8 + i as f64, 1e-8 * i as f64)).collect();
+        let mut scatter = vec![DVec3::ZERO; 50];
+        for (i, &yi) in y.iter().enumerate() {
+            for (c, w) in a.row(i) {
+                scatter[c as usize] += w * yi;
+            }
+        }
+        let t = a.transpose();
+        assert_eq!((t.row_count(), t.column_count, t.entry_count()), (50, 400, a.entry_count()));
+        assert_eq!(t.apply(&y), scatter);
+        // Every entry once, under its column, its rows ascending.
+        for c in 0..50 {
+            let rows: Vec<(u32, f64)> = t.row(c).collect();
+            assert!(rows.windows(2).all(|w| w[0].0 < w[1].0));
+            for (i, w) in rows {
+                assert!(a.row(i as usize).any(|e| e == (c as u32, w)));
+            }
+        }
+    }
 
     #[test]
     fn builder_merges_and_compose_equals_applying_twice() {
