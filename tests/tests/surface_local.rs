@@ -145,11 +145,19 @@ fn a_drag_of_a_vertex_on_an_open_boundary_re_solves_the_surface_inside_it() {
     let v = doc.cage.vertices().find(|&v| doc.cage.is_boundary_vertex(v)).unwrap();
     let mut solver = SurfaceSolver::new(&doc).unwrap();
     solver.solve().unwrap();
+    let mut whole = solver.clone();
+    whole.set_local(false);
     drag(&mut doc, v.0, 1.0);
     solver.update(&doc).unwrap();
     solver.solve().unwrap();
+    whole.update(&doc).unwrap();
+    whole.solve().unwrap();
     let status = solver.status();
-    assert!(solver.timings()[3].work < 0.5 * solver.timings()[3].sweeps as f64, "not re-solved locally");
+    // Locally: half the finest level's work of re-solving it whole, or less. (The work per
+    // sweep is no measure of it: a cycle of 4 Gauss–Seidel sweeps carries the coarse levels'
+    // work over fewer sweeps than the 7 of the schedule did.)
+    let (local_work, whole_work) = (solver.timings()[3].work, whole.timings()[3].work);
+    assert!(local_work < 0.5 * whole_work, "not re-solved locally: work {local_work:.2} against {whole_work:.2} whole");
     let error = max_distance(solver.surface_positions(), &exact(&doc));
     assert!(error < status.threshold, "{error:e} from the fixed point (threshold {:e})", status.threshold);
 }

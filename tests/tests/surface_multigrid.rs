@@ -3,7 +3,7 @@
 //! starts after a drag that cost a cycle or two. References: the plain iteration run to 1e-11,
 //! solves run to 1e-12, and fresh solves of the same document.
 
-use taut_core::nusd::surface::multigrid::SWEEPS;
+use taut_core::nusd::surface::multigrid::RELAX_SWEEPS;
 use taut_core::nusd::surface::{Budget, Phase, SurfaceSolver};
 use taut_core::{DVec3, Document, PolyMesh, VertexId};
 use taut_tests::{cube, document, grid};
@@ -93,14 +93,15 @@ fn multigrid_reaches_the_plain_iterations_fixed_point() {
 
 #[test]
 fn sweeps_per_level_stay_flat_up_to_level_5() {
-    // Bound, in sweeps of a level (smoothing sweeps and residual passes; a cycle is
-    // 2 × SWEEPS + 1 = 7 of them): 4 cycles at levels 3–5 in both variants and at level 2 with
-    // the cage fixed, 5 cycles at levels 1–2 with the waist unfixed, and 17 at level 1 with the
-    // cage fixed (solved plainly: two windows of the step estimate). Measured 17, 28, 28, 21, 21
-    // and 35, 35, 28, 21, 21 with the curvature-corrected start of a new level
-    // (`Level::refine`); from the parent average alone it was 17, 35, 35, 28, 21 and 42, 35, 35,
-    // 21, 21, over these bounds. The plain iteration takes 17, 72, 125, 83 and 179 on the
-    // default scene.
+    // Bound, in sweeps of a level (smoothing sweeps and residual passes). Without tension a cycle
+    // relaxes its top level by RELAX_SWEEPS Gauss–Seidel sweeps, 2 + 1 + 1 = 4 sweeps a cycle:
+    // measured 17, 16, 16, 12, 12 (level 1 solved plainly: two windows of the step estimate)
+    // and 16, 16, 16, 12, 12 with the waist unfixed, 4 cycles at levels 1–3 and 3 at levels
+    // 4–5. With the plain iteration's Chebyshev schedule, 3 + 3 sweeps and a residual pass, 7
+    // a cycle, it was 17, 28, 28, 21, 21 and 35, 35, 28, 21, 21; from the parent average alone
+    // 17, 35, 35, 28, 21 and 42, 35, 35, 21, 21. The plain iteration takes 17, 72, 125, 83 and
+    // 179 on the default scene. Issue 22 asks at most 12 a level with the cage fixed (met at
+    // levels 4–5) and at most 20 unfixed (met at every level).
     let mut scene = default_scene();
     scene.settings.levels = 5;
     let mut unfixed = scene.clone();
@@ -111,11 +112,11 @@ fn sweeps_per_level_stay_flat_up_to_level_5() {
         let solver = solved(&doc, true);
         let sweeps: Vec<usize> = solver.timings().iter().map(|t| t.sweeps).collect();
         assert_eq!(sweeps.len(), 6);
-        let cycle = 2 * SWEEPS + 1;
+        let cycle = RELAX_SWEEPS.0 + 1 + RELAX_SWEEPS.1;
         let bounds = if name == "default scene" {
-            [17, 4 * cycle, 4 * cycle, 4 * cycle, 4 * cycle]
+            [17, 4 * cycle, 4 * cycle, 3 * cycle, 3 * cycle]
         } else {
-            [5 * cycle, 5 * cycle, 4 * cycle, 4 * cycle, 4 * cycle]
+            [4 * cycle, 4 * cycle, 4 * cycle, 3 * cycle, 3 * cycle]
         };
         assert!(
             sweeps[1..].iter().zip(bounds).all(|(&s, b)| s <= b),
@@ -191,7 +192,7 @@ fn the_stopping_estimate_stays_true_under_multigrid() {
 fn a_drag_re_converges_in_a_cycle_or_two_of_the_finest_level() {
     let mut doc = document(mesh_asset("torus.obj"), 4, 1e-4);
     let mut solver = solved(&doc, true);
-    let fresh_sweeps = solver.timings()[4].sweeps;
+    let fresh = solver.timings()[4];
     let diagonal = doc.cage.bounding_diagonal();
     for (k, v) in [3u32, 17, 3].into_iter().enumerate() {
         let p = doc.cage.position(VertexId(v));
@@ -201,16 +202,20 @@ fn a_drag_re_converges_in_a_cycle_or_two_of_the_finest_level() {
         solver.solve().unwrap();
         let warm = solver.timings()[4];
         // One cycle leaves the change under the threshold, one more confirms it (a third when the
-        // measured contraction is over a half): at most 3 cycles of 2 × SWEEPS + 1 sweeps, where a
-        // fresh solve of level 4 takes 4. (The bound used to be 2/3 of a fresh solve's sweeps;
-        // it moved with the fresh start, and the curvature-corrected start made a fresh solve 28
-        // sweeps against the warm 21, so it is stated in cycles of the level now.)
-        assert!(fresh_sweeps > 3 * (2 * SWEEPS + 1), "a fresh solve took {fresh_sweeps}: the bound below says nothing");
+        // measured contraction is over a half): at most 3 cycles. A fresh solve of the level takes 3 (12 sweeps of 4); the warm one here takes 2, 8
+        // sweeps, two thirds of a fresh solve's work (22.5 against 34 sweeps of the level, with
+        // the coarse levels' share).
+        let cycle = RELAX_SWEEPS.0 + 1 + RELAX_SWEEPS.1;
         assert!(
-            warm.cycles <= 3 && warm.sweeps <= 3 * (2 * SWEEPS + 1),
-            "drag {k}: {} cycles, {} sweeps on level 4 (a fresh solve took {fresh_sweeps})",
+            warm.cycles <= 3 && warm.sweeps <= 3 * cycle,
+            "drag {k}: {} cycles, {} sweeps on level 4 (a fresh solve took {})",
             warm.cycles,
-            warm.sweeps
+            warm.sweeps,
+            fresh.sweeps
+        );
+        assert!(
+            warm.cycles < fresh.cycles && warm.work < fresh.work,
+            "drag {k}: the warm solve took {warm:?} on level 4, a fresh solve {fresh:?}"
         );
         let fresh = solved(&doc, true);
         let distance = max_distance(solver.surface_positions(), fresh.surface_positions());

@@ -11,6 +11,7 @@
 //! parents is the prolongation used to place new vertices, to carry the domain `D` down the
 //! levels, and to pass corrections from a coarse level to the finer ones after an edit.
 
+use super::kernel::Coloring;
 use crate::DVec3;
 use crate::mesh::{EdgeId, PolyMesh, VertexId};
 use rayon::prelude::*;
@@ -35,9 +36,16 @@ pub struct LevelTopology {
     pub parent_offsets: Vec<u32>,
     /// See `parent_offsets`.
     pub parents: Vec<u32>,
+    /// The vertices in colour classes for Gauss–Seidel sweeps, made on first use.
+    coloring: std::sync::OnceLock<Coloring>,
 }
 
 impl LevelTopology {
+    /// The level's vertices in colour classes ([`Coloring`]), made on first use.
+    pub fn coloring(&self) -> &Coloring {
+        self.coloring.get_or_init(|| Coloring::of(&self.mesh))
+    }
+
     /// Level 0: the cage itself; every cage edge lies on itself.
     pub fn cage(cage: &PolyMesh) -> Self {
         LevelTopology {
@@ -46,6 +54,7 @@ impl LevelTopology {
             vertex_on_cage_edge: vec![NOT_ON_CAGE_EDGE; cage.vertex_count()],
             cage_vertices: cage.vertex_count(),
             parent_offsets: Vec::new(),
+            coloring: Default::default(),
             parents: Vec::new(),
         }
     }
@@ -132,6 +141,7 @@ impl LevelTopology {
             cage_vertices: self.cage_vertices,
             parent_offsets,
             parents,
+            coloring: Default::default(),
         })
     }
 

@@ -232,6 +232,149 @@ pub fn iterate_forced(
     sweep
 }
 
+/// A level's vertices in colour classes: no two vertices of a class are neighbours. Greedy in
+/// index order (each vertex takes the smallest colour none of its earlier neighbours has), so
+/// the classes depend on the connectivity alone; each class lists its vertices in ascending
+/// order. The quad-split levels take about five colours.
+#[derive(Clone, Debug, Default)]
+pub struct Coloring {
+    offsets: Vec<u32>,
+    vertices: Vec<u32>,
+    /// Each vertex's colour.
+    color: Vec<u32>,
+}
+
+impl Coloring {
+    pub fn of(mesh: &PolyMesh) -> Coloring {
+        let n = mesh.vertex_count();
+        let mut color = vec![u32::MAX; n];
+        let mut taken: Vec<bool> = Vec::new();
+        let mut colors = 0;
+        for v in 0..n {
+            taken.clear();
+            for h in mesh.outgoing(VertexId(v as u32)) {
+                let c = color[mesh.to_vertex(h).index()];
+                if c != u32::MAX {
+                    if taken.len() <= c as usize {
+                        taken.resize(c as usize + 1, false);
+                    }
+                    taken[c as usize] = true;
+                }
+            }
+            let c = taken.iter().position(|&t| !t).unwrap_or(taken.len()) as u32;
+            color[v] = c;
+            colors = colors.max(c + 1);
+        }
+        let mut offsets = vec![0u32; colors as usize + 1];
+        for &c in &color {
+            offsets[c as usize + 1] += 1;
+        }
+        for c in 0..colors as usize {
+            offsets[c + 1] += offsets[c];
+        }
+        let mut fill = offsets.clone();
+        let mut vertices = vec![0u32; n];
+        for (v, &c) in color.iter().enumerate() {
+            vertices[fill[c as usize] as usize] = v as u32;
+            fill[c as usize] += 1;
+        }
+        Coloring { offsets, vertices, color }
+    }
+
+    /// The colour classes in order.
+    pub fn classes(&self) -> impl Iterator<Item = &[u32]> + '_ {
+        self.offsets.windows(2).map(|w| &self.vertices[w[0] as usize..w[1] as usize])
+    }
+
+    /// The number of colours.
+    pub fn count(&self) -> usize {
+        self.offsets.len() - 1
+    }
+
+    /// The colour of vertex `v`.
+    pub fn color(&self, v: u32) -> u32 {
+        self.color[v as usize]
+    }
+}
+
+/// [`iterate_colored`] of the vertices of `region` only, the others held (a local solve, see
+/// [`super::local`]): class by class, each class's vertices of the region moved together from
+/// the present state, as [`iterate_on`] moves all of them.
+pub fn iterate_colored_on(
+    op: &Operator,
+    mesh: &PolyMesh,
+    state: &mut State,
+    lambda: f64,
+    forcing: Option<&Forcing>,
+    region: &super::local::Region,
+    coloring: &Coloring,
+) -> Sweep {
+    let mut step = 0.0f64;
+    let mut class: Vec<u32> = Vec::with_capacity(region.len());
+    for c in 0..coloring.count() as u32 {
+        class.clear();
+        class.extend(region.vertices.iter().copied().filter(|&v| coloring.color(v) == c));
+        update_fixed_of(op, state, forcing, &region.fixed);
+        let State { p, r, region_moves, .. } = state;
+        let (pr, rr) = (&p[..], &r[..]);
+        super::local::map_vertices_into(&class, region_moves, |i| {
+            (op.role[i as usize] == Role::Moving).then(|| moved(op, mesh, pr, rr, i as usize, lambda, forcing))
+        });
+        for (&i, value) in class.iter().zip(region_moves.iter()) {
+            let Some((p_new, r_new, delta)) = *value else { continue };
+            p[i as usize] = p_new;
+            r[i as usize] = r_new;
+            step = max_nan(step, delta.length());
+        }
+    }
+    Sweep { step, reversing: 0.0 }
+}
+
+/// One Gauss–Seidel sweep of `N(x) = f` by colour classes ([`Coloring`]): the fixed vertices'
+/// `R` is brought up to date, then every moving vertex of the class takes the update of
+/// [`iterate_forced`] from the present state, and the next class sees it. Each vertex is updated
+/// once a sweep, so a sweep costs what a Jacobi sweep does, but the later classes read values
+/// already updated, which damps the rough error about twice as fast. A class's new values are
+/// all computed before any is written (a tensioned neighbour's `R` reads its own neighbours,
+/// which may be in the class), so the result does not depend on the thread count. The fixed
+/// point is that of the plain iteration. `reversing` is not measured (it is zero).
+pub fn iterate_colored(
+    op: &Operator,
+    mesh: &PolyMesh,
+    state: &mut State,
+    lambda: f64,
+    forcing: Option<&Forcing>,
+    coloring: &Coloring,
+) -> Sweep {
+    let mut step = 0.0f64;
+    let mut updates: Vec<Option<(DVec3, DVec3, f64)>> = Vec::new();
+    for class in coloring.classes() {
+        update_fixed_forced(op, state, forcing);
+        let (p, r) = (&state.p[..], &state.r[..]);
+        let update = |&i: &u32| {
+            let i = i as usize;
+            (op.role[i] == Role::Moving).then(|| {
+                let (p_new, r_new, delta) = moved(op, mesh, p, r, i, lambda, forcing);
+                (p_new, r_new, delta.length())
+            })
+        };
+        updates.clear();
+        if class.len() < 2 * CHUNK {
+            updates.extend(class.iter().map(update));
+        } else {
+            updates.par_extend(class.par_iter().with_min_len(CHUNK).map(update));
+        }
+        for (&i, new) in class.iter().zip(&updates) {
+            if let Some((p_new, r_new, d)) = *new {
+                state.p[i as usize] = p_new;
+                state.r[i as usize] = r_new;
+                step = max_nan(step, d);
+            }
+        }
+    }
+    Sweep { step, reversing: 0.0 }
+}
+
 /// The new `P`, `R` and step of a moving vertex `i` (see [`iterate_forced`]).
 #[inline]
 fn moved(

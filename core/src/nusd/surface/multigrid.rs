@@ -224,12 +224,27 @@ impl Work {
     }
 }
 
+/// Gauss–Seidel sweeps of the top level before its coarse correction, and after it, in a cycle
+/// that relaxes its top ([`cycle`]'s `relax_top`), and their λ. Measured on the default scene's
+/// levels 2–5, cage fixed and waist unfixed (`docs/nusd.md`, "Open: sweeps per level"): 2 + 1
+/// at λ 0.9 needs three cycles at levels 4–5 and four at levels 2–3, where 3 + 3 Chebyshev
+/// sweeps of the plain iteration needed four at levels 2–3 and three at levels 4–5 at nearly
+/// twice the sweeps a cycle; 1 + 1 stalls at level 2, λ 1 at level 1–2 with the waist unfixed.
+pub const RELAX_SWEEPS: (usize, usize) = (2, 1);
+pub const RELAX_LAMBDA: f64 = 0.9;
+/// The coarsest grid of such a cycle is smoothed until its step falls to this fraction of its
+/// first (instead of [`COARSE_REDUCTION`]): with a tenth, level 2 of the default scene took 16
+/// cycles over level 1; with a hundredth 4, like the levels above it.
+pub const RELAX_COARSE_REDUCTION: f64 = 0.01;
+
 /// One step of a cycle.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Op {
     /// One smoothing sweep of a level with the given λ (before the divergence fallback's
     /// scaling).
     Smooth(usize, f64),
+    /// One Gauss–Seidel sweep of the top level with the given λ (before the fallback's scaling).
+    Relax(usize, f64),
     /// Residual of a level, restricted to the next coarser one, which starts from the injected
     /// iterate.
     Restrict(usize),
@@ -243,23 +258,36 @@ pub enum Op {
 /// `top`): the smoothing schedule before each restriction, and in reverse order after each
 /// correction; below the top each coarse problem gets `gamma` cycles (1: a V-cycle, 2: a
 /// W-cycle).
-pub fn cycle(top: usize, coarsest: usize, gamma: usize) -> Vec<Op> {
-    fn visit(k: usize, coarsest: usize, gamma: usize, schedule: &[f64], ops: &mut Vec<Op>) {
+///
+/// `relax_top`: the top level is smoothed by [`RELAX_SWEEPS`] Gauss–Seidel sweeps
+/// ([`kernel::iterate_colored`]) instead of the schedule (the levels below keep it: with
+/// Gauss–Seidel there too the cycles settled short of the fixed point at an irregular vertex).
+pub fn cycle(top: usize, coarsest: usize, gamma: usize, relax_top: bool) -> Vec<Op> {
+    fn visit(k: usize, top: Option<usize>, coarsest: usize, gamma: usize, schedule: &[f64], ops: &mut Vec<Op>) {
         if k == coarsest {
             ops.push(Op::Coarse(k));
             return;
         }
-        ops.extend(schedule.iter().map(|&l| Op::Smooth(k, l)));
+        let relax = top == Some(k);
+        if relax {
+            ops.extend((0..RELAX_SWEEPS.0).map(|_| Op::Relax(k, RELAX_LAMBDA)));
+        } else {
+            ops.extend(schedule.iter().map(|&l| Op::Smooth(k, l)));
+        }
         ops.push(Op::Restrict(k));
         let repeats = if k - 1 == coarsest { 1 } else { gamma };
         for _ in 0..repeats {
-            visit(k - 1, coarsest, gamma, schedule, ops);
+            visit(k - 1, None, coarsest, gamma, schedule, ops);
         }
         ops.push(Op::Correct(k));
-        ops.extend(schedule.iter().rev().map(|&l| Op::Smooth(k, l)));
+        if relax {
+            ops.extend((0..RELAX_SWEEPS.1).map(|_| Op::Relax(k, RELAX_LAMBDA)));
+        } else {
+            ops.extend(schedule.iter().rev().map(|&l| Op::Smooth(k, l)));
+        }
     }
     let mut ops = Vec::new();
-    visit(top, coarsest, gamma, &smoothing_schedule(), &mut ops);
+    visit(top, relax_top.then_some(top), coarsest, gamma, &smoothing_schedule(), &mut ops);
     ops
 }
 
@@ -298,6 +326,17 @@ pub fn smooth(grid: &mut Grid<'_>, lambda: f64) -> kernel::Sweep {
     match region {
         Some(region) => kernel::iterate_on(operator, mesh, state, lambda, forcing, region),
         None => kernel::iterate_forced(operator, mesh, state, lambda, forcing),
+    }
+}
+
+/// One Gauss–Seidel sweep of `grid`, or of its region (see [`kernel::iterate_colored`]).
+pub fn relax(grid: &mut Grid<'_>, lambda: f64) -> kernel::Sweep {
+    let (operator, topology, region) = (grid.operator, grid.topology, grid.region);
+    let (state, forcing) = grid.iterate_and_forcing();
+    let (mesh, coloring) = (&topology.mesh, topology.coloring());
+    match region {
+        Some(region) => kernel::iterate_colored_on(operator, mesh, state, lambda, forcing, region, coloring),
+        None => kernel::iterate_colored(operator, mesh, state, lambda, forcing, coloring),
     }
 }
 
@@ -489,15 +528,18 @@ mod tests {
     }
 
     /// Runs whole cycles on the top level by hand.
-    fn run_cycles(ls: &mut [Level], count: usize) -> f64 {
+    fn run_cycles(ls: &mut [Level], count: usize, relax_top: bool) -> f64 {
         let top = ls.len() - 1;
         let mut change = 0.0;
         for _ in 0..count {
             let before = ls[top].state.p.clone();
-            for op in cycle(top, 1, GAMMA) {
+            for op in cycle(top, 1, GAMMA, relax_top) {
                 match op {
                     Op::Smooth(k, l) => {
                         smooth(&mut ls[k].grid(k == top), l);
+                    }
+                    Op::Relax(k, l) => {
+                        relax(&mut ls[k].grid(k == top), l);
                     }
                     Op::Restrict(k) => {
                         let (c, f) = ls.split_at_mut(k);
@@ -520,11 +562,94 @@ mod tests {
     }
 
     #[test]
-    fn the_fixed_point_is_left_alone_and_other_states_are_drawn_to_it() {
+    fn colour_classes_hold_every_vertex_once_and_no_two_neighbours() {
+        let cage = mixed();
+        let fixed = vec![true; cage.vertex_count()];
+        for level in levels(&cage, &fixed, 0.0, 3) {
+            let mesh = &level.topology.mesh;
+            let coloring = level.topology.coloring();
+            let mut seen = vec![0; mesh.vertex_count()];
+            for (c, class) in coloring.classes().enumerate() {
+                assert!(class.windows(2).all(|w| w[0] < w[1]));
+                for &v in class {
+                    seen[v as usize] += 1;
+                    assert_eq!(coloring.color(v), c as u32);
+                    for h in mesh.outgoing(crate::mesh::VertexId(v)) {
+                        assert_ne!(coloring.color(mesh.to_vertex(h).0), c as u32, "{v} and a neighbour");
+                    }
+                }
+            }
+            assert!(seen.iter().all(|&k| k == 1));
+            assert!(coloring.count() <= 8, "{} colours", coloring.count());
+        }
+    }
+
+    #[test]
+    fn gauss_seidel_sweeps_keep_the_plain_iterations_fixed_point_and_reach_it() {
         let cage = mixed();
         let mut fixed = vec![true; cage.vertex_count()];
         fixed[6] = false;
         for tension in [0.0, 2.0] {
+            let mut ls = levels(&cage, &fixed, tension, 2);
+            let l = &mut ls[2];
+            let start = l.state.clone();
+            for _ in 0..200_000 {
+                if kernel::iterate(&l.operator, &l.topology.mesh, &mut l.state, 0.6).step < 1e-14 {
+                    break;
+                }
+            }
+            let exact = l.state.p.clone();
+            let coloring = l.topology.coloring().clone();
+            let moved = kernel::iterate_colored(&l.operator, &l.topology.mesh, &mut l.state, 0.9, None, &coloring);
+            assert!(moved.step < 1e-11, "τ {tension}: a sweep moved the fixed point by {:e}", moved.step);
+            // From the start: the same fixed point, in far fewer sweeps than the plain iteration.
+            l.state = start.clone();
+            let mut sweeps = 0;
+            while kernel::iterate_colored(&l.operator, &l.topology.mesh, &mut l.state, 0.9, None, &coloring).step
+                > 1e-14
+            {
+                sweeps += 1;
+                assert!(sweeps < 100_000, "τ {tension}: no convergence");
+            }
+            let error = largest_change(&l.operator, &exact, &l.state.p);
+            assert!(error < 1e-10, "τ {tension}: {error:e} from the plain iteration's fixed point");
+            // A region's sweeps hold the rest and reach the same point from a state disturbed
+            // inside it only.
+            let inside: Vec<u32> = (0..l.vertex_count() as u32).filter(|&v| v % 3 != 0).collect();
+            let region = Region {
+                seeds_id: 0,
+                width: 0,
+                band: vec![0; inside.len()],
+                fixed: inside.iter().copied().filter(|&v| l.operator.role[v as usize] == Role::Fixed).collect(),
+                vertices: inside.clone(),
+            };
+            for &v in &inside {
+                if l.operator.role[v as usize] == Role::Moving {
+                    l.state.p[v as usize] += DVec3::new(0.01, -0.02, 0.005);
+                }
+            }
+            let outside: Vec<DVec3> = (0..l.vertex_count()).filter(|v| v % 3 == 0).map(|v| l.state.p[v]).collect();
+            for _ in 0..100_000 {
+                let op = &l.operator;
+                if kernel::iterate_colored_on(op, &l.topology.mesh, &mut l.state, 0.9, None, &region, &coloring).step
+                    < 1e-14
+                {
+                    break;
+                }
+            }
+            let held: Vec<DVec3> = (0..l.vertex_count()).filter(|v| v % 3 == 0).map(|v| l.state.p[v]).collect();
+            assert_eq!(held, outside);
+            let error = largest_change(&l.operator, &exact, &l.state.p);
+            assert!(error < 1e-10, "τ {tension}: the region settled {error:e} from the fixed point");
+        }
+    }
+
+    #[test]
+    fn the_fixed_point_is_left_alone_and_other_states_are_drawn_to_it() {
+        let cage = mixed();
+        let mut fixed = vec![true; cage.vertex_count()];
+        fixed[6] = false;
+        for (tension, relax_top) in [(0.0, false), (2.0, false), (0.0, true)] {
             let mut ls = levels(&cage, &fixed, tension, 3);
             let top = 3;
             let start = ls[top].state.clone();
@@ -538,14 +663,14 @@ mod tests {
             // A cycle from the plain iteration's fixed point stays there (to the precision the
             // plain iteration reached): the coarse levels only add a correction of the fine
             // residual, which is zero.
-            let change = run_cycles(&mut ls, 1);
+            let change = run_cycles(&mut ls, 1, relax_top);
             assert!(change < 1e-10, "τ {tension}: a cycle moved the fixed point by {change:e}");
             // From the prolonged start, cycles contract the error by at least 0.4 each, and after
             // as many sweeps of the top level the plain iteration is far behind.
             ls[top].state = start.clone();
-            run_cycles(&mut ls, 4);
+            run_cycles(&mut ls, 4, relax_top);
             let after4 = largest_change(&ls[top].operator, &exact, &ls[top].state.p);
-            run_cycles(&mut ls, 4);
+            run_cycles(&mut ls, 4, relax_top);
             let after8 = largest_change(&ls[top].operator, &exact, &ls[top].state.p);
             assert!(after8 < 0.4f64.powi(4) * after4, "τ {tension}: {after4:e} → {after8:e} in 4 cycles");
             ls[top].state = start;

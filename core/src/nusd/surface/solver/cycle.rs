@@ -13,7 +13,7 @@
 
 use super::SurfaceSolver;
 use crate::DVec3;
-use crate::nusd::surface::multigrid::{self, COARSE_REDUCTION, COARSE_SWEEPS, Op};
+use crate::nusd::surface::multigrid::{self, COARSE_REDUCTION, COARSE_SWEEPS, Op, RELAX_COARSE_REDUCTION};
 
 /// Cycles over which the contraction is measured.
 const RATE_WINDOW: usize = 3;
@@ -30,6 +30,8 @@ pub(super) struct CycleRun {
     coarse_sweeps: usize,
     /// Largest change of a moving vertex over each cycle of this solve.
     changes: Vec<f64>,
+    /// How far the coarsest grid's smoothing brings its step down in the cycle in progress.
+    coarse_reduction: f64,
 }
 
 impl CycleRun {
@@ -80,7 +82,11 @@ impl SurfaceSolver {
     pub(super) fn cycle_step(&mut self) -> usize {
         let top = self.active;
         if self.cycle.next >= self.cycle.ops.len() {
-            self.cycle.ops = multigrid::cycle(top, self.coarsest(), multigrid::GAMMA);
+            // Gauss–Seidel at the top of a level without tension (tensioned levels keep the
+            // schedule, with whose cycles their fallback to the plain iteration was measured).
+            let relax_top = self.levels[top].operator.overrides.is_empty();
+            self.cycle.ops = multigrid::cycle(top, self.coarsest(), multigrid::GAMMA, relax_top);
+            self.cycle.coarse_reduction = if relax_top { RELAX_COARSE_REDUCTION } else { COARSE_REDUCTION };
             self.cycle.next = 0;
             let level = &self.levels[top];
             match &level.region {
@@ -118,6 +124,18 @@ impl SurfaceSolver {
                     }
                 }
             }
+            Op::Relax(k, schedule) => {
+                let scale = lambda / self.settings.lambda;
+                let sweep = multigrid::relax(&mut self.levels[k].grid(k == top), schedule * scale);
+                work = share(self, k);
+                self.cycle.next += 1;
+                counted = 1;
+                if !sweep.step.is_finite() {
+                    self.count(top, counted, work);
+                    self.abandon_multigrid("a value became infinite");
+                    return counted;
+                }
+            }
             Op::Restrict(k) => {
                 let (coarse, fine) = self.levels.split_at_mut(k);
                 multigrid::restrict(&mut fine[0].grid(k == top), &mut coarse[k - 1].grid(false));
@@ -131,7 +149,8 @@ impl SurfaceSolver {
                 self.cycle.coarse_sweeps += 1;
                 let first = *self.cycle.coarse_first.get_or_insert(step);
                 // NaN ends the coarse smoothing too; the cycle's change then shows it.
-                let settled = step.partial_cmp(&(COARSE_REDUCTION * first)) != Some(std::cmp::Ordering::Greater);
+                let settled =
+                    step.partial_cmp(&(self.cycle.coarse_reduction * first)) != Some(std::cmp::Ordering::Greater);
                 if settled || self.cycle.coarse_sweeps >= COARSE_SWEEPS {
                     self.cycle.coarse_first = None;
                     self.cycle.coarse_sweeps = 0;
