@@ -265,19 +265,10 @@ impl Coloring {
             color[v] = c;
             colors = colors.max(c + 1);
         }
-        let mut offsets = vec![0u32; colors as usize + 1];
-        for &c in &color {
-            offsets[c as usize + 1] += 1;
-        }
-        for c in 0..colors as usize {
-            offsets[c + 1] += offsets[c];
-        }
-        let mut fill = offsets.clone();
-        let mut vertices = vec![0u32; n];
-        for (v, &c) in color.iter().enumerate() {
-            vertices[fill[c as usize] as usize] = v as u32;
-            fill[c as usize] += 1;
-        }
+        // By colour, each class in index order (the sort is stable).
+        let mut vertices: Vec<u32> = (0..n as u32).collect();
+        vertices.sort_by_key(|&v| color[v as usize]);
+        let offsets = (0..=colors).map(|c| vertices.partition_point(|&v| color[v as usize] < c) as u32).collect();
         Coloring { offsets, vertices, color }
     }
 
