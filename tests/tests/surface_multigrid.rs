@@ -94,14 +94,17 @@ fn multigrid_reaches_the_plain_iterations_fixed_point() {
 #[test]
 fn sweeps_per_level_stay_flat_up_to_level_5() {
     // Bound, in sweeps of a level (smoothing sweeps and residual passes). Without tension a cycle
-    // relaxes its top level by RELAX_SWEEPS Gauss–Seidel sweeps, 2 + 1 + 1 = 4 sweeps a cycle:
-    // measured 17, 16, 16, 12, 12 (level 1 solved plainly: two windows of the step estimate)
-    // and 16, 16, 16, 12, 12 with the waist unfixed, 4 cycles at levels 1–3 and 3 at levels
-    // 4–5. With the plain iteration's Chebyshev schedule, 3 + 3 sweeps and a residual pass, 7
-    // a cycle, it was 17, 28, 28, 21, 21 and 35, 35, 28, 21, 21; from the parent average alone
-    // 17, 35, 35, 28, 21 and 42, 35, 35, 21, 21. The plain iteration takes 17, 72, 125, 83 and
-    // 179 on the default scene. Issue 22 asks at most 12 a level with the cage fixed (met at
-    // levels 4–5) and at most 20 unfixed (met at every level).
+    // relaxes its top level by RELAX_SWEEPS Gauss–Seidel sweeps, 2 + 1 + 1 = 4 sweeps a cycle,
+    // and after its coarse correction solves the neighbourhoods of the valence-8 vertices
+    // exactly; a level of at most `direct::MAX_VERTICES` vertices with the cage fixed (level 1
+    // here) is solved directly, its two residual passes counted: measured 2, 16, 16, 12, 12
+    // and 16, 16, 12, 12, 12 with the waist unfixed (the cage, level 0, is solved directly
+    // there). Before the direct and block solves, 17, 16, 16, 12, 12 and 16, 16, 16, 12, 12,
+    // with levels 2 stopped 1.4 T and 1.2 T from their fixed points. With the plain iteration's
+    // Chebyshev schedule, 3 + 3 sweeps and a residual pass, 7 a cycle, it was 17, 28, 28, 21,
+    // 21 and 35, 35, 28, 21, 21. The plain iteration takes 17, 72, 125, 83 and 179 on the
+    // default scene. Issue 22 asks at most 12 a level with the cage fixed (met at levels 1, 4
+    // and 5) and at most 20 unfixed (met at every level).
     let mut scene = default_scene();
     scene.settings.levels = 5;
     let mut unfixed = scene.clone();
@@ -114,9 +117,9 @@ fn sweeps_per_level_stay_flat_up_to_level_5() {
         assert_eq!(sweeps.len(), 6);
         let cycle = RELAX_SWEEPS.0 + 1 + RELAX_SWEEPS.1;
         let bounds = if name == "default scene" {
-            [17, 4 * cycle, 4 * cycle, 3 * cycle, 3 * cycle]
+            [2, 4 * cycle, 4 * cycle, 3 * cycle, 3 * cycle]
         } else {
-            [4 * cycle, 4 * cycle, 4 * cycle, 3 * cycle, 3 * cycle]
+            [4 * cycle, 4 * cycle, 3 * cycle, 3 * cycle, 3 * cycle]
         };
         assert!(
             sweeps[1..].iter().zip(bounds).all(|(&s, b)| s <= b),
@@ -186,6 +189,49 @@ fn the_stopping_estimate_stays_true_under_multigrid() {
             );
         }
     }
+}
+
+/// Every level, not only the finest, stops within its threshold of its own fixed point: the
+/// editor shows a settled coarse level while finer ones are solved, and each level starts the
+/// next. (The relaxed cycles once stopped level 2 of the default scene 1.4 T away: their
+/// contraction at the valence-8 vertex fell to 0.62 a cycle after the three the rule measured.)
+#[test]
+fn every_level_stops_within_its_threshold_of_its_own_fixed_point() {
+    let mut scene = default_scene();
+    scene.settings.levels = 4;
+    let mut unfixed = scene.clone();
+    for v in 16..32 {
+        unfixed.fixed[v] = false;
+    }
+    let mut all =
+        vec![("default scene, level 4".to_string(), scene), ("two rings unfixed, level 4".to_string(), unfixed)];
+    // Not the mixed cage with an edge 1e-3 of its size: its levels 2–3 keep a mode the cycles
+    // contract by only about 0.97 (and level 1's plain iteration by 0.995 a sweep), which the
+    // first cycles' changes do not show; the stopping rule stops level 2 about 12 T from its
+    // fixed point (before issue 22's direct and block solves: level 3, 4.3 T). Open in issue 22.
+    all.extend(cases().into_iter().filter(|(name, _)| !name.starts_with("mixed faces")));
+    let mut failures = Vec::new();
+    for (name, base) in all {
+        let mut exact_doc = base.clone();
+        exact_doc.settings.tol = 1e-12;
+        exact_doc.settings.max_iterations = 400_000;
+        let exact = solved(&exact_doc, true);
+        let solver = solved(&base, true);
+        let threshold = solver.status().threshold;
+        for report in solver.reports() {
+            let l = report.level;
+            let error =
+                max_distance(solver.level_surface(l).unwrap().positions(), exact.level_surface(l).unwrap().positions());
+            if !(report.remaining < threshold && error < threshold) {
+                failures.push(format!(
+                    "{name}, level {l}: {:.2} T from its fixed point, the estimate said {:.2} T",
+                    error / threshold,
+                    report.remaining / threshold
+                ));
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 
 #[test]

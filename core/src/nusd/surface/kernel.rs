@@ -93,7 +93,7 @@ pub fn update_fixed_forced(op: &Operator, state: &mut State, forcing: Option<&Fo
 }
 
 /// Recomputes `R = ΔP/K − f` of the listed fixed vertices.
-fn update_fixed_of(op: &Operator, state: &mut State, forcing: Option<&Forcing>, fixed: &[u32]) {
+pub fn update_fixed_of(op: &Operator, state: &mut State, forcing: Option<&Forcing>, fixed: &[u32]) {
     for &i in fixed {
         let i = i as usize;
         let f = forcing.map_or(DVec3::ZERO, |f| f.r[i]);
@@ -426,6 +426,23 @@ pub fn iterate_on(
     sweep
 }
 
+/// The residual `f − N(x)` of moving vertex `i`'s `R` and `P` equations (see [`Forcing`]),
+/// with the fixed vertices' `R` as they stand.
+#[inline]
+pub fn vertex_residual(
+    op: &Operator,
+    mesh: &PolyMesh,
+    p: &[DVec3],
+    r: &[DVec3],
+    forcing: Option<&Forcing>,
+    i: usize,
+) -> (DVec3, DVec3) {
+    let (avg_p, avg_r) = averages(op, mesh, p, r, i);
+    let (fr, fp) = forcing.map_or((DVec3::ZERO, DVec3::ZERO), |f| (f.r[i], f.p[i]));
+    let ki = op.k[i];
+    (fr - (avg_r - r[i]) / ki, fp - ((avg_p - p[i]) / ki - r[i]))
+}
+
 /// [`residual`] of the vertices of `region` only; `out` is written there only.
 pub fn residual_on(
     op: &Operator,
@@ -443,10 +460,7 @@ pub fn residual_on(
         if op.role[i] != Role::Moving {
             return (DVec3::ZERO, DVec3::ZERO);
         }
-        let (avg_p, avg_r) = averages(op, mesh, p, r, i);
-        let (fr, fp) = forcing.map_or((DVec3::ZERO, DVec3::ZERO), |f| (f.r[i], f.p[i]));
-        let ki = op.k[i];
-        (fr - (avg_r - r[i]) / ki, fp - ((avg_p - p[i]) / ki - r[i]))
+        vertex_residual(op, mesh, p, r, forcing, i)
     });
     let mut largest = 0.0f64;
     for (&i, &(vr, vp)) in region.vertices.iter().zip(region_residuals.iter()) {
@@ -479,12 +493,8 @@ pub fn residual(
                 *opp = DVec3::ZERO;
                 continue;
             }
-            let (avg_p, avg_r) = averages(op, mesh, p, r, i);
-            let (fr, fp) = forcing.map_or((DVec3::ZERO, DVec3::ZERO), |f| (f.r[i], f.p[i]));
-            let ki = op.k[i];
-            *or = fr - (avg_r - r[i]) / ki;
-            *opp = fp - ((avg_p - p[i]) / ki - r[i]);
-            largest = max_nan(largest, (ki * *opp).length());
+            (*or, *opp) = vertex_residual(op, mesh, p, r, forcing, i);
+            largest = max_nan(largest, (op.k[i] * *opp).length());
         }
         largest
     };

@@ -8,7 +8,9 @@
 //! full build happens only when the connectivity, a fixed flag or the pattern of tensions
 //! changed, or when the spacing clamp (`1e-9` of the diagonal) starts to matter.
 
+use super::direct::Direct;
 use super::hierarchy::LevelTopology;
+use super::irregular::IrregularBlocks;
 use super::kernel::{Forcing, State};
 use super::local::{Children, Region, Support, Touched};
 use super::multigrid::{Grid, Transfer, Work};
@@ -49,6 +51,12 @@ pub(super) struct Level {
     pub touched: Touched,
     /// The children of each coarser vertex at this level, made on first use.
     pub children: Option<Children>,
+    /// The factorised system of a small level without tension, made on first use (see
+    /// [`super::direct`]).
+    pub direct: Direct,
+    /// The exact solves around its extraordinary vertices, made on first use (see
+    /// [`super::irregular`]).
+    pub irregular: Option<IrregularBlocks>,
 }
 
 /// The contraction per V-cycle assumed until one is measured.
@@ -81,6 +89,8 @@ impl Level {
             residual_support: Support::default(),
             touched: Touched::everything(),
             children: None,
+            direct: Direct::Unmade,
+            irregular: None,
         }
     }
 
@@ -115,6 +125,8 @@ impl Level {
             residual_support: Support::default(),
             touched: Touched::everything(),
             children: None,
+            direct: Direct::Unmade,
+            irregular: None,
         })
     }
 
@@ -219,6 +231,8 @@ pub(super) fn refresh_levels(
             dirty = fine_dirty;
         }
         let level = &mut levels[l];
+        level.direct = Direct::Unmade;
+        level.irregular = None;
         if rebuild || !level.operator.refresh(&level.topology, &level.domain, cage, controls, &dirty) {
             level.operator = Operator::build(&level.topology, &level.domain, cage, controls);
         }

@@ -3,8 +3,9 @@
 //! Level 0 is the cage. Each level is refined from the previous one ([`hierarchy`]), its
 //! operator is built from the unsmoothed domain ([`operator`]), and it is solved to convergence
 //! before the next level is made: the cage (and level 1, unless some cage vertex moves) by the
-//! plain NUSD iteration ([`kernel`]), every finer level by multigrid W-cycles that use the coarser
-//! levels as coarse grids and the NUSD iteration as smoother ([`multigrid`]). Multigrid reaches
+//! plain NUSD iteration ([`kernel`]) or, when it is small and has no tension, by a sparse direct
+//! solve ([`direct`]), every finer level by multigrid W-cycles that use the coarser levels as
+//! coarse grids and the NUSD iteration as smoother ([`multigrid`]). Multigrid reaches
 //! the same fixed point in a number of sweeps that stays flat with the level, where the plain
 //! iteration's grows; [`SurfaceSolver::set_multigrid`] turns it off for comparisons.
 //!
@@ -35,9 +36,11 @@
 //! scaled by a power of two ([`frame`]), so any finite cage is handled.
 
 pub mod anchoring;
+pub mod direct;
 pub mod frame;
 pub mod hierarchy;
 mod input;
+pub mod irregular;
 pub mod kernel;
 mod level;
 pub mod local;

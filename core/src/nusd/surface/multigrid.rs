@@ -17,8 +17,9 @@
 //!    equations),
 //! 3. sets the coarse right-hand side `f_c = N_c(x_c⁰) + restricted residual` and solves the
 //!    coarse problem the same way (recursively, [`GAMMA`] cycles: a W-cycle); the coarsest
-//!    grid (level 0 when some cage vertex is moving, else level 1) is smoothed until its steps
-//!    fall to a tenth,
+//!    grid (level 0 when some cage vertex is moving, else level 1) is solved exactly when it is
+//!    small and has no tension ([`super::direct`]), else smoothed until its steps fall to a
+//!    tenth,
 //! 4. adds the prolonged coarse correction `x_c − x_c⁰` and smooths again (ν₂ sweeps).
 //!
 //! The top level's right-hand side is zero, so a converged cycle leaves an exact fixed point of
@@ -30,6 +31,10 @@
 //!
 //! A cycle is a list of [`Op`]s, each at most one sweep of one level, so the solver can stop
 //! between any two of them when a frame's time is up and carry on in the next frame.
+//!
+//! A cycle that relaxes its top by Gauss–Seidel ([`cycle`]'s `relax_top`) also solves the
+//! neighbourhoods of the top level's crowded vertices exactly after its coarse correction
+//! ([`Op::Blocks`], [`super::irregular`]).
 //!
 //! Weak spots: the smoother is the plain iteration, so a λ at which it is unstable (strong
 //! tension) makes the cycle diverge like the plain iteration does, and the same fallback (halve
@@ -226,7 +231,7 @@ impl Work {
 
 /// Gauss–Seidel sweeps of the top level before its coarse correction, and after it, in a cycle
 /// that relaxes its top ([`cycle`]'s `relax_top`), and their λ. Measured on the default scene's
-/// levels 2–5, cage fixed and waist unfixed (`docs/nusd.md`, "Open: sweeps per level"): 2 + 1
+/// levels 2–5, cage fixed and waist unfixed (`docs/nusd.md`, "Sweeps per level"): 2 + 1
 /// at λ 0.9 needs three cycles at levels 4–5 and four at levels 2–3, where 3 + 3 Chebyshev
 /// sweeps of the plain iteration needed four at levels 2–3 and three at levels 4–5 at nearly
 /// twice the sweeps a cycle; 1 + 1 stalls at level 2, λ 1 at level 1–2 with the waist unfixed.
@@ -252,6 +257,9 @@ pub enum Op {
     Coarse(usize),
     /// The coarse correction added to a level.
     Correct(usize),
+    /// The neighbourhoods of the level's extraordinary vertices solved exactly (see
+    /// [`super::irregular`]).
+    Blocks(usize),
 }
 
 /// The operations of one cycle whose top is level `top` and coarsest grid `coarsest` (below
@@ -280,6 +288,9 @@ pub fn cycle(top: usize, coarsest: usize, gamma: usize, relax_top: bool) -> Vec<
             visit(k - 1, None, coarsest, gamma, schedule, ops);
         }
         ops.push(Op::Correct(k));
+        if relax {
+            ops.push(Op::Blocks(k));
+        }
         if relax {
             ops.extend((0..RELAX_SWEEPS.1).map(|_| Op::Relax(k, RELAX_LAMBDA)));
         } else {
@@ -553,6 +564,12 @@ mod tests {
                     Op::Correct(k) => {
                         let (c, f) = ls.split_at_mut(k);
                         correct(&mut c[k - 1].grid(false), &mut f[0].grid(k == top));
+                    }
+                    Op::Blocks(k) => {
+                        let level = &mut ls[k];
+                        let blocks =
+                            super::super::irregular::IrregularBlocks::new(&level.operator, &level.topology.mesh);
+                        blocks.solve(&level.operator, &level.topology.mesh, &mut level.state, None);
                     }
                 }
             }

@@ -13,6 +13,8 @@
 
 use super::SurfaceSolver;
 use crate::DVec3;
+use crate::nusd::surface::direct::Direct;
+use crate::nusd::surface::irregular::IrregularBlocks;
 use crate::nusd::surface::multigrid::{self, COARSE_REDUCTION, COARSE_SWEEPS, Op, RELAX_COARSE_REDUCTION};
 
 /// Cycles over which the contraction is measured.
@@ -143,6 +145,22 @@ impl SurfaceSolver {
                 counted = usize::from(k == top);
                 self.cycle.next += 1;
             }
+            Op::Coarse(c) if self.levels[top].region.is_none() && self.solve_directly(c) => {
+                // The coarse problem solved exactly (see `direct.rs`): one residual pass and
+                // the factors' triangular solves.
+                let level = &mut self.levels[c];
+                let work_state = level.work.as_mut().expect("a restricted coarse grid has scratch");
+                if let Direct::Made(direct) = &mut level.direct {
+                    direct.step(
+                        &level.operator,
+                        &level.topology.mesh,
+                        &mut work_state.state,
+                        Some(&work_state.forcing),
+                    );
+                }
+                work = share(self, c);
+                self.cycle.next += 1;
+            }
             Op::Coarse(c) => {
                 let step = multigrid::smooth(&mut self.levels[c].grid(false), lambda).step;
                 work = share(self, c);
@@ -156,6 +174,19 @@ impl SurfaceSolver {
                     self.cycle.coarse_sweeps = 0;
                     self.cycle.next += 1;
                 }
+            }
+            Op::Blocks(k) => {
+                let level = &mut self.levels[k];
+                work = if level.region.is_none() {
+                    let blocks = level
+                        .irregular
+                        .get_or_insert_with(|| IrregularBlocks::new(&level.operator, &level.topology.mesh));
+                    blocks.solve(&level.operator, &level.topology.mesh, &mut level.state, None);
+                    blocks.work(&level.operator)
+                } else {
+                    0.0
+                };
+                self.cycle.next += 1;
             }
             Op::Correct(k) => {
                 let (coarse, fine) = self.levels.split_at_mut(k);

@@ -46,6 +46,8 @@ pub struct SurfaceSolver {
     diagonal: f64,
     /// Levels from 2 up are solved by multigrid cycles unless this is off.
     multigrid: bool,
+    /// The distance to the fixed point measured after a direct solve of the active level.
+    direct_estimate: Option<f64>,
     /// Drags are re-solved locally unless this is off.
     local_allowed: bool,
     monitor: ConvergenceMonitor,
@@ -109,6 +111,7 @@ impl SurfaceSolver {
             threshold: doc.settings.tol * diagonal,
             diagonal,
             multigrid: true,
+            direct_estimate: None,
             local_allowed: true,
             monitor: ConvergenceMonitor::default(),
             blocks: blocks::BlockMonitor::default(),
@@ -215,7 +218,14 @@ impl SurfaceSolver {
             }
             let t0 = Instant::now();
             let active = self.active;
-            let counted = if self.uses_multigrid(active) { self.cycle_step() } else { self.plain_step() };
+            let counted = if self.uses_multigrid(active) {
+                self.cycle_step()
+            } else if self.levels[active].region.is_none() && self.level_iterations == 0 && self.solve_directly(active)
+            {
+                self.direct_step()
+            } else {
+                self.plain_step()
+            };
             steps += 1;
             done += counted;
             let timing = self.timing(active);
@@ -223,6 +233,44 @@ impl SurfaceSolver {
         }
         self.refresh_external();
         self.status()
+    }
+
+    /// True when level `k` is solved directly (see [`super::direct`]): with multigrid on, a
+    /// small level without tension whose factorisation succeeded (made now if needed).
+    fn solve_directly(&mut self, k: usize) -> bool {
+        let level = &mut self.levels[k];
+        self.multigrid && !level.multigrid_failed && level.direct.get(&level.operator).is_some()
+    }
+
+    /// Solves the active level directly: two Newton steps, the second measuring how far the
+    /// first left the fixed point (its size is the estimate reported). Counts the two residual
+    /// passes as sweeps. A solve that is not finite, or not within the threshold, is undone and
+    /// the level is left to the plain iteration.
+    fn direct_step(&mut self) -> usize {
+        let level = &mut self.levels[self.active];
+        let super::level::Level { direct, operator, topology, state, .. } = level;
+        let super::direct::Direct::Made(solve) = direct else { unreachable!("checked by solve_directly") };
+        let first = solve.step(operator, &topology.mesh, state, None);
+        let second = solve.step(operator, &topology.mesh, state, None);
+        let timing = self.timing(self.active);
+        timing.sweeps += 2;
+        timing.work += 2.0;
+        self.total_iterations += 2;
+        let level = &mut self.levels[self.active];
+        if first.is_finite() && second.is_finite() && second < self.threshold {
+            self.level_iterations = 2;
+            self.direct_estimate = Some(second);
+            self.finish_level(true);
+        } else {
+            let snapshot = self.snapshot.as_ref().expect("a level being iterated has a snapshot");
+            snapshot.restore(&mut level.state);
+            level.direct = super::direct::Direct::Unavailable;
+            self.events.push(format!(
+                "level {}: the direct solve was inaccurate (a second step of {second:.3e}); solving it by the plain iteration",
+                self.active
+            ));
+        }
+        2
     }
 
     /// One plain iteration of the active level, with the stopping and divergence rules.
@@ -487,7 +535,9 @@ impl SurfaceSolver {
     }
 
     fn finish_level(&mut self, converged: bool) {
-        let (last_step, remaining) = if self.uses_multigrid(self.active) && self.cycle.cycles() > 0 {
+        let (last_step, remaining) = if let Some(d) = self.direct_estimate.take() {
+            (d, d)
+        } else if self.uses_multigrid(self.active) && self.cycle.cycles() > 0 {
             let rate = self.cycle.measured_rate();
             let level = &mut self.levels[self.active];
             let estimate = (self.cycle.last_change(), self.cycle.remaining(level.cycle_rate));
