@@ -105,12 +105,17 @@ fn identical_bits_for_one_and_two_threads() {
 fn iterations_are_reported_per_level_and_stay_roughly_flat() {
     for cage in [cube(), prism(5, 300.0, 300.0)] {
         let threshold = 1e-3 * cage.bounding_diagonal();
-        let (_, reports, _) = solve(&document(cage, 3, 1e-3));
-        assert_eq!(reports.iter().map(|r| r.level).collect::<Vec<_>>(), vec![0, 1, 2, 3]);
+        // Four levels: levels of up to 256 vertices are solved directly (the cube's first two).
+        let (_, reports, _) = solve(&document(cage, 4, 1e-3));
+        assert_eq!(reports.iter().map(|r| r.level).collect::<Vec<_>>(), vec![0, 1, 2, 3, 4]);
         assert!(reports.iter().all(|r| r.converged && r.remaining < threshold && r.last_step < threshold));
         let counts: Vec<usize> = reports[1..].iter().map(|r| r.iterations).collect();
         assert!(counts.iter().all(|&c| c > 0), "{counts:?}");
-        for pair in counts.windows(2) {
+        // A level small enough to be solved directly reports its two residual passes; the
+        // iterated levels above it stay within a factor of four of each other.
+        let iterated: Vec<usize> = counts.iter().copied().filter(|&c| c > 2).collect();
+        assert!(iterated.len() >= 2, "{counts:?}");
+        for pair in iterated.windows(2) {
             assert!(pair[1] <= 4 * pair[0], "iterations grow too fast across levels: {counts:?}");
         }
     }

@@ -87,7 +87,8 @@ impl SurfaceSolver {
             // Gauss–Seidel at the top of a level without tension (tensioned levels keep the
             // schedule, with whose cycles their fallback to the plain iteration was measured).
             let relax_top = self.levels[top].operator.overrides.is_empty();
-            self.cycle.ops = multigrid::cycle(top, self.coarsest(), multigrid::GAMMA, relax_top);
+            let coarsest = self.cycle_coarsest(top);
+            self.cycle.ops = multigrid::cycle(top, coarsest, multigrid::GAMMA, relax_top);
             self.cycle.coarse_reduction = if relax_top { RELAX_COARSE_REDUCTION } else { COARSE_REDUCTION };
             self.cycle.next = 0;
             let level = &self.levels[top];

@@ -178,6 +178,21 @@ impl SurfaceSolver {
         usize::from(!self.levels[0].has_moving())
     }
 
+    /// The coarsest grid of a cycle whose top is `top`: in a whole solve, the finest level below
+    /// it that is solved directly (an exact coarse solve on the finest grid that allows one),
+    /// else [`coarsest`](Self::coarsest).
+    fn cycle_coarsest(&mut self, top: usize) -> usize {
+        let base = self.coarsest();
+        if self.levels[top].region.is_none() {
+            for k in (base..top).rev() {
+                if self.levels[k].vertex_count() <= super::direct::MAX_VERTICES && self.solve_directly(k) {
+                    return k;
+                }
+            }
+        }
+        base
+    }
+
     /// Iterates within `budget`, moving on to finer levels as each converges.
     pub fn advance(&mut self, budget: Budget) -> Status {
         let start = Instant::now();
@@ -218,11 +233,14 @@ impl SurfaceSolver {
             }
             let t0 = Instant::now();
             let active = self.active;
-            let counted = if self.uses_multigrid(active) {
-                self.cycle_step()
-            } else if self.levels[active].region.is_none() && self.level_iterations == 0 && self.solve_directly(active)
-            {
+            let direct = self.levels[active].region.is_none()
+                && self.level_iterations == 0
+                && self.cycle.cycles() == 0
+                && self.solve_directly(active);
+            let counted = if direct {
                 self.direct_step()
+            } else if self.uses_multigrid(active) {
+                self.cycle_step()
             } else {
                 self.plain_step()
             };
