@@ -3,6 +3,7 @@
 //! starts after a drag that cost a cycle or two. References: the plain iteration run to 1e-11,
 //! solves run to 1e-12, and fresh solves of the same document.
 
+use taut_core::nusd::Spacing;
 use taut_core::nusd::surface::multigrid::RELAX_SWEEPS;
 use taut_core::nusd::surface::{Budget, Phase, SurfaceSolver};
 use taut_core::{DVec3, Document, PolyMesh, VertexId};
@@ -65,7 +66,12 @@ fn cases() -> Vec<(String, Document)> {
     for v in 16..32 {
         scene.fixed[v] = false;
     }
-    out.push(("default.taut, two rings unfixed".into(), scene));
+    out.push(("default.taut, two rings unfixed".into(), scene.clone()));
+    // With uniform spacing every level's spacings were 1, so level k's R was 4^-k of the
+    // cage's and the levels' R disagreed: multigrid stalled at level 3 here and the plain
+    // fallback stopped it 4.8 T from its fixed point.
+    scene.settings.spacing = Spacing::Uniform;
+    out.push(("default.taut, two rings unfixed, uniform spacing".into(), scene));
     out.push(("mixed faces, a short edge".into(), document(mixed_with_a_short_edge(), 3, 1e-3)));
     out.push(("open patch".into(), document(grid(4, 3, 1.0, |x, y| 0.4 * (1.3 * x).sin() - 0.1 * y * y), 3, 1e-3)));
     for tau in [0.0, 4.0, 16.0, 64.0] {
@@ -205,6 +211,14 @@ fn every_level_stops_within_its_threshold_of_its_own_fixed_point() {
     }
     let mut all =
         vec![("default scene, level 4".to_string(), scene), ("two rings unfixed, level 4".to_string(), unfixed)];
+    // Uniform and centripetal spacing: before each level's spacings shared the level's own unit
+    // (`Spacing::of_level_chord`) levels 4 stopped 6.4 T (uniform, multigrid abandoned) and
+    // 2.2 T (centripetal) from their fixed points.
+    for spacing in [Spacing::Uniform, Spacing::Centripetal] {
+        let mut doc = all[1].1.clone();
+        doc.settings.spacing = spacing;
+        all.push((format!("two rings unfixed, level 4, {spacing:?} spacing"), doc));
+    }
     // Among them the mixed cage with an edge 1e-3 of its size: before the block solves along its
     // sliver faces its levels 2–3 stopped up to 12 T away (a mode the cycles contracted by 0.97,
     // which their first changes did not show).

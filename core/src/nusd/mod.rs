@@ -46,6 +46,26 @@ impl Spacing {
         if s.is_finite() { s.max(min_spacing) } else { min_spacing }
     }
 
+    /// The spacing of an edge of a surface level `depth` splits below the cage, of domain
+    /// length `chord` (unclamped; 0 when not finite). Each split halves an edge's parameter interval, so the
+    /// parametrisation's own unit halves too: uniform spacing is `2^-depth` and centripetal
+    /// `sqrt(chord · 2^-depth)`, a cage edge's parameter length shared evenly by its pieces
+    /// (chord spacing, a length, halves with the chord by itself). Without tension a
+    /// level's `P` is the same whatever constant its spacings are scaled by (`R` scales
+    /// instead), but the levels' `R` must agree for one level to start and correct the
+    /// next: with `1` at every level, level `k`'s `R` was `4^-k` of the cage's, and multigrid
+    /// stalled on the default scene (`docs/nusd.md`, "Spacing").
+    #[inline]
+    pub fn of_level_chord(self, chord: f64, depth: u32) -> f64 {
+        let unit = 0.5f64.powi(depth.min(1000) as i32);
+        let s = match self {
+            Spacing::Chord => chord,
+            Spacing::Uniform => unit,
+            Spacing::Centripetal => (chord * unit).sqrt(),
+        };
+        if s.is_finite() { s } else { 0.0 }
+    }
+
     /// The smallest spacing allowed for a model whose bounding box has diagonal `diagonal`
     /// (`docs/nusd.md`, "Spacing": clamp to `1e-9 · bbox_diagonal`).
     pub fn min_spacing(self, diagonal: f64) -> f64 {

@@ -31,6 +31,8 @@ pub struct LevelTopology {
     pub vertex_on_cage_edge: Vec<u32>,
     /// Number of cage vertices (they are the first vertices of every level).
     pub cage_vertices: usize,
+    /// The level's number: 0 for the cage, each split one more.
+    pub depth: u32,
     /// Parents in the coarser level as a CSR list (`parent_offsets[v]..parent_offsets[v + 1]`);
     /// empty at level 0.
     pub parent_offsets: Vec<u32>,
@@ -53,6 +55,7 @@ impl LevelTopology {
             edge_on_cage: (0..cage.edge_count() as u32).collect(),
             vertex_on_cage_edge: vec![NOT_ON_CAGE_EDGE; cage.vertex_count()],
             cage_vertices: cage.vertex_count(),
+            depth: 0,
             parent_offsets: Vec::new(),
             coloring: Default::default(),
             parents: Vec::new(),
@@ -139,6 +142,7 @@ impl LevelTopology {
             edge_on_cage,
             vertex_on_cage_edge,
             cage_vertices: self.cage_vertices,
+            depth: self.depth + 1,
             parent_offsets,
             parents,
             coloring: Default::default(),

@@ -118,7 +118,7 @@ impl Context<'_> {
     /// The spacing of the edge from `a` to `b`, and the unclamped value.
     fn spacing(&self, a: VertexId, b: VertexId) -> (f64, f64) {
         let chord = (self.domain[b.index()] - self.domain[a.index()]).length();
-        let raw = self.spacing.of_chord(chord, 0.0);
+        let raw = self.spacing.of_level_chord(chord, self.level.depth);
         (raw.max(self.min_spacing), raw)
     }
 
