@@ -103,14 +103,15 @@ fn sweeps_per_level_stay_flat_up_to_level_5() {
     // relaxes its top level by RELAX_SWEEPS Gauss–Seidel sweeps, 2 + 1 + 1 = 4 sweeps a cycle,
     // and after its coarse correction solves the neighbourhoods of the valence-8 vertices
     // exactly; a level of at most `direct::MAX_VERTICES` vertices (level 1 here) is solved
-    // directly, its two residual passes counted: measured 2, 16, 16, 12, 12 and 2, 16, 12, 12, 12
-    // with the waist unfixed (the cage, level 0,
-    // there). Before the direct and block solves, 17, 16, 16, 12, 12 and 16, 16, 16, 12, 12,
-    // with levels 2 stopped 1.4 T and 1.2 T from their fixed points. With the plain iteration's
-    // Chebyshev schedule, 3 + 3 sweeps and a residual pass, 7 a cycle, it was 17, 28, 28, 21,
-    // 21 and 35, 35, 28, 21, 21. The plain iteration takes 17, 72, 125, 83 and 179 on the
-    // default scene. Issue 22 asks at most 12 a level with the cage fixed (met at levels 1, 4
-    // and 5) and at most 20 unfixed (met at every level).
+    // directly, its two residual passes counted; each new level starts from the coarser
+    // solution plus half the coarser level's own correction (`level::START_EXTRAPOLATION`):
+    // measured 2, 12, 12, 12, 12 in both cases (the cage, level 0, is moving with the waist
+    // unfixed). Without that extrapolation, 2, 16, 16, 12, 12 and 2, 16, 12, 12, 12; before the
+    // direct and block solves, 17, 16, 16, 12, 12 and 16, 16, 16, 12, 12, with levels 2 stopped
+    // 1.4 T and 1.2 T from their fixed points. With the plain iteration's Chebyshev schedule,
+    // 3 + 3 sweeps and a residual pass, 7 a cycle, it was 17, 28, 28, 21, 21 and 35, 35, 28,
+    // 21, 21. The plain iteration takes 17, 63, 115, 120 and 55 on the default scene. Issue 22
+    // asks at most 12 a level with the cage fixed and at most 20 unfixed.
     let mut scene = default_scene();
     scene.settings.levels = 5;
     let mut unfixed = scene.clone();
@@ -122,11 +123,7 @@ fn sweeps_per_level_stay_flat_up_to_level_5() {
         let sweeps: Vec<usize> = solver.timings().iter().map(|t| t.sweeps).collect();
         assert_eq!(sweeps.len(), 6);
         let cycle = RELAX_SWEEPS.0 + 1 + RELAX_SWEEPS.1;
-        let bounds = if name == "default scene" {
-            [2, 4 * cycle, 4 * cycle, 3 * cycle, 3 * cycle]
-        } else {
-            [2, 4 * cycle, 3 * cycle, 3 * cycle, 3 * cycle]
-        };
+        let bounds = [2, 3 * cycle, 3 * cycle, 3 * cycle, 3 * cycle];
         assert!(
             sweeps[1..].iter().zip(bounds).all(|(&s, b)| s <= b),
             "{name}: sweeps per level {sweeps:?}, bounds {bounds:?}"

@@ -242,7 +242,7 @@ mod tests {
         };
         let mut level = Level::cage(&cage, &controls);
         for _ in 0..levels {
-            level = level.refine(&cage, &controls).unwrap();
+            level = level.refine(&cage, &controls, false).unwrap();
         }
         level
     }

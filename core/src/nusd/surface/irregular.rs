@@ -239,7 +239,7 @@ mod tests {
         };
         let mut out = vec![Level::cage(&doc.cage, &controls)];
         for _ in 0..levels {
-            let finer = out.last().unwrap().refine(&doc.cage, &controls).unwrap();
+            let finer = out.last().unwrap().refine(&doc.cage, &controls, false).unwrap();
             out.push(finer);
         }
         out

@@ -57,6 +57,9 @@ pub(super) struct Level {
     /// The exact solves around its extraordinary vertices, made on first use (see
     /// [`super::irregular`]).
     pub irregular: Option<IrregularBlocks>,
+    /// The P and R this level started from when it was made, kept until the level is refined
+    /// (see [`extrapolate_start`]); `None` once used, or after the cage changed.
+    pub start: Option<(Vec<DVec3>, Vec<DVec3>)>,
 }
 
 /// The contraction per V-cycle assumed until one is measured.
@@ -91,12 +94,15 @@ impl Level {
             children: None,
             direct: Direct::Unmade,
             irregular: None,
+            start: None,
         }
     }
 
     /// The next finer level, starting from this level's solution prolonged, its new vertices
-    /// moved by their own curvature term (see [`corrected_start`]).
-    pub fn refine(&self, cage: &PolyMesh, controls: &Controls<'_>) -> crate::Result<Level> {
+    /// moved by their own curvature term (see [`corrected_start`]); with `extrapolate`, and
+    /// where neither level has tension, plus half the correction this level's own solve made,
+    /// prolonged (see [`extrapolate_start`]).
+    pub fn refine(&self, cage: &PolyMesh, controls: &Controls<'_>, extrapolate: bool) -> crate::Result<Level> {
         let topology = self.topology.refine()?;
         let n = topology.vertex_count();
         let mut domain = vec![DVec3::ZERO; n];
@@ -106,7 +112,18 @@ impl Level {
         topology.prolong(&self.state.p, &mut p);
         topology.prolong(&self.state.r, &mut r);
         let operator = Operator::build(&topology, &domain, cage, controls);
+        if extrapolate
+            && operator.overrides.is_empty()
+            && let Some((start_p, start_r)) = &self.start
+        {
+            extrapolate_start(
+                &topology,
+                &operator,
+                [(&self.state.p, start_p, &mut p), (&self.state.r, start_r, &mut r)],
+            );
+        }
         corrected_start(&operator, self.vertex_count(), &r, &mut p);
+        let start = Some((p.clone(), r.clone()));
         let transfer = Some(Transfer::new(&topology, self.topology.vertex_count()));
         Ok(Level {
             topology,
@@ -127,6 +144,7 @@ impl Level {
             children: None,
             direct: Direct::Unmade,
             irregular: None,
+            start,
         })
     }
 
@@ -184,6 +202,34 @@ impl Level {
     }
 }
 
+/// The share of a level's own correction (its solution less its start) added, prolonged, to the
+/// start of the next finer level in a fresh solve.
+///
+/// Each level's fixed point is the same surface at a finer sampling, and the levels converge to
+/// their limit about linearly in the spacing: on the default scene a vertex moves between levels
+/// `k` and `k + 1` by 0.33–0.50 of what it moved between `k − 1` and `k` (measured at levels 2–6
+/// on the vertices of levels 1 and 2). So the next level's correction is about half this one's,
+/// the first-order Richardson step. Measured on the default scene (levels 1–5, fixed and with
+/// the waist unfixed): 0.5 brings levels 2–3 from 4 cycles to 3 and keeps 4–5 at 3; 0.4 and 0.6
+/// leave level 2 at 4 cycles in one of the two cases. Only the start moves, not the fixed point.
+pub const START_EXTRAPOLATION: f64 = 0.5;
+
+/// Adds [`START_EXTRAPOLATION`] times the prolonged correction `solved − start` of the coarser
+/// level to each moving vertex of the new level's start, for P and for R.
+fn extrapolate_start(topology: &LevelTopology, operator: &Operator, parts: [(&[DVec3], &[DVec3], &mut [DVec3]); 2]) {
+    let n = topology.vertex_count();
+    let mut fine = vec![DVec3::ZERO; n];
+    for (solved, start, out) in parts {
+        let correction: Vec<DVec3> = solved.iter().zip(start).map(|(a, b)| *a - *b).collect();
+        topology.prolong(&correction, &mut fine);
+        for (v, out) in out.iter_mut().enumerate() {
+            if operator.role[v] == Role::Moving {
+                *out += START_EXTRAPOLATION * fine[v];
+            }
+        }
+    }
+}
+
 /// Moves each new moving vertex (index `coarse_count` and up) of a level just made from its
 /// parents' average by `−K_v R_v`, `R_v` its own start (the parents' average of the converged
 /// coarse `R`): where its own equation `ΔP_v = K_v R_v` puts it when its neighbours lie on the
@@ -233,6 +279,7 @@ pub(super) fn refresh_levels(
         let level = &mut levels[l];
         level.direct = Direct::Unmade;
         level.irregular = None;
+        level.start = None;
         if rebuild || !level.operator.refresh(&level.topology, &level.domain, cage, controls, &dirty) {
             level.operator = Operator::build(&level.topology, &level.domain, cage, controls);
         }
@@ -283,7 +330,7 @@ mod tests {
         let c = controls(vt, et, fixed);
         let mut levels = vec![Level::cage(&cage, &c)];
         for _ in 0..3 {
-            let finer = levels.last().unwrap().refine(&cage, &c).unwrap();
+            let finer = levels.last().unwrap().refine(&cage, &c, false).unwrap();
             levels.push(finer);
         }
         let mut changed_rows = 0;

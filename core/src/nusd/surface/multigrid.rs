@@ -502,7 +502,7 @@ mod tests {
         let controls = Controls { fixed, vertex_tension: &vt, edge_tension: &et, spacing: Default::default() };
         let mut out = vec![Level::cage(cage, &controls)];
         for _ in 0..count {
-            let finer = out.last().unwrap().refine(cage, &controls).unwrap();
+            let finer = out.last().unwrap().refine(cage, &controls, false).unwrap();
             out.push(finer);
         }
         out

@@ -59,7 +59,7 @@ impl SurfaceSolver {
             // Made from the coarser level as it now starts, so a new vertex starts at the
             // parent average of the inherited states and the record of what the finer level has
             // absorbed (its `synced_p`) is that start.
-            let finer = self.levels[k - 1].refine(&self.cage, &controls)?;
+            let finer = self.levels[k - 1].refine(&self.cage, &controls, false)?;
             self.levels.push(finer);
             self.take_survivors(k, &old.levels[k], &survivors);
             let level = &mut self.levels[k];

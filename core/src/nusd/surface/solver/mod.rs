@@ -544,9 +544,11 @@ impl SurfaceSolver {
                 edge_tension: &self.edge_tension,
                 spacing: self.settings.spacing,
             };
-            let finer = self.levels.last().expect("level 0 always exists").refine(&self.cage, &controls)?;
+            let finer = self.levels.last().expect("level 0 always exists").refine(&self.cage, &controls, true)?;
             // The new level starts from all of the coarser one.
-            self.levels.last_mut().expect("level 0 always exists").touched.take();
+            let coarser = self.levels.last_mut().expect("level 0 always exists");
+            coarser.touched.take();
+            coarser.start = None;
             self.levels.push(finer);
         }
         Ok(())
@@ -590,6 +592,9 @@ impl SurfaceSolver {
         self.cycle.reset();
         self.level_iterations = 0;
         if self.active >= self.settings.levels as usize {
+            // The finest level is refined only if the levels are raised later: its start is
+            // not kept for that.
+            self.levels[self.active].start = None;
             self.phase = Phase::Done;
         } else {
             self.active += 1;
