@@ -66,21 +66,27 @@ fn fixed_points_are_reproduced_exactly() {
 
 #[test]
 fn similarity_transforms_commute_with_smoothing() {
-    let mut doc = document(prism(5, 300.0, 300.0), 2, 1e-9);
-    doc.settings.max_iterations = 100_000;
-    doc.set_vertex_tension(VertexId(2), 3.0).unwrap();
-    doc.set_edge_tension(VertexId(5), VertexId(6), 2.0).unwrap();
-    doc.fixed[7] = false;
-    let (base, _, _) = solve(&doc);
-    let rotation = glam::DQuat::from_axis_angle(DVec3::new(1.0, -2.0, 0.5).normalize(), 0.9);
-    let similarity = |p: DVec3| 0.013 * (rotation * p) + DVec3::new(40.0, -7.0, 1e3);
-    let mut moved = doc.clone();
-    moved.cage = transformed(&doc.cage, similarity);
-    let (image, _, _) = solve(&moved);
-    let expected: Vec<DVec3> = base.iter().map(|&p| similarity(p)).collect();
-    let diagonal = moved.cage.bounding_diagonal();
-    let error = max_distance(&image, &expected) / diagonal;
-    assert!(error < 1e-7, "relative error {error:e}");
+    // With every spacing: tension's β is divided by the cage edges' parameter length (their
+    // spacing), so τ means the same at any size; with the geometric length uniform and
+    // centripetal spacing were not invariant under scaling.
+    for spacing in [Spacing::Chord, Spacing::Uniform, Spacing::Centripetal] {
+        let mut doc = document(prism(5, 300.0, 300.0), 2, 1e-9);
+        doc.settings.max_iterations = 100_000;
+        doc.settings.spacing = spacing;
+        doc.set_vertex_tension(VertexId(2), 3.0).unwrap();
+        doc.set_edge_tension(VertexId(5), VertexId(6), 2.0).unwrap();
+        doc.fixed[7] = false;
+        let (base, _, _) = solve(&doc);
+        let rotation = glam::DQuat::from_axis_angle(DVec3::new(1.0, -2.0, 0.5).normalize(), 0.9);
+        let similarity = |p: DVec3| 0.013 * (rotation * p) + DVec3::new(40.0, -7.0, 1e3);
+        let mut moved = doc.clone();
+        moved.cage = transformed(&doc.cage, similarity);
+        let (image, _, _) = solve(&moved);
+        let expected: Vec<DVec3> = base.iter().map(|&p| similarity(p)).collect();
+        let diagonal = moved.cage.bounding_diagonal();
+        let error = max_distance(&image, &expected) / diagonal;
+        assert!(error < 1e-7, "{spacing:?}: relative error {error:e}");
+    }
 }
 
 #[test]

@@ -110,8 +110,8 @@ impl Context<'_> {
             domain,
             spacing: controls.spacing,
             min_spacing: controls.spacing.min_spacing(diagonal),
-            vertex_beta: vertex_betas(cage, controls.vertex_tension),
-            edge_beta: edge_betas(cage, controls.edge_tension),
+            vertex_beta: vertex_betas(cage, controls.vertex_tension, controls.spacing),
+            edge_beta: edge_betas(cage, controls.edge_tension, controls.spacing),
         }
     }
 
@@ -346,26 +346,32 @@ fn tension_override(
     o
 }
 
-/// `β^v = τ^v / ℓ_v`, with `ℓ_v` the mean length of the cage edges at `v`.
-pub fn vertex_betas(cage: &PolyMesh, tension: &[f64]) -> Vec<f64> {
+/// `β^v = τ^v / ℓ_v`, with `ℓ_v` the mean parameter length (spacing) of the cage edges at `v`:
+/// their mean length with chord spacing, 1 with uniform spacing. `β` multiplies a difference of
+/// `P` over a spacing and is added to `R`, a difference over a spacing squared, so it must be in
+/// the spacing's units for `τ` to mean the same on any model and with any spacing (as on a
+/// polyline, whose `ℓ` is also the parameter length).
+pub fn vertex_betas(cage: &PolyMesh, tension: &[f64], spacing: Spacing) -> Vec<f64> {
     cage.vertices()
         .map(|v| {
             let tau = tension[v.index()];
             if tau == 0.0 {
                 return 0.0;
             }
-            let lengths: Vec<f64> = cage.outgoing(v).map(|h| cage.edge_length(h.edge())).collect();
+            let lengths: Vec<f64> =
+                cage.outgoing(v).map(|h| spacing.of_level_chord(cage.edge_length(h.edge()), 0)).collect();
             let mean = lengths.iter().sum::<f64>() / lengths.len().max(1) as f64;
             if mean > 0.0 { tau / mean } else { 0.0 }
         })
         .collect()
 }
 
-/// `β^e = τ^e / ℓ_e`, with `ℓ_e` the length of the cage edge.
-pub fn edge_betas(cage: &PolyMesh, tension: &[f64]) -> Vec<f64> {
+/// `β^e = τ^e / ℓ_e`, with `ℓ_e` the parameter length (spacing) of the cage edge (see
+/// [`vertex_betas`]).
+pub fn edge_betas(cage: &PolyMesh, tension: &[f64], spacing: Spacing) -> Vec<f64> {
     cage.edges()
         .map(|e: EdgeId| {
-            let len = cage.edge_length(e);
+            let len = spacing.of_level_chord(cage.edge_length(e), 0);
             if tension[e.index()] == 0.0 || len <= 0.0 { 0.0 } else { tension[e.index()] / len }
         })
         .collect()
