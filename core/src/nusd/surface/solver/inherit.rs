@@ -67,8 +67,11 @@ impl SurfaceSolver {
             level.multigrid_failed = old.levels[k].multigrid_failed;
         }
         // Nothing is waiting to be passed on: each finer level was made from its coarser one.
+        // Their starts are not kept: the survivors carry their own solution, so a level's
+        // correction says nothing of the next (see `Level::refine`).
         for level in &mut self.levels {
             level.touched = Touched::default();
+            level.start = None;
         }
         let finished = old.phase == Phase::Done && old.reports.iter().all(|r| r.converged);
         if finished && self.multigrid && self.local_allowed && !seeds.is_empty() {
