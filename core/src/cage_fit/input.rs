@@ -138,10 +138,6 @@ pub(crate) fn signed_volume(positions: &[DVec3], triangles: &[[u32; 3]]) -> f64 
         / 6.0
 }
 
-fn key(a: u32, b: u32) -> u64 {
-    (u64::from(a.min(b)) << 32) | u64::from(a.max(b))
-}
-
 /// The uses of undirected edges, grouped: each group lists the corners `(triangle, k)` whose
 /// edge from corner `k` to corner `k + 1` is that edge. Built by sorting, so its order (and
 /// everything decided from it) is the same on every run and thread count.
@@ -155,23 +151,26 @@ struct EdgeUses {
 }
 
 impl EdgeUses {
-    fn new(triangles: &[[u32; 3]]) -> Self {
-        use rayon::prelude::*;
-        let mut entries: Vec<(u64, u32)> = (0..triangles.len())
+    /// `vertices`: more than any index in `triangles`.
+    fn new(triangles: &[[u32; 3]], vertices: usize) -> Self {
+        let mut entries: Vec<(u32, u32, u32)> = (0..triangles.len())
             .flat_map(|t| (0..3).map(move |k| (t, k)))
-            .map(|(t, k)| (key(triangles[t][k], triangles[t][(k + 1) % 3]), (3 * t + k) as u32))
+            .map(|(t, k)| {
+                let (a, b) = (triangles[t][k], triangles[t][(k + 1) % 3]);
+                (a.min(b), a.max(b), (3 * t + k) as u32)
+            })
             .collect();
-        entries.par_sort_unstable();
+        crate::mesh::edge_sort::sort_sides(&mut entries, vertices);
         let mut offsets = Vec::with_capacity(entries.len() / 2 + 2);
         let mut group_of = vec![0u32; entries.len()];
-        for (i, &(k, c)) in entries.iter().enumerate() {
-            if i == 0 || entries[i - 1].0 != k {
+        for (i, &(lo, hi, c)) in entries.iter().enumerate() {
+            if i == 0 || (entries[i - 1].0, entries[i - 1].1) != (lo, hi) {
                 offsets.push(i as u32);
             }
             group_of[c as usize] = (offsets.len() - 1) as u32;
         }
         offsets.push(entries.len() as u32);
-        EdgeUses { corners: entries.into_iter().map(|(_, c)| c).collect(), offsets, group_of }
+        EdgeUses { corners: entries.into_iter().map(|(_, _, c)| c).collect(), offsets, group_of }
     }
 
     fn groups(&self) -> impl Iterator<Item = &[u32]> + '_ {
@@ -261,7 +260,7 @@ fn prepare(mut positions: Vec<DVec3>, input: &[[u32; 3]]) -> Result<DenseMesh> {
     }
 
     report.flipped = orient(&positions, &mut triangles);
-    let uses = EdgeUses::new(&triangles);
+    let uses = EdgeUses::new(&triangles, n);
     // Neighbour across corner edge k of triangle t, if that edge is manifold and shared.
     let mut across = vec![[u32::MAX; 3]; triangles.len()];
     for list in uses.groups() {
@@ -323,7 +322,7 @@ fn prepare(mut positions: Vec<DVec3>, input: &[[u32; 3]]) -> Result<DenseMesh> {
 
     // Pieces and borders of the prepared mesh: with no vertex split the triangles are those the
     // uses above were listed from.
-    let uses = if fan_vertex.is_empty() { uses } else { EdgeUses::new(&triangles) };
+    let uses = if fan_vertex.is_empty() { uses } else { EdgeUses::new(&triangles, positions.len()) };
     report.border_edges = uses.groups().filter(|u| u.len() == 1).count();
     if let Some(list) = uses.groups().find(|u| !is_manifold(u, &triangles)) {
         let c = list[0] as usize;
@@ -343,7 +342,7 @@ fn prepare(mut positions: Vec<DVec3>, input: &[[u32; 3]]) -> Result<DenseMesh> {
 /// Orients each piece consistently (breadth first from its lowest triangle) and flips closed
 /// pieces with negative volume; returns the number of triangles flipped.
 fn orient(positions: &[DVec3], triangles: &mut [[u32; 3]]) -> usize {
-    let uses = EdgeUses::new(triangles);
+    let uses = EdgeUses::new(triangles, positions.len());
     let original = triangles.to_vec();
     let mut piece = vec![u32::MAX; triangles.len()];
     let mut flipped = vec![false; triangles.len()];

@@ -31,7 +31,6 @@ use crate::mesh::PolyMesh;
 use crate::{DVec3, Error, Result};
 use rayon::prelude::*;
 use std::fmt;
-use std::hash::{Hash, Hasher};
 use std::path::Path;
 
 /// How many cases of one kind of repair are listed by face in the warnings.
@@ -128,24 +127,8 @@ pub fn weld_faces(positions: &[DVec3], faces: &FaceList) -> Result<Welded> {
     if n >= NONE as usize || faces.corner_count() >= NONE as usize {
         return Err(Error::Input(format!("{n} vertices is more than Taut can index")));
     }
-    // 1. The first file vertex at each position: sorted by position bits, then by index, each
-    // group's first is the one the others take.
-    // Adding 0.0 turns −0.0 into 0.0 and leaves every other value alone.
-    let mut keyed: Vec<([u64; 3], u32)> = positions
-        .par_iter()
-        .enumerate()
-        .map(|(v, &p)| ((p + DVec3::ZERO).to_array().map(f64::to_bits), v as u32))
-        .collect();
-    keyed.par_sort_unstable();
-    let mut tentative = vec![0u32; n];
-    let mut group = 0;
-    for k in 0..keyed.len() {
-        if keyed[k].0 != keyed[group].0 {
-            group = k;
-        }
-        tentative[keyed[k].1 as usize] = keyed[group].1;
-    }
-    drop(keyed);
+    // 1. The first file vertex at each position.
+    let tentative = first_at_same_position(positions);
 
     // 2. Faces in tentative numbering, repeats removed; the file's own pinches are refused here.
     let mut report = ImportReport::default();
@@ -246,7 +229,7 @@ pub fn weld_faces(positions: &[DVec3], faces: &FaceList) -> Result<Welded> {
             sides.push((a.min(b), a.max(b), ((c as u32) << 1) | backward));
         }
     }
-    sides.sort_unstable();
+    crate::mesh::edge_sort::sort_sides(&mut sides, n);
     let mut k = 0;
     while k < sides.len() {
         let mut end = k + 1;
@@ -407,8 +390,9 @@ impl Kept {
 
 /// `(face, earlier face, reversed)` for every kept face whose cycle repeats an earlier one's.
 fn find_duplicates(kept: &Kept) -> Vec<(u32, u32, bool)> {
-    let mut keyed: Vec<(u64, u32)> = (0..kept.len()).map(|f| (cycle_hash(kept.cycle(f)), f as u32)).collect();
-    keyed.sort_unstable();
+    let mut keyed: Vec<(u64, u32)> =
+        (0..kept.len()).into_par_iter().map(|f| (cycle_hash(kept.cycle(f)), f as u32)).collect();
+    keyed.par_sort_unstable();
     let mut out = Vec::new();
     let mut dropped = vec![false; kept.len()];
     let mut k = 0;
@@ -441,12 +425,74 @@ fn cycle_hash(cycle: &[u32]) -> u64 {
     for (k, &v) in cycle.iter().enumerate() {
         let w = cycle[(k + 1) % cycle.len()];
         let (a, b) = (u64::from(v.min(w)), u64::from(v.max(w)));
-        let mut h = std::collections::hash_map::DefaultHasher::new();
-        (a, b).hash(&mut h);
-        sorted_pairs = sorted_pairs.wrapping_add(h.finish());
+        sorted_pairs = sorted_pairs.wrapping_add(mix(a << 32 | b));
         sum = sum.wrapping_add(u64::from(v).wrapping_mul(0x9E37_79B9_7F4A_7C15));
     }
     sorted_pairs ^ sum.rotate_left(17) ^ (cycle.len() as u64)
+}
+
+/// Per vertex, the first vertex (lowest index) at a bit-for-bit equal position (after mapping
+/// −0.0 to 0.0). The positions are bucketed by a hash of their bits (a counting sort, which
+/// keeps index order) and each bucket, a few positions, sorted by bits and then index, so each
+/// run of equal positions starts at its first vertex: what one sort of all the positions gives,
+/// in linear time, on any number of threads.
+fn first_at_same_position(positions: &[DVec3]) -> Vec<u32> {
+    let n = positions.len();
+    // Adding 0.0 turns −0.0 into 0.0 and leaves every other value alone.
+    let bits: Vec<[u64; 3]> = positions.par_iter().map(|&p| (p + DVec3::ZERO).to_array().map(f64::to_bits)).collect();
+    let buckets_log2 = (n / 2).max(1).ilog2().min(31);
+    let bucket = |b: &[u64; 3]| {
+        (mix(b[0] ^ mix(b[1] ^ mix(b[2]))) >> 32 >> (32 - buckets_log2)).min((1 << buckets_log2) - 1) as usize
+    };
+    let of: Vec<u32> = bits.par_iter().map(|b| bucket(b) as u32).collect();
+    let count = 1usize << buckets_log2;
+    let mut start = vec![0u32; count + 1];
+    for &b in &of {
+        start[b as usize + 1] += 1;
+    }
+    for b in 0..count {
+        start[b + 1] += start[b];
+    }
+    let mut next = start.clone();
+    let mut order = vec![0u32; n];
+    for (v, &b) in of.iter().enumerate() {
+        order[next[b as usize] as usize] = v as u32;
+        next[b as usize] += 1;
+    }
+    drop((of, next));
+    // Each bucket sorted by bits, then index; `first[k]` the first vertex of `order[k]`'s run.
+    let mut first = vec![0u32; n];
+    let mut slices: Vec<(&mut [u32], &mut [u32])> = Vec::with_capacity(count);
+    let (mut rest, mut rest_first): (&mut [u32], &mut [u32]) = (&mut order, &mut first);
+    for b in 0..count {
+        let len = (start[b + 1] - start[b]) as usize;
+        let (slice, tail) = rest.split_at_mut(len);
+        let (slice_first, tail_first) = rest_first.split_at_mut(len);
+        slices.push((slice, slice_first));
+        (rest, rest_first) = (tail, tail_first);
+    }
+    slices.into_par_iter().with_min_len(1 << 12).for_each(|(slice, first)| {
+        slice.sort_unstable_by_key(|&v| (bits[v as usize], v));
+        let mut group = 0;
+        for k in 0..slice.len() {
+            if bits[slice[k] as usize] != bits[slice[group] as usize] {
+                group = k;
+            }
+            first[k] = slice[group];
+        }
+    });
+    let mut tentative = vec![0u32; n];
+    for (&v, &f) in order.iter().zip(&first) {
+        tentative[v as usize] = f;
+    }
+    tentative
+}
+
+/// splitmix64's finaliser: a cheap hash whose every output bit depends on every input bit.
+fn mix(mut x: u64) -> u64 {
+    x = (x ^ (x >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    x = (x ^ (x >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    x ^ (x >> 31)
 }
 
 /// `Some(false)` when `b` is `a` rotated, `Some(true)` when it is `a` reversed, else `None`.

@@ -205,3 +205,35 @@ fn a_file_that_is_non_manifold_by_itself_is_not_repaired_by_splitting() {
     let err = PolyMesh::from_polygons(w.positions, &w.faces.to_vecs()).unwrap_err().to_string();
     assert!(err.contains("non-manifold vertex 0"), "{err}");
 }
+
+#[test]
+fn each_vertex_finds_the_first_at_its_position_as_a_full_sort_would() {
+    // 30,000 vertices on 2,000 positions, −0.0 and 0.0 mixed, in scrambled order: the bucketed
+    // grouping must give each vertex the lowest index at its bit-equal position.
+    let mut state = 0x9e37_79b9_7f4a_7c15u64;
+    let mut next = || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        state
+    };
+    let places: Vec<DVec3> = (0..2_000)
+        .map(|i| {
+            DVec3::new((i % 13) as f64 * 0.1, if i % 7 == 0 { 0.0 } else { (i / 13) as f64 }, 1.0 / (i + 1) as f64)
+        })
+        .collect();
+    let positions: Vec<DVec3> = (0..30_000)
+        .map(|_| {
+            let p = places[(next() % 2_000) as usize];
+            if p.y == 0.0 && next() % 2 == 0 { DVec3::new(p.x, -0.0, p.z) } else { p }
+        })
+        .collect();
+    let key = |p: DVec3| (p + DVec3::ZERO).to_array().map(f64::to_bits);
+    let mut expected = vec![0u32; positions.len()];
+    for (v, &p) in positions.iter().enumerate() {
+        expected[v] = positions.iter().position(|&q| key(q) == key(p)).unwrap() as u32;
+    }
+    assert_eq!(first_at_same_position(&positions), expected);
+    assert!(first_at_same_position(&[]).is_empty());
+    assert_eq!(first_at_same_position(&[DVec3::ONE]), vec![0]);
+}

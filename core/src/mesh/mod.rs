@@ -12,6 +12,7 @@
 //! [`PolyMesh::topology_generation`] only when the connectivity is rebuilt.
 
 mod build;
+pub mod edge_sort;
 pub mod edit;
 mod handles;
 pub mod primitives;
