@@ -446,20 +446,8 @@ fn first_at_same_position(positions: &[DVec3]) -> Vec<u32> {
     };
     let of: Vec<u32> = bits.par_iter().map(|b| bucket(b) as u32).collect();
     let count = 1usize << buckets_log2;
-    let mut start = vec![0u32; count + 1];
-    for &b in &of {
-        start[b as usize + 1] += 1;
-    }
-    for b in 0..count {
-        start[b + 1] += start[b];
-    }
-    let mut next = start.clone();
-    let mut order = vec![0u32; n];
-    for (v, &b) in of.iter().enumerate() {
-        order[next[b as usize] as usize] = v as u32;
-        next[b as usize] += 1;
-    }
-    drop((of, next));
+    let (start, mut order) = crate::mesh::edge_sort::bucket_sort(n, count, |v| of[v] as usize, |v| v as u32, 0);
+    drop(of);
     // Each bucket sorted by bits, then index; `first[k]` the first vertex of `order[k]`'s run.
     let mut first = vec![0u32; n];
     let mut slices: Vec<(&mut [u32], &mut [u32])> = Vec::with_capacity(count);

@@ -58,19 +58,8 @@ pub(super) fn build_flat(positions: Vec<DVec3>, offsets: &[u32], indices: &[u32]
             corner_to[c] = indices[if c + 1 == b { a } else { c + 1 }];
         }
     }
-    let mut out_offsets = vec![0u32; n + 1];
-    for &v in indices {
-        out_offsets[v as usize + 1] += 1;
-    }
-    for v in 0..n {
-        out_offsets[v + 1] += out_offsets[v];
-    }
-    let mut fill = out_offsets.clone();
-    let mut out_corners = vec![0u32; corners];
-    for (c, &v) in indices.iter().enumerate() {
-        out_corners[fill[v as usize] as usize] = c as u32;
-        fill[v as usize] += 1;
-    }
+    let (out_offsets, out_corners) =
+        super::edge_sort::bucket_sort(corners, n, |c| indices[c] as usize, |c| c as u32, 0);
     let outgoing = |v: u32| &out_corners[out_offsets[v as usize] as usize..out_offsets[v as usize + 1] as usize];
 
     let mut corner_halfedge = vec![HalfedgeId::INVALID; corners];

@@ -1,4 +1,5 @@
-//! Sorting the sides of a large triangle or polygon list by the edge they run along.
+//! Sorting the sides of a large triangle or polygon list by the edge they run along, and the
+//! counting sort it is made of.
 //!
 //! Importers and the scan preparation group a mesh's sides by undirected edge: entries
 //! `(lo, hi, tag)` with `lo ≤ hi` the edge's vertices and `tag` unique per side. A comparison
@@ -9,6 +10,32 @@
 
 use rayon::prelude::*;
 
+/// A stable counting sort of the items `item(0..len)` by `key(i) < buckets`: the items by key,
+/// equal keys in index order, and where each key's run starts (`starts[k]..starts[k + 1]`).
+pub fn bucket_sort<T: Copy>(
+    len: usize,
+    buckets: usize,
+    key: impl Fn(usize) -> usize,
+    item: impl Fn(usize) -> T,
+    fill: T,
+) -> (Vec<u32>, Vec<T>) {
+    let mut starts = vec![0u32; buckets + 1];
+    for i in 0..len {
+        starts[key(i) + 1] += 1;
+    }
+    for k in 0..buckets {
+        starts[k + 1] += starts[k];
+    }
+    let mut next = starts.clone();
+    let mut out = vec![fill; len];
+    for i in 0..len {
+        let slot = &mut next[key(i)];
+        out[*slot as usize] = item(i);
+        *slot += 1;
+    }
+    (starts, out)
+}
+
 /// Sorts `entries` by `(lo, hi, tag)`, every `lo` and `hi` below `vertices`. Identical to
 /// `entries.sort_unstable()` when no two entries are equal.
 pub fn sort_sides(entries: &mut Vec<(u32, u32, u32)>, vertices: usize) {
@@ -16,26 +43,12 @@ pub fn sort_sides(entries: &mut Vec<(u32, u32, u32)>, vertices: usize) {
         entries.sort_unstable();
         return;
     }
-    // Bucket starts by `lo`, then each entry placed after those of smaller `lo` in input order.
-    let mut start = vec![0u32; vertices + 1];
-    for e in entries.iter() {
-        start[e.0 as usize + 1] += 1;
-    }
-    for v in 0..vertices {
-        start[v + 1] += start[v];
-    }
-    let mut next = start.clone();
-    let mut out = vec![(0u32, 0u32, 0u32); entries.len()];
-    for &e in entries.iter() {
-        let slot = &mut next[e.0 as usize];
-        out[*slot as usize] = e;
-        *slot += 1;
-    }
-    // Each bucket sorted on its own; buckets are disjoint slices of `out`.
+    // Bucketed by `lo`, each bucket in input order, then each bucket sorted on its own.
+    let (starts, mut out) = bucket_sort(entries.len(), vertices, |i| entries[i].0 as usize, |i| entries[i], (0, 0, 0));
     let mut buckets: Vec<&mut [(u32, u32, u32)]> = Vec::with_capacity(vertices);
     let mut rest: &mut [(u32, u32, u32)] = &mut out;
     for v in 0..vertices {
-        let (bucket, tail) = rest.split_at_mut((start[v + 1] - start[v]) as usize);
+        let (bucket, tail) = rest.split_at_mut((starts[v + 1] - starts[v]) as usize);
         if bucket.len() > 1 {
             buckets.push(bucket);
         }
