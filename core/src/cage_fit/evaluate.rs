@@ -139,15 +139,24 @@ pub fn measure(
 ) -> Result<Option<(Evaluation, LimitSurface)>> {
     let Prepared { mesh, index, volume_change, cage_vertices } = prepared;
     let positions = mesh.positions();
-    let Some(to_original) = monitor.map(positions.len() + original.samples.len(), |k| {
-        if k < positions.len() {
-            original.index.distance(positions[k])
-        } else {
-            index.distance(original.samples[k - positions.len()])
-        }
-    }) else {
+    // Each query's search is bounded by a neighbour's answer (the same distances, found faster).
+    let split = positions.len() as f64 / (positions.len() + original.samples.len()).max(1) as f64;
+    let Some(forward) = monitor
+        .map_near(0.0..split, positions, |p, near: Option<&DVec3>| original.index.closest_point_near(p, near.copied()))
+    else {
         return Ok(None);
     };
+    let Some(backward) = monitor
+        .map_near(split..1.0, &original.samples, |p, near: Option<&DVec3>| index.closest_point_near(p, near.copied()))
+    else {
+        return Ok(None);
+    };
+    let to_original: Vec<f64> = positions
+        .iter()
+        .zip(&forward)
+        .chain(original.samples.iter().zip(&backward))
+        .map(|(p, q)| (*q - *p).length())
+        .collect();
     let (forward, backward) = to_original.split_at(positions.len());
     if to_original.iter().any(|d| !d.is_finite()) || forward.is_empty() || backward.is_empty() {
         return Err(Error::Solver("the distance of the limit surface to the original is not finite".into()));

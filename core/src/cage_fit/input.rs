@@ -141,6 +141,7 @@ pub(crate) fn signed_volume(positions: &[DVec3], triangles: &[[u32; 3]]) -> f64 
 /// The uses of undirected edges, grouped: each group lists the corners `(triangle, k)` whose
 /// edge from corner `k` to corner `k + 1` is that edge. Built by sorting, so its order (and
 /// everything decided from it) is the same on every run and thread count.
+#[derive(Debug, PartialEq)]
 struct EdgeUses {
     /// Corners as `3 t + k`, sorted by edge, then by corner.
     corners: Vec<u32>,
@@ -171,6 +172,28 @@ impl EdgeUses {
         }
         offsets.push(entries.len() as u32);
         EdgeUses { corners: entries.into_iter().map(|(_, _, c)| c).collect(), offsets, group_of }
+    }
+
+    /// The uses once the triangles marked in `flipped` have had corners 1 and 2 swapped: exactly
+    /// those [`EdgeUses::new`] lists for them (the same edges; a flipped triangle's edge from
+    /// corner `k` is its edge from corner `2 − k`), without sorting every corner again.
+    fn flipped(mut self, flipped: &[bool]) -> Self {
+        let moved = |c: u32| {
+            let (t, k) = (c / 3, c % 3);
+            if flipped[t as usize] { 3 * t + 2 - k } else { c }
+        };
+        let group_of = &mut self.group_of;
+        let mut regrouped = vec![0u32; group_of.len()];
+        for (c, &g) in group_of.iter().enumerate() {
+            regrouped[moved(c as u32) as usize] = g;
+        }
+        *group_of = regrouped;
+        for w in self.offsets.windows(2) {
+            let group = &mut self.corners[w[0] as usize..w[1] as usize];
+            group.iter_mut().for_each(|c| *c = moved(*c));
+            group.sort_unstable();
+        }
+        self
     }
 
     fn groups(&self) -> impl Iterator<Item = &[u32]> + '_ {
@@ -259,8 +282,8 @@ fn prepare(mut positions: Vec<DVec3>, input: &[[u32; 3]]) -> Result<DenseMesh> {
         )));
     }
 
-    report.flipped = orient(&positions, &mut triangles);
-    let uses = EdgeUses::new(&triangles, n);
+    let uses;
+    (report.flipped, uses) = orient(&positions, &mut triangles);
     // Neighbour across corner edge k of triangle t, if that edge is manifold and shared.
     let mut across = vec![[u32::MAX; 3]; triangles.len()];
     for list in uses.groups() {
@@ -340,8 +363,9 @@ fn prepare(mut positions: Vec<DVec3>, input: &[[u32; 3]]) -> Result<DenseMesh> {
 }
 
 /// Orients each piece consistently (breadth first from its lowest triangle) and flips closed
-/// pieces with negative volume; returns the number of triangles flipped.
-fn orient(positions: &[DVec3], triangles: &mut [[u32; 3]]) -> usize {
+/// pieces with negative volume; returns the number of triangles flipped and the edge uses of the
+/// oriented triangles.
+fn orient(positions: &[DVec3], triangles: &mut [[u32; 3]]) -> (usize, EdgeUses) {
     let uses = EdgeUses::new(triangles, positions.len());
     let original = triangles.to_vec();
     let mut piece = vec![u32::MAX; triangles.len()];
@@ -402,7 +426,8 @@ fn orient(positions: &[DVec3], triangles: &mut [[u32; 3]]) -> usize {
             }
         }
     }
-    flipped.iter().filter(|&&f| f).count()
+    let count = flipped.iter().filter(|&&f| f).count();
+    (count, uses.flipped(&flipped))
 }
 
 /// Number of pieces joined through shared vertices.
@@ -439,6 +464,37 @@ mod tests {
     fn tetra() -> (Vec<DVec3>, Vec<[u32; 3]>) {
         let p = vec![DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::Z];
         (p, vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
+    }
+
+    #[test]
+    fn the_uses_orient_returns_are_those_of_the_oriented_triangles() {
+        // A sphere with every third triangle reversed, an inside-out tetrahedron and an open
+        // strip: orientation flips triangles of each kind.
+        let sphere = crate::mesh::primitives::icosphere(2, 1.0).unwrap();
+        let mut p = sphere.positions().to_vec();
+        let mut t: Vec<[u32; 3]> = sphere.triangles();
+        for (k, tri) in t.iter_mut().enumerate() {
+            if k % 3 == 0 {
+                tri.swap(0, 1);
+            }
+        }
+        let (tp, tt) = tetra();
+        let base = p.len() as u32;
+        p.extend(tp.iter().map(|q| *q + DVec3::splat(3.0)));
+        t.extend(tt.iter().map(|tri| [tri[0] + base, tri[2] + base, tri[1] + base]));
+        let base = p.len() as u32;
+        p.extend([
+            DVec3::new(5.0, 0.0, 0.0),
+            DVec3::new(6.0, 0.0, 0.0),
+            DVec3::new(5.0, 1.0, 0.0),
+            DVec3::new(6.0, 1.0, 0.0),
+        ]);
+        t.extend([[base, base + 1, base + 2], [base + 1, base + 2, base + 3]]);
+        let mut oriented = t.clone();
+        let (flipped, uses) = orient(&p, &mut oriented);
+        assert!(flipped > t.len() / 4, "{flipped}");
+        assert_ne!(oriented, t);
+        assert_eq!(uses, EdgeUses::new(&oriented, p.len()));
     }
 
     #[test]

@@ -197,6 +197,49 @@ impl<'a> Monitor<'a> {
         }
         Some(out)
     }
+
+    /// `f` at every one of `points`, where `f(p, before)` is given `before`, the answer at a
+    /// nearby point, whose closeness it may use (a bounded search) but whose answer must not
+    /// depend on it. The points are taken in [`surface_index::coherent_order`], in blocks of
+    /// [`surface_index::BLOCK`] (the first of each without a `before`), blocks in parallel; the
+    /// blocks do not depend on the number of threads. Progress runs over `span` of the step.
+    /// `None` when cancelled.
+    pub fn map_near<T: Send + Clone>(
+        &mut self,
+        span: std::ops::Range<f64>,
+        points: &[DVec3],
+        f: impl Fn(DVec3, Option<&T>) -> T + Sync,
+    ) -> Option<Vec<T>> {
+        let order = surface_index::coherent_order(points);
+        let blocks = order.chunks(surface_index::BLOCK).collect::<Vec<_>>();
+        let mut answers: Vec<Option<T>> = vec![None; points.len()];
+        let mut start = 0;
+        while start < blocks.len() {
+            let end = (start + CHUNK / surface_index::BLOCK).min(blocks.len());
+            let done: Vec<Vec<T>> = blocks[start..end]
+                .par_iter()
+                .map(|block| {
+                    let mut out: Vec<T> = Vec::with_capacity(block.len());
+                    for &i in block.iter() {
+                        let answer = f(points[i as usize], out.last());
+                        out.push(answer);
+                    }
+                    out
+                })
+                .collect();
+            for (block, done) in blocks[start..end].iter().zip(done) {
+                for (&i, answer) in block.iter().zip(done) {
+                    answers[i as usize] = Some(answer);
+                }
+            }
+            start = end;
+            let done = (start * surface_index::BLOCK).min(points.len()) as f64 / points.len().max(1) as f64;
+            if !self.progress.update(self.step, span.start + done * (span.end - span.start)) {
+                return None;
+            }
+        }
+        Some(answers.into_iter().map(|a| a.expect("every point is in one block")).collect())
+    }
 }
 
 /// The wall time of one step.

@@ -9,6 +9,40 @@ use crate::{DVec3, Error, Result};
 use parry3d_f64::math::Vector;
 use parry3d_f64::query::{PointQuery, PointQueryWithLocation, Ray, RayCast};
 use parry3d_f64::shape::TriMesh;
+use rayon::prelude::*;
+
+/// Consecutive queries of a [`coherent_blocks`] block: each after the first is bounded by its
+/// predecessor's answer.
+pub const BLOCK: usize = 32;
+
+/// The points' indices in Morton order over their bounding box (ties by index), so that a block
+/// of consecutive ones lies close together whatever order the points came in. Deterministic on
+/// any number of threads.
+pub fn coherent_order(points: &[DVec3]) -> Vec<u32> {
+    let (lo, hi) = crate::mesh::bounding_box(points).unwrap_or((DVec3::ZERO, DVec3::ZERO));
+    let extent = (hi - lo).max_element();
+    let scale = if extent > 0.0 && extent.is_finite() { f64::from((1u32 << 21) - 1) / extent } else { 0.0 };
+    // Spreads the low 21 bits of `x` to every third bit.
+    let spread = |x: u64| {
+        let mut x = x & 0x1f_ffff;
+        x = (x | x << 32) & 0x001f_0000_0000_ffff;
+        x = (x | x << 16) & 0x001f_0000_ff00_00ff;
+        x = (x | x << 8) & 0x100f_00f0_0f00_f00f;
+        x = (x | x << 4) & 0x10c3_0c30_c30c_30c3;
+        (x | x << 2) & 0x1249_2492_4924_9249
+    };
+    let mut keyed: Vec<(u64, u32)> = points
+        .par_iter()
+        .enumerate()
+        .map(|(i, p)| {
+            // Non-finite coordinates saturate; they only cost their block its bound.
+            let q = ((*p - lo) * scale).to_array().map(|c| c.clamp(0.0, f64::from((1u32 << 21) - 1)) as u64);
+            (spread(q[0]) | spread(q[1]) << 1 | spread(q[2]) << 2, i as u32)
+        })
+        .collect();
+    keyed.par_sort_unstable();
+    keyed.into_iter().map(|(_, i)| i).collect()
+}
 
 /// A triangle surface ready for queries.
 pub struct SurfaceIndex {
@@ -72,6 +106,22 @@ impl SurfaceIndex {
         Some((from_parry(projection.point), triangle as usize, weights))
     }
 
+    /// [`closest_point`](Self::closest_point), searching only as far as `near`, a point of the
+    /// surface known to be at least that close (the same answer, several times faster).
+    pub fn closest_point_near(&self, p: DVec3, near: Option<DVec3>) -> DVec3 {
+        closest_within(near.map(|q| (q - p).length()), |b| self.closest_point_within(p, b), || self.closest_point(p))
+    }
+
+    /// [`closest_on_triangle`](Self::closest_on_triangle), searching only as far as `near` (see
+    /// [`closest_point_near`](Self::closest_point_near)).
+    pub fn closest_on_triangle_near(&self, p: DVec3, near: Option<DVec3>) -> (DVec3, usize, [f64; 3]) {
+        closest_within(
+            near.map(|q| (q - p).length()),
+            |b| self.closest_on_triangle_within(p, b),
+            || self.closest_on_triangle(p),
+        )
+    }
+
     /// Moves the vertices (the same number, the triangles unchanged) and refits the hierarchy
     /// to them, which costs a fraction of indexing them anew.
     pub fn set_positions(&mut self, positions: &[DVec3]) {
@@ -97,6 +147,14 @@ impl SurfaceIndex {
         let hit = self.mesh.cast_local_ray_and_get_normal(&ray, max, false)?;
         Some((hit.time_of_impact, hit.subshape as usize % self.mesh.num_triangles().max(1)))
     }
+}
+
+/// The closest point of a surface to a point by a search bounded by `bound`, the distance to a
+/// point of the surface known to be that near, or an unbounded search without one. The bound is
+/// widened by a relative 1e-9 (the known point is recomputed in floating point), and should it
+/// still miss, the search is repeated without it: the answer is the unbounded search's.
+pub(super) fn closest_within<T>(bound: Option<f64>, within: impl Fn(f64) -> Option<T>, unbounded: impl Fn() -> T) -> T {
+    bound.filter(|b| b.is_finite()).and_then(|b| within(b * (1.0 + 1e-9) + 1e-300)).unwrap_or_else(unbounded)
 }
 
 #[cfg(test)]
@@ -161,5 +219,62 @@ mod tests {
             assert!((a.0 - b.0).length() < 1e-12, "{p}: {a:?} vs {b:?}");
             assert!(((a.0 - p).length() - fresh.distance(p)).abs() < 1e-12);
         }
+    }
+
+    #[test]
+    fn queries_in_coherent_blocks_answer_as_unbounded_searches_on_any_thread_count() {
+        let sphere = crate::mesh::primitives::icosphere(4, 1.0).unwrap();
+        let bumpy: Vec<DVec3> =
+            sphere.positions().iter().map(|p| *p * (1.0 + 0.1 * (5.0 * p.x).sin() * (3.0 * p.y).cos())).collect();
+        let index = SurfaceIndex::new(&bumpy, &sphere.triangles()).unwrap();
+        // Points around the surface in a scrambled order (a multiplicative hash of the index).
+        let n = 5000u64;
+        let points: Vec<DVec3> = (0..n)
+            .map(|k| {
+                let j = (k * 2_654_435_761) % n;
+                let t = j as f64 * 0.013;
+                let dir = DVec3::new(t.sin() * (0.7 * t).cos(), t.cos() * (0.7 * t).cos(), (0.7 * t).sin());
+                dir * (0.6 + 0.8 * ((j * 7919) % 101) as f64 / 100.0)
+            })
+            .collect();
+
+        let order = coherent_order(&points);
+        let mut sorted = order.clone();
+        sorted.sort_unstable();
+        assert_eq!(sorted, (0..n as u32).collect::<Vec<_>>(), "a permutation");
+        // Blocks of the order are compact: their mean extent is a fraction of that of blocks
+        // taken in the scrambled input order.
+        let extent = |block: &[u32]| {
+            let p: Vec<DVec3> = block.iter().map(|&i| points[i as usize]).collect();
+            crate::mesh::bounding_box(&p).map_or(0.0, |(lo, hi)| (hi - lo).length())
+        };
+        let mean = |o: &[u32]| o.chunks(BLOCK).map(extent).sum::<f64>() / o.len().div_ceil(BLOCK) as f64;
+        let input: Vec<u32> = (0..n as u32).collect();
+        assert!(mean(&order) < 0.5 * mean(&input), "{} vs {}", mean(&order), mean(&input));
+
+        let run = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            pool.install(|| {
+                let mut silent = super::super::Silent;
+                let mut monitor = super::super::Monitor::new(&mut silent);
+                let points_near = monitor
+                    .map_near(0.0..1.0, &points, |p, near: Option<&DVec3>| index.closest_point_near(p, near.copied()))
+                    .unwrap();
+                let on_triangles = monitor
+                    .map_near(0.0..1.0, &points, |p, near: Option<&(DVec3, usize, [f64; 3])>| {
+                        index.closest_on_triangle_near(p, near.map(|n| n.0))
+                    })
+                    .unwrap();
+                (points_near, on_triangles)
+            })
+        };
+        let (points_near, on_triangles) = run(2);
+        for (k, &p) in points.iter().enumerate() {
+            let unbounded = index.closest_point(p);
+            // The same closest point up to a tie between triangles (equally far).
+            assert!(((points_near[k] - p).length() - (unbounded - p).length()).abs() < 1e-12, "{k}");
+            assert!((on_triangles[k].0 - points_near[k]).length() < 1e-12, "{k}");
+        }
+        assert_eq!(run(1), (points_near, on_triangles), "the same answers on one thread");
     }
 }

@@ -112,14 +112,6 @@ pub struct Memory {
     surface: Option<SurfaceIndex>,
 }
 
-/// The closest point of `index` to `p` by a search bounded by `bound`, the distance to a point
-/// of the surface known to be that near, or an unbounded search without one. The bound is
-/// widened by a relative 1e-9 (the known point is recomputed in floating point), and should it
-/// still miss, the search is repeated without it: the answer is the unbounded search's.
-fn closest_within<T>(bound: Option<f64>, within: impl Fn(f64) -> Option<T>, unbounded: impl Fn() -> T) -> T {
-    bound.filter(|b| b.is_finite()).and_then(|b| within(b * (1.0 + 1e-9) + 1e-300)).unwrap_or_else(unbounded)
-}
-
 /// Measures the cage `x` against the original (`points` its sampled points for the backward
 /// side) and, unless `solve` is false, moves it by one weighted least-squares round of at most
 /// `iterations` CGLS steps. `memory` carries what one round found to the next (start each fit
@@ -138,15 +130,15 @@ pub fn round(
 ) -> Result<Option<(Distances, usize)>> {
     let samples = sampling.rows.apply(x);
     // The original does not move: last round's closest point is still on it.
+    // Without last round's, a neighbour's answer bounds each search.
     let known = (memory.forward.len() == samples.len()).then_some(&memory.forward);
-    let Some(forward) = monitor.map(samples.len(), |j| {
-        let p = samples[j];
-        closest_within(
-            known.map(|k| (k[j] - p).length()),
-            |b| original.index.closest_point_within(p, b),
-            || original.index.closest_point(p),
-        )
-    }) else {
+    let forward = match known {
+        Some(known) => monitor.map(samples.len(), |j| original.index.closest_point_near(samples[j], Some(known[j]))),
+        None => monitor.map_near(0.0..1.0, &samples, |p, near: Option<&DVec3>| {
+            original.index.closest_point_near(p, near.copied())
+        }),
+    };
+    let Some(forward) = forward else {
         return Ok(None);
     };
     let surface = match memory.surface.take() {
@@ -162,14 +154,13 @@ pub fn round(
         let [a, b, c] = sampling.triangles[t].map(|i| samples[i as usize]);
         w[0] * a + w[1] * b + w[2] * c
     };
-    let Some(backward) = monitor.map(points.len(), |i| {
-        let p = points[i];
-        closest_within(
-            known.map(|k| (at(k[i]) - p).length()),
-            |b| surface.closest_on_triangle_within(p, b),
-            || surface.closest_on_triangle(p),
-        )
-    }) else {
+    let backward = match known {
+        Some(known) => monitor.map(points.len(), |i| surface.closest_on_triangle_near(points[i], Some(at(known[i])))),
+        None => monitor.map_near(0.0..1.0, points, |p, near: Option<&(DVec3, usize, [f64; 3])>| {
+            surface.closest_on_triangle_near(p, near.map(|n| n.0))
+        }),
+    };
+    let Some(backward) = backward else {
         return Ok(None);
     };
     memory.forward.clone_from(&forward);
