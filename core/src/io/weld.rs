@@ -433,22 +433,29 @@ fn cycle_hash(cycle: &[u32]) -> u64 {
 
 /// Per vertex, the first vertex (lowest index) at a bit-for-bit equal position (after mapping
 /// −0.0 to 0.0). The positions are bucketed by a hash of their bits (a counting sort, which
-/// keeps index order) and each bucket, a few positions, sorted by bits and then index, so each
-/// run of equal positions starts at its first vertex: what one sort of all the positions gives,
-/// in linear time, on any number of threads.
+/// keeps index order); within a bucket, a few positions in index order, each vertex's first is
+/// the earliest one at its position, found among the bucket's distinct positions so far (a
+/// bucket with many distinct positions is sorted by bits and index instead). The same answer as
+/// one sort of all the positions, in linear time, on any number of threads.
 fn first_at_same_position(positions: &[DVec3]) -> Vec<u32> {
+    first_at_same_position_searching(positions, 16)
+}
+
+/// [`first_at_same_position`] searching at most `linear` distinct positions of a bucket one by
+/// one before sorting it instead.
+fn first_at_same_position_searching(positions: &[DVec3], linear: usize) -> Vec<u32> {
     let n = positions.len();
     // Adding 0.0 turns −0.0 into 0.0 and leaves every other value alone.
-    let bits: Vec<[u64; 3]> = positions.par_iter().map(|&p| (p + DVec3::ZERO).to_array().map(f64::to_bits)).collect();
+    let bits = |v: u32| (positions[v as usize] + DVec3::ZERO).to_array().map(f64::to_bits);
     let buckets_log2 = (n / 2).max(1).ilog2().min(31);
     let bucket = |b: &[u64; 3]| {
         (mix(b[0] ^ mix(b[1] ^ mix(b[2]))) >> 32 >> (32 - buckets_log2)).min((1 << buckets_log2) - 1) as usize
     };
-    let of: Vec<u32> = bits.par_iter().map(|b| bucket(b) as u32).collect();
+    let of: Vec<u32> = (0..n as u32).into_par_iter().map(|v| bucket(&bits(v)) as u32).collect();
     let count = 1usize << buckets_log2;
     let (start, mut order) = crate::mesh::edge_sort::bucket_sort(n, count, |v| of[v] as usize, |v| v as u32, 0);
     drop(of);
-    // Each bucket sorted by bits, then index; `first[k]` the first vertex of `order[k]`'s run.
+    // `first[k]` the first vertex at `order[k]`'s position.
     let mut first = vec![0u32; n];
     let mut slices: Vec<(&mut [u32], &mut [u32])> = Vec::with_capacity(count);
     let (mut rest, mut rest_first): (&mut [u32], &mut [u32]) = (&mut order, &mut first);
@@ -459,14 +466,28 @@ fn first_at_same_position(positions: &[DVec3]) -> Vec<u32> {
         slices.push((slice, slice_first));
         (rest, rest_first) = (tail, tail_first);
     }
-    slices.into_par_iter().with_min_len(1 << 12).for_each(|(slice, first)| {
-        slice.sort_unstable_by_key(|&v| (bits[v as usize], v));
-        let mut group = 0;
+    slices.into_par_iter().with_min_len(1 << 12).for_each_init(Vec::new, |heads, (slice, first)| {
+        heads.clear();
         for k in 0..slice.len() {
-            if bits[slice[k] as usize] != bits[slice[group] as usize] {
-                group = k;
-            }
-            first[k] = slice[group];
+            let key = bits(slice[k]);
+            first[k] = match heads.iter().find(|(b, _)| *b == key) {
+                Some(&(_, head)) => head,
+                None if heads.len() < linear => {
+                    heads.push((key, slice[k]));
+                    slice[k]
+                }
+                None => {
+                    slice.sort_unstable_by_key(|&v| (bits(v), v));
+                    let mut group = 0;
+                    for k in 0..slice.len() {
+                        if bits(slice[k]) != bits(slice[group]) {
+                            group = k;
+                        }
+                        first[k] = slice[group];
+                    }
+                    return;
+                }
+            };
         }
     });
     let mut tentative = vec![0u32; n];

@@ -234,6 +234,10 @@ fn each_vertex_finds_the_first_at_its_position_as_a_full_sort_would() {
         expected[v] = positions.iter().position(|&q| key(q) == key(p)).unwrap() as u32;
     }
     assert_eq!(first_at_same_position(&positions), expected);
+    // Buckets sorted once they hold more distinct positions than are searched one by one.
+    for linear in [0, 1, 2] {
+        assert_eq!(first_at_same_position_searching(&positions, linear), expected, "{linear}");
+    }
     assert!(first_at_same_position(&[]).is_empty());
     assert_eq!(first_at_same_position(&[DVec3::ONE]), vec![0]);
 }
