@@ -24,31 +24,41 @@ pub(crate) fn limit_into(
     normals: &mut Vec<DVec3>,
 ) {
     let n = mesh.vertex_count();
-    crate::subdiv::resize_parallel(limit, n, DVec3::ZERO);
-    crate::subdiv::resize_parallel(normals, n, DVec3::ZERO);
-    let sharp = |e: EdgeId| crate::subdiv::crease::sharp(sharpness, e);
     if let (Scheme::CatmullClark, Some((parent, split))) = (scheme, split) {
         quad_limit_into(parent, split, sharpness, corners, mesh, points, limit, normals);
         return;
     }
-    limit.par_iter_mut().zip(normals.par_iter_mut()).with_min_len(4096).enumerate().for_each_init(
-        || DirectScratch::new(n),
-        |d, (v, (p, normal))| {
-            let corner = corners.get(v).is_some_and(|&s| s > 0.0);
-            let v = VertexId(v as u32);
-            d.ring.clear();
-            let ring = if corner { None } else { smooth_ring(scheme, mesh, &sharp, v, &mut d.ring) };
-            (*p, *normal) = match ring {
-                Some(slot) => {
-                    let ring = std::mem::take(&mut d.ring);
-                    let out = apply_ring(d.mask(scheme, slot), &ring, points);
-                    d.ring = ring;
-                    out
-                }
-                None => d.general(scheme, mesh, &sharp, corner, v, points),
-            };
-        },
-    );
+    let sharp = |e: EdgeId| crate::subdiv::crease::sharp(sharpness, e);
+    let vertex = |d: &mut DirectScratch, v: usize| {
+        let corner = corners.get(v).is_some_and(|&s| s > 0.0);
+        let v = VertexId(v as u32);
+        d.ring.clear();
+        let ring = if corner { None } else { smooth_ring(scheme, mesh, &sharp, v, &mut d.ring) };
+        match ring {
+            Some(slot) => {
+                let ring = std::mem::take(&mut d.ring);
+                let out = apply_ring(d.mask(scheme, slot), &ring, points);
+                d.ring = ring;
+                out
+            }
+            None => d.general(scheme, mesh, &sharp, corner, v, points),
+        }
+    };
+    if limit.len() == n && normals.len() == n {
+        limit
+            .par_iter_mut()
+            .zip(normals.par_iter_mut())
+            .with_min_len(4096)
+            .enumerate()
+            .for_each_init(|| DirectScratch::new(n), |d, (v, (p, normal))| (*p, *normal) = vertex(d, v));
+    } else {
+        // Fresh buffers: each entry written once as it is collected, none cleared first.
+        (0..n)
+            .into_par_iter()
+            .with_min_len(4096)
+            .map_init(|| DirectScratch::new(n), vertex)
+            .unzip_into_vecs(limit, normals);
+    }
 }
 
 /// The most spokes a vertex may have to take [`quad_limit_into`]'s fast path.
@@ -69,8 +79,8 @@ fn quad_limit_into(
     corners: &[f64],
     mesh: &PolyMesh,
     points: &[DVec3],
-    limit: &mut [DVec3],
-    normals: &mut [DVec3],
+    limit: &mut Vec<DVec3>,
+    normals: &mut Vec<DVec3>,
 ) {
     let n = mesh.vertex_count();
     let masks: Vec<RingMask> = (0..=FAST_VALENCE).map(|k| RingMask::smooth(Scheme::CatmullClark, k.max(3))).collect();
@@ -122,34 +132,60 @@ fn quad_limit_into(
         }
         if (3..=FAST_VALENCE).contains(&k) { k } else { 0 }
     };
-    // By chunks: the fast vertices' normals are normalised in a second loop over the chunk, where
-    // the square roots and divisions of independent vertices overlap instead of each waiting at
-    // the end of a long ring walk (the same operations, so the same bits).
+    // A vertex's limit position and normal, and whether the normal is still to be normalised
+    // (the fast path's).
+    let vertex = |d: &mut DirectScratch, ring: &mut [u32; 2 * FAST_VALENCE + 1], v: usize| {
+        let corner = corners.get(v).is_some_and(|&s| s > 0.0);
+        let k = if corner { 0 } else { fast_ring(v as u32, ring) };
+        if k > 0 {
+            let (p, normal) = ring_sums(&masks[k], &ring[..2 * k + 1], points);
+            return (p, normal, true);
+        }
+        let v = VertexId(v as u32);
+        d.ring.clear();
+        let (p, normal) =
+            match if corner { None } else { derived_smooth_ring(parent, split, sharpness, v, &mut d.ring) } {
+                Some(slot) => {
+                    let ring = std::mem::take(&mut d.ring);
+                    let out = apply_ring(d.mask(Scheme::CatmullClark, slot), &ring, points);
+                    d.ring = ring;
+                    out
+                }
+                None => d.general(Scheme::CatmullClark, mesh, &sharp, corner, v, points),
+            };
+        (p, normal, false)
+    };
+    if limit.len() != n || normals.len() != n {
+        // Fresh buffers: each entry written once as it is collected, none cleared first (clearing
+        // a fine level's limit and normals cost a tenth of computing them).
+        (0..n)
+            .into_par_iter()
+            .with_min_len(4096)
+            .map_init(
+                || (DirectScratch::new(n), [0u32; 2 * FAST_VALENCE + 1]),
+                |(d, ring), v| {
+                    let (p, normal, fast) = vertex(d, ring, v);
+                    (p, if fast { normal.normalize_or_zero() } else { normal })
+                },
+            )
+            .unzip_into_vecs(limit, normals);
+        return;
+    }
+    // Re-evaluated in place, by chunks: the fast vertices' normals are normalised in a second
+    // loop over the chunk, where the square roots and divisions of independent vertices overlap
+    // instead of each waiting at the end of a long ring walk (the same operations, so the same
+    // bits).
     const CHUNK: usize = 4096;
     limit.par_chunks_mut(CHUNK).zip(normals.par_chunks_mut(CHUNK)).enumerate().for_each_init(
         || (DirectScratch::new(n), [0u32; 2 * FAST_VALENCE + 1], Vec::with_capacity(CHUNK)),
         |(d, ring, fast), (c, (limit, normals))| {
             fast.clear();
             for (i, (p, normal)) in limit.iter_mut().zip(normals.iter_mut()).enumerate() {
-                let v = c * CHUNK + i;
-                let corner = corners.get(v).is_some_and(|&s| s > 0.0);
-                let k = if corner { 0 } else { fast_ring(v as u32, ring) };
-                (*p, *normal) = if k > 0 {
+                let is_fast;
+                (*p, *normal, is_fast) = vertex(d, ring, c * CHUNK + i);
+                if is_fast {
                     fast.push(i as u32);
-                    ring_sums(&masks[k], &ring[..2 * k + 1], points)
-                } else {
-                    let v = VertexId(v as u32);
-                    d.ring.clear();
-                    match if corner { None } else { derived_smooth_ring(parent, split, sharpness, v, &mut d.ring) } {
-                        Some(slot) => {
-                            let ring = std::mem::take(&mut d.ring);
-                            let out = apply_ring(d.mask(Scheme::CatmullClark, slot), &ring, points);
-                            d.ring = ring;
-                            out
-                        }
-                        None => d.general(Scheme::CatmullClark, mesh, &sharp, corner, v, points),
-                    }
-                };
+                }
             }
             for &i in fast.iter() {
                 normals[i as usize] = normals[i as usize].normalize_or_zero();

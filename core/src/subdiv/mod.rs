@@ -31,9 +31,8 @@ pub use rules::Scheme;
 pub use sparse::SparseRows;
 pub use topology::{SplitRule, SplitTopology, VertexOrigin};
 
-/// `v.resize(n, value)`, the new entries written by all threads: a fine level's arrays and a
-/// fresh evaluation's output buffers are megabytes, which one thread clears at memory speed while
-/// the others wait.
+/// `v.resize(n, value)`, the new entries written by all threads: a fine level's halfedge arrays
+/// are megabytes, which one thread clears at memory speed while the others wait.
 pub(crate) fn resize_parallel<T: Copy + Send + Sync>(v: &mut Vec<T>, n: usize, value: T) {
     use rayon::prelude::*;
     if n <= v.len() {

@@ -159,6 +159,31 @@ fn direct_rules_agree_with_the_lazy_stencils_and_a_drag_with_a_fresh_evaluation(
 }
 
 #[test]
+fn a_fresh_evaluation_collected_into_new_buffers_is_the_one_made_in_place() {
+    // Into empty buffers every point is collected once; into buffers of the right size it is
+    // written in place. Both paths (levels, limit positions, normals) must give the same bits.
+    for (name, cage, scheme, sharpness, corners, levels) in cages() {
+        let r = Refinement::with_corners(&cage, scheme, &sharpness, &corners, levels).unwrap();
+        let mut moved = cage.positions().to_vec();
+        moved[0] += DVec3::new(-0.02, 0.01, 0.05);
+        let mut fresh = RefinedPositions::default();
+        r.evaluate(&moved, &mut fresh).unwrap();
+        let mut reused = RefinedPositions::default();
+        r.evaluate(cage.positions(), &mut reused).unwrap();
+        let sizes: Vec<usize> = reused.levels.iter().map(Vec::len).collect();
+        r.evaluate(&moved, &mut reused).unwrap();
+        assert_eq!(sizes, reused.levels.iter().map(Vec::len).collect::<Vec<_>>(), "{name}: reused in place");
+        for l in 0..=levels as usize {
+            assert_eq!(bits(&reused.levels[l]), bits(&fresh.levels[l]), "{name}: level {l}");
+        }
+        assert_eq!(bits(&reused.limit), bits(&fresh.limit), "{name}: limit positions");
+        assert_eq!(bits(&reused.normals), bits(&fresh.normals), "{name}: limit normals");
+        assert_eq!(fresh.limit.len(), r.mesh(levels).vertex_count(), "{name}: every finest vertex");
+        assert!(fresh.normals.iter().any(|n| n.length() > 0.5), "{name}: normals were computed");
+    }
+}
+
+#[test]
 fn every_level_carries_the_sharpness_down_whether_its_tables_are_made_at_once_or_on_first_use() {
     for (name, cage, scheme, sharpness, corners, levels) in cages() {
         let r = Refinement::with_corners(&cage, scheme, &sharpness, &corners, levels).unwrap();

@@ -102,7 +102,7 @@ impl SplitTopology {
             )));
         }
         let plan = Plan::new(parent, rule, made_by_quads);
-        let nh = (plan.halves + 2 * plan.interior.len() as u32) as usize;
+        let nh = plan.halves as usize + 2 * plan.interior_count();
         // The halfedges and the per-vertex arrays read only the plan and the parent: made side
         // by side, one part's waits on memory overlap the other's work.
         let ((halfedges, (face_halfedge, face_parent)), (positions, vertex_halfedge)) = rayon::join(

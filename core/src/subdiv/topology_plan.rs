@@ -90,19 +90,25 @@ pub(super) struct Plan<'a> {
     pub(super) parent: &'a PolyMesh,
     /// `4 · parent edges`: the first child halfedge inside a face.
     pub(super) halves: u32,
-    /// Per parent halfedge: its corner index in its face (from the face's first halfedge).
-    pub(super) corner: Vec<u32>,
-    /// Per parent halfedge: the number of halfedges with a face before it.
-    pub(super) slot: Vec<u32>,
-    /// The parent halfedges with a face, in order (the inverse of `slot`).
-    pub(super) interior: Vec<u32>,
-    /// Per parent face: its first child face (one entry more, the child face count).
-    pub(super) first_child: Vec<u32>,
+    /// Per parent halfedge: its corner index in its face (from the face's first halfedge); empty
+    /// when the parent was made by quads ([`Plan::corner`] then follows from the index).
+    corners: Vec<u32>,
+    /// Per parent halfedge: the number of halfedges with a face before it; empty when the parent
+    /// is closed and made by quads (every slot is then its halfedge, [`Plan::slot`]).
+    slots: Vec<u32>,
+    /// The parent halfedges with a face, in order (the inverse of `slots`); empty with `slots`.
+    interiors: Vec<u32>,
+    /// Per parent face: its first child face (one entry more, the child face count); empty when
+    /// the parent was made by quads (`4f`, [`Plan::first_child`]).
+    first_children: Vec<u32>,
     pub(super) face_point: Vec<VertexId>,
     pub(super) face_point_face: Vec<FaceId>,
-    /// When the parent is a split into quads of a closed mesh: that split's [`Plan::halves`]
-    /// (every slot is then its halfedge, and first child faces and corners follow from indices).
-    closed_quads: Option<u32>,
+    /// When the parent is itself a split into quads: that split's [`Plan::halves`].
+    made_by_quads: Option<u32>,
+    /// Whether the parent, made by quads and closed, is split into quads again: corners, slots,
+    /// interior halfedges and first children are then functions of the indices and their arrays
+    /// are empty (read them through [`Plan::corner`], [`Plan::slot`], …).
+    indexed: bool,
 }
 
 impl<'a> Plan<'a> {
@@ -112,54 +118,97 @@ impl<'a> Plan<'a> {
     /// nothing is walked to find them.
     pub(super) fn new(parent: &'a PolyMesh, rule: SplitRule, made_by_quads: Option<u32>) -> Self {
         let (nv, ne, nf) = (parent.vertex_count(), parent.edge_count(), parent.face_count());
-        let (first_child, face_point, face_point_face, corner) = match made_by_quads {
+        let np = parent.halfedge_count();
+        // Closed below a split into quads: every halfedge has a face, and its slot is its index.
+        let closed_quads = made_by_quads.is_some() && 4 * nf == np;
+        // Split into quads again, closed: the quad fill reads corners, slots and first children
+        // as functions of the indices ([`Plan::quad_halfedges`]), so their arrays are not made.
+        let indexed = closed_quads && rule == SplitRule::Quads;
+        let (first_children, face_point, face_point_face, corners) = match made_by_quads {
             Some(halves) => {
                 // Every face a quad, split into 4 (quads, or quads around a face point for
                 // `Mixed`; `Triangles` refuses quads before planning).
-                let first_child =
-                    (0..nf as u32 + 1).into_par_iter().with_min_len(PARALLEL_CHUNK).map(|f| 4 * f).collect();
-                let face_point = (0..nf as u32)
-                    .into_par_iter()
-                    .with_min_len(PARALLEL_CHUNK)
-                    .map(|f| VertexId((nv + ne) as u32 + f))
-                    .collect();
-                let face_point_face = (0..nf as u32).into_par_iter().with_min_len(PARALLEL_CHUNK).map(FaceId).collect();
-                let corner = (0..parent.halfedge_count() as u32)
-                    .into_par_iter()
-                    .with_min_len(PARALLEL_CHUNK)
-                    .map(|h| {
-                        if parent.face(HalfedgeId(h)).is_valid() {
-                            Plan::quad_child_corner(halves, h)
-                        } else {
-                            u32::MAX
+                let indices = |n: usize| (0..n as u32).into_par_iter().with_min_len(PARALLEL_CHUNK);
+                let ((face_point, face_point_face), (first_children, corners)) = rayon::join(
+                    || {
+                        rayon::join(
+                            || indices(nf).map(|f| VertexId((nv + ne) as u32 + f)).collect(),
+                            || indices(nf).map(FaceId).collect(),
+                        )
+                    },
+                    || {
+                        if indexed {
+                            return (Vec::new(), Vec::new());
                         }
-                    })
-                    .collect();
-                (first_child, face_point, face_point_face, corner)
+                        let corner = |h: u32| {
+                            if parent.face(HalfedgeId(h)).is_valid() {
+                                Plan::quad_child_corner(halves, h)
+                            } else {
+                                u32::MAX
+                            }
+                        };
+                        (indices(nf + 1).map(|f| 4 * f).collect(), indices(np).map(corner).collect())
+                    },
+                );
+                (first_children, face_point, face_point_face, corners)
             }
             None => Plan::walked_faces(parent, rule),
         };
-        let np = parent.halfedge_count();
-        // Closed below a split into quads: every halfedge has a face, and its slot is its index.
-        let closed_quads = made_by_quads.filter(|_| 4 * nf == np);
-        let (slot, interior) = match closed_quads {
-            Some(_) => {
+        let (slots, interiors) = match (closed_quads, indexed) {
+            (_, true) => (Vec::new(), Vec::new()),
+            (true, false) => {
                 let identity = || (0..np as u32).into_par_iter().with_min_len(PARALLEL_CHUNK).collect::<Vec<u32>>();
                 rayon::join(identity, identity)
             }
-            None => Plan::slots(&corner),
+            (false, _) => Plan::slots(&corners),
         };
         Plan {
             parent,
             halves: 4 * ne as u32,
-            corner,
-            slot,
-            interior,
-            first_child,
+            corners,
+            slots,
+            interiors,
+            first_children,
             face_point,
             face_point_face,
-            closed_quads,
+            made_by_quads,
+            indexed,
         }
+    }
+
+    /// Parent halfedge `h`'s corner index in its face, from the face's first halfedge (`h` must
+    /// have a face).
+    #[cfg(test)]
+    #[inline(always)]
+    pub(super) fn corner(&self, h: u32) -> u32 {
+        match self.made_by_quads.filter(|_| self.indexed) {
+            Some(halves) => Plan::quad_child_corner(halves, h),
+            None => self.corners[h as usize],
+        }
+    }
+
+    /// The number of parent halfedges with a face before halfedge `h`.
+    #[inline(always)]
+    pub(super) fn slot(&self, h: u32) -> u32 {
+        if self.indexed { h } else { self.slots[h as usize] }
+    }
+
+    /// The parent halfedge with a face in slot `s`.
+    #[cfg(test)]
+    #[inline(always)]
+    pub(super) fn interior_halfedge(&self, s: u32) -> u32 {
+        if self.indexed { s } else { self.interiors[s as usize] }
+    }
+
+    /// The number of parent halfedges with a face.
+    pub(super) fn interior_count(&self) -> usize {
+        if self.indexed { self.parent.halfedge_count() } else { self.interiors.len() }
+    }
+
+    /// Parent face `f`'s first child face (`f` may be the face count: then the child face count).
+    #[inline(always)]
+    pub(super) fn first_child(&self, f: usize) -> u32 {
+        if self.indexed { 4 * f as u32 } else { self.first_children[f] }
     }
 
     /// Per parent halfedge, the number of halfedges with a face before it (its slot), and the
@@ -300,7 +349,7 @@ impl<'a> Plan<'a> {
         // Tasks by ranges of parent halfedges; each writes one piece of the halves and one of
         // the edges inside faces.
         let starts: Vec<usize> = (0..np.div_ceil(PARALLEL_CHUNK)).map(|k| k * PARALLEL_CHUNK).collect();
-        let interior_at = |h: usize| self.slot.get(h).map_or(self.interior.len(), |&s| s as usize);
+        let interior_at = |h: usize| if h == np { self.interior_count() } else { self.slot(h as u32) as usize };
         let half_ends: Vec<usize> = starts.iter().map(|&h| 2 * (h + PARALLEL_CHUNK).min(np)).collect();
         let inner_ends: Vec<usize> =
             starts.iter().map(|&h| halves as usize + 2 * interior_at((h + PARALLEL_CHUNK).min(np))).collect();
@@ -308,7 +357,7 @@ impl<'a> Plan<'a> {
         let mut half_pieces = HalfedgeSlices::cut(&mut out, &ends);
         let inner_pieces = half_pieces.split_off(starts.len());
         let pieces = half_pieces.into_par_iter().zip(inner_pieces).zip(starts);
-        match self.closed_quads {
+        match self.made_by_quads.filter(|_| self.indexed) {
             // Below a split into quads of a closed cage, slots, first child faces, corners and
             // face points are functions of the indices (the same values the arrays hold).
             Some(above) => {
@@ -329,8 +378,8 @@ impl<'a> Plan<'a> {
                     half,
                     inner,
                     h0 as u32..(h0 + PARALLEL_CHUNK).min(np) as u32,
-                    |h| halves + 2 * self.slot[h as usize],
-                    |f, h| FaceId(self.first_child[f.index()] + self.corner[h as usize]),
+                    |h| halves + 2 * self.slot(h),
+                    |f, h| self.corner_face(f, h),
                     |f| self.face_point[f.index()].0,
                 )
             }),
@@ -375,39 +424,40 @@ impl<'a> Plan<'a> {
     }
 
     /// The edge point on parent halfedge `h`'s edge.
-    #[inline]
+    #[inline(always)]
     pub(super) fn edge_point(&self, h: u32) -> u32 {
         self.parent.vertex_count() as u32 + (h >> 1)
     }
 
-    #[inline]
+    #[inline(always)]
     pub(super) fn next_of(&self, h: u32) -> u32 {
         self.parent.next(HalfedgeId(h)).0
     }
 
-    #[inline]
+    #[inline(always)]
     pub(super) fn prev_of(&self, h: u32) -> u32 {
         self.parent.prev(HalfedgeId(h)).0
     }
 
     /// The parent face of halfedge `h` and its face point (invalid for a triangle split in four);
     /// `None` on the boundary.
-    #[inline]
+    #[inline(always)]
     pub(super) fn face_of(&self, h: u32) -> Option<(FaceId, VertexId)> {
         let f = self.parent.face(HalfedgeId(h));
         f.is_valid().then(|| (f, self.face_point[f.index()]))
     }
 
     /// The child face at the corner where parent halfedge `h` of face `f` starts.
-    #[inline]
+    #[inline(always)]
     pub(super) fn corner_face(&self, f: FaceId, h: u32) -> FaceId {
-        FaceId(self.first_child[f.index()] + self.corner[h as usize])
+        FaceId(self.first_children[f.index()] + self.corners[h as usize])
     }
 
     /// The child halfedge from vertex `x` to vertex `y` on the interior edge of parent halfedge `h`.
-    #[inline]
+    /// This and the index functions below read the plan's arrays: not on an indexed plan.
+    #[inline(always)]
     pub(super) fn inside(&self, h: u32, x: u32, y: u32) -> u32 {
-        self.halves + 2 * self.slot[h as usize] + u32::from(x > y)
+        self.halves + 2 * self.slots[h as usize] + u32::from(x > y)
     }
 
     /// For child halfedge `x` inside a face: the parent halfedge it comes from, its face, the face
@@ -415,7 +465,7 @@ impl<'a> Plan<'a> {
     /// edge point (a triangle's corner-triangle side).
     #[inline(always)]
     pub(super) fn interior(&self, x: u32) -> (u32, FaceId, VertexId, bool) {
-        let h = self.interior[((x - self.halves) >> 1) as usize];
+        let h = self.interiors[((x - self.halves) >> 1) as usize];
         let (f, point) = self.face_of(h).expect("interior edges lie in faces");
         let (mh, mp) = (self.edge_point(h), self.edge_point(self.prev_of(h)));
         (h, f, point, !point.is_valid() && x == self.inside(h, mh, mp))
@@ -449,7 +499,7 @@ impl<'a> Plan<'a> {
         } else if back {
             self.corner_face(f, h)
         } else {
-            FaceId(self.first_child[f.index()] + 3)
+            FaceId(self.first_children[f.index()] + 3)
         }
     }
 
@@ -526,13 +576,13 @@ impl<'a> Plan<'a> {
         }
         let f = self.face_point_face[(v - nv - ne) as usize];
         let h = self.parent.face_halfedge(f).0;
-        HalfedgeId(self.inside(h, v, self.edge_point(h)))
+        HalfedgeId(self.halves + 2 * self.slot(h) + u32::from(v > self.edge_point(h)))
     }
 
     /// Per child face, its first halfedge and its parent face, filled in parallel by ranges of
     /// parent faces (the children of a range of parent faces are a range of child faces).
     pub(super) fn face_halfedges_and_parents(&self) -> (Vec<HalfedgeId>, Vec<FaceId>) {
-        let children = *self.first_child.last().expect("one entry per face and one more") as usize;
+        let children = self.first_child(self.parent.face_count()) as usize;
         let mut halfedges = vec![HalfedgeId::INVALID; children];
         let mut parents = vec![FaceId::INVALID; children];
         let nf = self.parent.face_count();
@@ -540,7 +590,7 @@ impl<'a> Plan<'a> {
         let (mut rest_h, mut rest_p) = (&mut halfedges[..], &mut parents[..]);
         for f0 in (0..nf).step_by(PARALLEL_CHUNK) {
             let f1 = (f0 + PARALLEL_CHUNK).min(nf);
-            let k = (self.first_child[f1] - self.first_child[f0]) as usize;
+            let k = (self.first_child(f1) - self.first_child(f0)) as usize;
             let (h, tail_h) = std::mem::take(&mut rest_h).split_at_mut(k);
             let (p, tail_p) = std::mem::take(&mut rest_p).split_at_mut(k);
             pieces.push((f0..f1, h, p));
