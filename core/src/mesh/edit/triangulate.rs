@@ -7,8 +7,10 @@
 //! quad is cut along its shorter diagonal and thin slivers are avoided where the shape allows
 //! (diagonals within a relative 1e-9 of each other tie, and the first corner wins).
 //! Corners are tested in the face's mean plane (Newell normal), so a strongly warped face is
-//! cut as its projection. A diagonal that already exists as another edge of the cage is never
-//! used (it would double the edge); a fan that would need one is refused naming the face.
+//! cut as its projection. A diagonal that already exists as another edge of the cage, or that an
+//! earlier face was already cut along, is never used (it would double the edge: two quads that
+//! share two opposite corners, as Blender's monkey has, must be cut along different diagonals);
+//! a fan that would need one is refused naming the face.
 //! Degenerate faces (no area) fall back to the shortest diagonals. Each face costs O(n²) in its
 //! corner count n.
 
@@ -17,6 +19,7 @@ use super::draft::{Draft, face_mask};
 use super::provenance::FaceOrigin;
 use crate::mesh::{FaceId, PolyMesh, VertexId};
 use crate::{DVec3, Error, Result};
+use std::collections::HashSet;
 
 /// How faces are cut into triangles.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -38,6 +41,8 @@ pub fn triangulate(mesh: &PolyMesh, faces: Option<&[FaceId]>, method: Triangulat
     let mut draft = Draft::new(mesh, OP);
     let mut ring: Vec<u32> = Vec::new();
     let mut triangles: Vec<[u32; 3]> = Vec::new();
+    // The diagonals cut so far, as (lower, higher) vertex: edges from then on.
+    let mut cut: HashSet<(u32, u32)> = HashSet::new();
     for f in mesh.faces() {
         if !mask[f.index()] || mesh.face_valence(f) == 3 {
             draft.keep_face(f);
@@ -48,7 +53,7 @@ pub fn triangulate(mesh: &PolyMesh, faces: Option<&[FaceId]>, method: Triangulat
         triangles.clear();
         match method {
             Triangulation::Fan => {
-                if let Some(k) = (2..ring.len() - 1).find(|&k| joined(mesh, ring[0], ring[k])) {
+                if let Some(k) = (2..ring.len() - 1).find(|&k| joined(mesh, &cut, ring[0], ring[k])) {
                     return Err(Error::Topology(format!(
                         "{OP}: corners {} and {} of face {} are already joined by another edge, so a fan from \
                          the first corner would double it; use the shortest-diagonal method",
@@ -57,8 +62,8 @@ pub fn triangulate(mesh: &PolyMesh, faces: Option<&[FaceId]>, method: Triangulat
                 }
                 triangles.extend((1..ring.len() - 1).map(|k| [ring[0], ring[k], ring[k + 1]]));
             }
-            Triangulation::ShortestDiagonal if ring.len() == 4 && split_quad(mesh, f, &ring, &mut triangles) => {}
-            Triangulation::ShortestDiagonal => clip_ears(mesh, f, &ring, &mut triangles).ok_or_else(|| {
+            Triangulation::ShortestDiagonal if ring.len() == 4 && split_quad(mesh, &cut, f, &ring, &mut triangles) => {}
+            Triangulation::ShortestDiagonal => clip_ears(mesh, &cut, f, &ring, &mut triangles).ok_or_else(|| {
                 Error::Topology(format!(
                     "{OP}: face {} cannot be cut into triangles without doubling an existing edge",
                     f.0
@@ -67,20 +72,27 @@ pub fn triangulate(mesh: &PolyMesh, faces: Option<&[FaceId]>, method: Triangulat
         }
         for &t in &triangles {
             draft.push_face(t, FaceOrigin::SplitFrom(f));
+            for k in 0..3 {
+                let (a, b) = (t[k], t[(k + 1) % 3]);
+                if mesh.find_halfedge(VertexId(a), VertexId(b)).is_none() {
+                    cut.insert((a.min(b), a.max(b)));
+                }
+            }
         }
     }
     draft.finish()
 }
 
-fn joined(mesh: &PolyMesh, a: u32, b: u32) -> bool {
-    mesh.find_halfedge(VertexId(a), VertexId(b)).is_some()
+/// Whether `a` and `b` are joined by an edge of the cage or by a diagonal already `cut`.
+fn joined(mesh: &PolyMesh, cut: &HashSet<(u32, u32)>, a: u32, b: u32) -> bool {
+    mesh.find_halfedge(VertexId(a), VertexId(b)).is_some() || cut.contains(&(a.min(b), a.max(b)))
 }
 
 /// A quad cut along its shorter diagonal (ties to the one from the first corner) when that
 /// diagonal lies inside it and is not an edge already, else along the other one under the same
 /// conditions; false when neither qualifies (ear clipping then decides). Quads are most faces
 /// of a cage, so this spares [`clip_ears`]'s allocations.
-fn split_quad(mesh: &PolyMesh, f: FaceId, ring: &[u32], out: &mut Vec<[u32; 3]>) -> bool {
+fn split_quad(mesh: &PolyMesh, cut: &HashSet<(u32, u32)>, f: FaceId, ring: &[u32], out: &mut Vec<[u32; 3]>) -> bool {
     let p: [DVec3; 4] = std::array::from_fn(|k| mesh.position(VertexId(ring[k])));
     let normal = mesh.face_area_vector(f);
     let inside = |k: usize| {
@@ -90,7 +102,7 @@ fn split_quad(mesh: &PolyMesh, f: FaceId, ring: &[u32], out: &mut Vec<[u32; 3]>)
     let (d02, d13) = (p[0].distance(p[2]), p[1].distance(p[3]));
     let order = if d02 <= d13 * (1.0 + 1e-9) { [0, 1] } else { [1, 0] };
     for k in order {
-        if inside(k) && !joined(mesh, ring[k], ring[k + 2]) {
+        if inside(k) && !joined(mesh, cut, ring[k], ring[k + 2]) {
             out.extend([[ring[k], ring[k + 1], ring[k + 2]], [ring[k + 2], ring[(k + 3) % 4], ring[k]]]);
             return true;
         }
@@ -99,7 +111,13 @@ fn split_quad(mesh: &PolyMesh, f: FaceId, ring: &[u32], out: &mut Vec<[u32; 3]>)
 }
 
 /// Ear clipping of one face; `None` when every remaining diagonal already exists.
-fn clip_ears(mesh: &PolyMesh, f: FaceId, ring: &[u32], out: &mut Vec<[u32; 3]>) -> Option<()> {
+fn clip_ears(
+    mesh: &PolyMesh,
+    cut: &HashSet<(u32, u32)>,
+    f: FaceId,
+    ring: &[u32],
+    out: &mut Vec<[u32; 3]>,
+) -> Option<()> {
     let n = ring.len();
     let p: Vec<DVec3> = ring.iter().map(|&v| mesh.position(VertexId(v))).collect();
     let normal = mesh.face_area_vector(f).normalize_or_zero();
@@ -110,7 +128,7 @@ fn clip_ears(mesh: &PolyMesh, f: FaceId, ring: &[u32], out: &mut Vec<[u32; 3]>) 
     // holds another corner, 2 any other corner, 3 a corner whose diagonal already exists.
     let rank = |i: usize, prev: &[usize], next: &[usize], alive: &[bool]| -> (u8, f64) {
         let (a, b, c) = (prev[i], i, next[i]);
-        if joined(mesh, ring[a], ring[c]) {
+        if joined(mesh, cut, ring[a], ring[c]) {
             return (3, f64::INFINITY);
         }
         let length = p[a].distance(p[c]);
@@ -222,6 +240,27 @@ mod tests {
         let total: f64 = m.faces().map(|f| m.face_area_vector(f).z).sum();
         assert!((total - 3.0).abs() < 1e-12);
         assert!(m.faces().all(|f| m.face_area_vector(f).z > 0.0), "every triangle keeps the face's orientation");
+    }
+
+    #[test]
+    fn quads_that_share_two_opposite_corners_are_cut_along_different_diagonals() {
+        // Blender's monkey has quads with two opposite corners in common; cut along that diagonal
+        // twice, it would border four triangles.
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/fixtures/blender/monkey.obj");
+        let (monkey, _) = crate::io::import_mesh(&path).unwrap();
+        let opposite = |f: FaceId| {
+            let r: Vec<u32> = monkey.face_vertices(f).map(|v| v.0).collect();
+            if r.len() == 4 { vec![(r[0].min(r[2]), r[0].max(r[2])), (r[1].min(r[3]), r[1].max(r[3]))] } else { vec![] }
+        };
+        let mut seen = HashSet::new();
+        let shared = monkey.faces().flat_map(opposite).filter(|&d| !seen.insert(d)).count();
+        assert!(shared > 0, "the monkey has quads sharing a diagonal");
+        let edited = triangulate(&monkey, None, Triangulation::ShortestDiagonal).unwrap();
+        check(&monkey, &edited);
+        assert!(edited.mesh.faces().all(|f| edited.mesh.face_valence(f) == 3));
+        let triangles: usize = monkey.faces().map(|f| monkey.face_valence(f) - 2).sum();
+        assert_eq!(edited.mesh.face_count(), triangles);
+        assert_eq!(edited.mesh.vertex_count(), monkey.vertex_count());
     }
 
     #[test]
