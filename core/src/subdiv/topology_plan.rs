@@ -91,15 +91,15 @@ pub(super) struct Plan<'a> {
     /// `4 · parent edges`: the first child halfedge inside a face.
     pub(super) halves: u32,
     /// Per parent halfedge: its corner index in its face (from the face's first halfedge); empty
-    /// when the parent was made by quads ([`Plan::corner`] then follows from the index).
+    /// on an [`indexed`](Plan::indexed) plan, where it follows from the index.
     corners: Vec<u32>,
-    /// Per parent halfedge: the number of halfedges with a face before it; empty when the parent
-    /// is closed and made by quads (every slot is then its halfedge, [`Plan::slot`]).
+    /// Per parent halfedge: the number of halfedges with a face before it; empty on an indexed
+    /// plan, where every slot is its halfedge ([`Plan::slot`]).
     slots: Vec<u32>,
     /// The parent halfedges with a face, in order (the inverse of `slots`); empty with `slots`.
     interiors: Vec<u32>,
-    /// Per parent face: its first child face (one entry more, the child face count); empty when
-    /// the parent was made by quads (`4f`, [`Plan::first_child`]).
+    /// Per parent face: its first child face (one entry more, the child face count); empty on an
+    /// indexed plan, where it is `4f` ([`Plan::first_child`]).
     first_children: Vec<u32>,
     pub(super) face_point: Vec<VertexId>,
     pub(super) face_point_face: Vec<FaceId>,
@@ -107,7 +107,7 @@ pub(super) struct Plan<'a> {
     made_by_quads: Option<u32>,
     /// Whether the parent, made by quads and closed, is split into quads again: corners, slots,
     /// interior halfedges and first children are then functions of the indices and their arrays
-    /// are empty (read them through [`Plan::corner`], [`Plan::slot`], …).
+    /// are empty (read them through [`Plan::slot`], [`Plan::first_child`], …).
     indexed: bool,
 }
 
