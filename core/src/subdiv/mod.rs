@@ -30,15 +30,3 @@ pub use refinement::{MAX_LEVELS, MAX_REFINED_FACES, RefinedPositions, Refinement
 pub use rules::Scheme;
 pub use sparse::SparseRows;
 pub use topology::{SplitRule, SplitTopology, VertexOrigin};
-
-/// `v.resize(n, value)`, the new entries written by all threads: a fine level's halfedge arrays
-/// are megabytes, which one thread clears at memory speed while the others wait.
-pub(crate) fn resize_parallel<T: Copy + Send + Sync>(v: &mut Vec<T>, n: usize, value: T) {
-    use rayon::prelude::*;
-    if n <= v.len() {
-        v.truncate(n);
-    } else {
-        let grow = n - v.len();
-        v.par_extend(rayon::iter::repeat_n(value, grow).with_min_len(1 << 14));
-    }
-}

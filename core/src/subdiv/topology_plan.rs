@@ -6,6 +6,7 @@ use super::SplitRule;
 use crate::DVec3;
 use crate::mesh::{EdgeId, FaceId, HalfedgeId, PolyMesh, VertexId};
 use rayon::prelude::*;
+use std::mem::MaybeUninit;
 
 /// The four halfedge arrays of a child mesh.
 pub(super) struct ChildHalfedges {
@@ -16,38 +17,66 @@ pub(super) struct ChildHalfedges {
 }
 
 impl ChildHalfedges {
-    /// `nh` halfedges, every entry invalid until the fill writes it. The arrays are megabytes at
-    /// a fine level (8 MB at level 3 of a 2,048-face cage); they are cleared by all threads at
-    /// once, which one thread took 0.3–0.6 ms to do while the others waited.
-    fn new(nh: usize) -> Self {
-        fn filled<T: Copy + Send + Sync>(value: T, n: usize) -> Vec<T> {
-            let mut v = Vec::with_capacity(n);
-            crate::subdiv::resize_parallel(&mut v, n, value);
-            v
+    /// `nh` child halfedges written by `fill`, which gets the four arrays cut at `ends`
+    /// (increasing child halfedge indices, the last one `nh`) into consecutive pieces and must
+    /// write every entry of every piece once, in order ([`HalfedgeSlices::push`]).
+    ///
+    /// The arrays are not cleared first: they are megabytes at a fine level (8 MB at level 3 of a
+    /// 2,048-face cage), and clearing them took a tenth of the level's split. Panics, leaving
+    /// nothing, if a piece is left short.
+    #[allow(unsafe_code)]
+    fn fill(nh: usize, ends: &[usize], fill: impl FnOnce(&mut [HalfedgeSlices])) -> Self {
+        let mut out = ChildHalfedges {
+            to: Vec::with_capacity(nh),
+            next: Vec::with_capacity(nh),
+            prev: Vec::with_capacity(nh),
+            face: Vec::with_capacity(nh),
+        };
+        {
+            let mut pieces = HalfedgeSlices::cut(&mut out, nh, ends);
+            fill(&mut pieces);
+            assert!(
+                pieces.iter().all(|p| p.written == p.to.len()),
+                "a child halfedge was left unwritten by its split's fill"
+            );
         }
-        let ((to, next), (prev, face)) = rayon::join(
-            || rayon::join(|| filled(VertexId::INVALID, nh), || filled(HalfedgeId::INVALID, nh)),
-            || rayon::join(|| filled(HalfedgeId::INVALID, nh), || filled(FaceId::INVALID, nh)),
-        );
-        ChildHalfedges { to, next, prev, face }
+        // SAFETY: each array has capacity for `nh` entries (`with_capacity`). `cut` splits the
+        // first `nh` entries of each array's spare capacity into consecutive pieces that cover
+        // them (it asserts the last end is `nh`). `push` writes entry `written` of each of its
+        // piece's four slices and only then counts it (a write past the piece's end panics at the
+        // slice index), so a piece whose count is its length has every entry of its four slices
+        // written, and the assert above holds that for every piece. The first `nh` entries of
+        // each array are therefore initialised; they are plain integers, with no drop.
+        unsafe {
+            out.to.set_len(nh);
+            out.next.set_len(nh);
+            out.prev.set_len(nh);
+            out.face.set_len(nh);
+        }
+        out
     }
 }
 
-/// One rayon task's share of [`ChildHalfedges`]: the entries `first..` of each array.
+/// One rayon task's share of [`ChildHalfedges`] while it is filled: the entries `first..` of
+/// each array, of which the first `written` are written.
 struct HalfedgeSlices<'a> {
     first: u32,
-    to: &'a mut [VertexId],
-    next: &'a mut [HalfedgeId],
-    prev: &'a mut [HalfedgeId],
-    face: &'a mut [FaceId],
+    written: usize,
+    to: &'a mut [MaybeUninit<VertexId>],
+    next: &'a mut [MaybeUninit<HalfedgeId>],
+    prev: &'a mut [MaybeUninit<HalfedgeId>],
+    face: &'a mut [MaybeUninit<FaceId>],
 }
 
 impl<'a> HalfedgeSlices<'a> {
-    /// `all` cut at `ends` (increasing child halfedge indices, the last one `all`'s length)
-    /// into consecutive pieces.
-    fn cut(all: &'a mut ChildHalfedges, ends: &[usize]) -> Vec<Self> {
-        let (mut to, mut next) = (&mut all.to[..], &mut all.next[..]);
-        let (mut prev, mut face) = (&mut all.prev[..], &mut all.face[..]);
+    /// The first `nh` entries of `all`'s spare capacity cut at `ends` (increasing child halfedge
+    /// indices, the last one `nh`) into consecutive pieces.
+    fn cut(all: &'a mut ChildHalfedges, nh: usize, ends: &[usize]) -> Vec<Self> {
+        assert_eq!(ends.last().copied().unwrap_or(0), nh, "the pieces cover every child halfedge");
+        let mut to = &mut all.to.spare_capacity_mut()[..nh];
+        let mut next = &mut all.next.spare_capacity_mut()[..nh];
+        let mut prev = &mut all.prev.spare_capacity_mut()[..nh];
+        let mut face = &mut all.face.spare_capacity_mut()[..nh];
         let mut first = 0;
         let mut out = Vec::with_capacity(ends.len());
         for &end in ends {
@@ -56,20 +85,23 @@ impl<'a> HalfedgeSlices<'a> {
             let (b, rest_next) = std::mem::take(&mut next).split_at_mut(k);
             let (c, rest_prev) = std::mem::take(&mut prev).split_at_mut(k);
             let (d, rest_face) = std::mem::take(&mut face).split_at_mut(k);
-            out.push(HalfedgeSlices { first: first as u32, to: a, next: b, prev: c, face: d });
+            out.push(HalfedgeSlices { first: first as u32, written: 0, to: a, next: b, prev: c, face: d });
             (to, next, prev, face) = (rest_to, rest_next, rest_prev, rest_face);
             first = end;
         }
         out
     }
 
+    /// Writes child halfedge `x`, the piece's next entry.
     #[inline(always)]
-    fn set(&mut self, x: u32, to: u32, next: u32, prev: u32, face: FaceId) {
-        let i = (x - self.first) as usize;
-        self.to[i] = VertexId(to);
-        self.next[i] = HalfedgeId(next);
-        self.prev[i] = HalfedgeId(prev);
-        self.face[i] = face;
+    fn push(&mut self, x: u32, to: u32, next: u32, prev: u32, face: FaceId) {
+        let i = self.written;
+        debug_assert_eq!(x as usize, self.first as usize + i, "child halfedges are written in order");
+        self.to[i].write(VertexId(to));
+        self.next[i].write(HalfedgeId(next));
+        self.prev[i].write(HalfedgeId(prev));
+        self.face[i].write(face);
+        self.written = i + 1;
     }
 }
 
@@ -324,14 +356,14 @@ impl<'a> Plan<'a> {
 
     /// The child halfedges of any rule, each a function of its index alone.
     pub(super) fn halfedges(&self, nh: usize) -> ChildHalfedges {
-        let mut out = ChildHalfedges::new(nh);
         let ends: Vec<usize> = (1..=nh.div_ceil(PARALLEL_CHUNK)).map(|k| (k * PARALLEL_CHUNK).min(nh)).collect();
-        HalfedgeSlices::cut(&mut out, &ends).into_par_iter().for_each(|mut s| {
-            for x in s.first..s.first + s.to.len() as u32 {
-                s.set(x, self.to(x).0, self.next(x), self.prev(x), self.face(x));
-            }
-        });
-        out
+        ChildHalfedges::fill(nh, &ends, |pieces| {
+            pieces.par_iter_mut().for_each(|s| {
+                for x in s.first..s.first + s.to.len() as u32 {
+                    s.push(x, self.to(x).0, self.next(x), self.prev(x), self.face(x));
+                }
+            })
+        })
     }
 
     /// The child halfedges of a split into quads, filled per parent halfedge `h`: the two halves
@@ -345,7 +377,6 @@ impl<'a> Plan<'a> {
         let parent = self.parent;
         let (halves, nv) = (self.halves, parent.vertex_count() as u32);
         let np = parent.halfedge_count();
-        let mut out = ChildHalfedges::new(nh);
         // Tasks by ranges of parent halfedges; each writes one piece of the halves and one of
         // the edges inside faces.
         let starts: Vec<usize> = (0..np.div_ceil(PARALLEL_CHUNK)).map(|k| k * PARALLEL_CHUNK).collect();
@@ -354,37 +385,37 @@ impl<'a> Plan<'a> {
         let inner_ends: Vec<usize> =
             starts.iter().map(|&h| halves as usize + 2 * interior_at((h + PARALLEL_CHUNK).min(np))).collect();
         let ends: Vec<usize> = half_ends.into_iter().chain(inner_ends).collect();
-        let mut half_pieces = HalfedgeSlices::cut(&mut out, &ends);
-        let inner_pieces = half_pieces.split_off(starts.len());
-        let pieces = half_pieces.into_par_iter().zip(inner_pieces).zip(starts);
-        match self.made_by_quads.filter(|_| self.indexed) {
-            // Below a split into quads of a closed cage, slots, first child faces, corners and
-            // face points are functions of the indices (the same values the arrays hold).
-            Some(above) => {
-                let first_face_point = (nv as usize + parent.edge_count()) as u32;
-                pieces.for_each(|((half, inner), h0)| {
+        ChildHalfedges::fill(nh, &ends, |pieces| {
+            let (half_pieces, inner_pieces) = pieces.split_at_mut(starts.len());
+            let pieces = half_pieces.par_iter_mut().zip(inner_pieces.par_iter_mut()).zip(starts);
+            match self.made_by_quads.filter(|_| self.indexed) {
+                // Below a split into quads of a closed cage, slots, first child faces, corners and
+                // face points are functions of the indices (the same values the arrays hold).
+                Some(above) => {
+                    let first_face_point = (nv as usize + parent.edge_count()) as u32;
+                    pieces.for_each(|((half, inner), h0)| {
+                        self.fill_quads(
+                            half,
+                            inner,
+                            h0 as u32..(h0 + PARALLEL_CHUNK).min(np) as u32,
+                            |h| halves + 2 * h,
+                            |f, h| FaceId(4 * f.0 + Plan::quad_child_corner(above, h)),
+                            |f| first_face_point + f.0,
+                        )
+                    })
+                }
+                None => pieces.for_each(|((half, inner), h0)| {
                     self.fill_quads(
                         half,
                         inner,
                         h0 as u32..(h0 + PARALLEL_CHUNK).min(np) as u32,
-                        |h| halves + 2 * h,
-                        |f, h| FaceId(4 * f.0 + Plan::quad_child_corner(above, h)),
-                        |f| first_face_point + f.0,
+                        |h| halves + 2 * self.slot(h),
+                        |f, h| self.corner_face(f, h),
+                        |f| self.face_point[f.index()].0,
                     )
-                })
+                }),
             }
-            None => pieces.for_each(|((half, inner), h0)| {
-                self.fill_quads(
-                    half,
-                    inner,
-                    h0 as u32..(h0 + PARALLEL_CHUNK).min(np) as u32,
-                    |h| halves + 2 * self.slot(h),
-                    |f, h| self.corner_face(f, h),
-                    |f| self.face_point[f.index()].0,
-                )
-            }),
-        }
-        out
+        })
     }
 
     /// [`Plan::quad_halfedges`] of parent halfedges `range`, with the plan's slots (`inside`),
@@ -392,8 +423,8 @@ impl<'a> Plan<'a> {
     #[inline(always)]
     fn fill_quads(
         &self,
-        mut half: HalfedgeSlices,
-        mut inner: HalfedgeSlices,
+        half: &mut HalfedgeSlices,
+        inner: &mut HalfedgeSlices,
         range: std::ops::Range<u32>,
         inside: impl Fn(u32) -> u32,
         corner_face: impl Fn(FaceId, u32) -> FaceId,
@@ -410,15 +441,15 @@ impl<'a> Plan<'a> {
             // 2h: from h's origin to its edge point.
             let (after, face) =
                 if f.is_valid() { (inside(h), corner_face(f, h)) } else { (2 * t + 1, FaceId::INVALID) };
-            half.set(2 * h, m, after, 2 * (prev ^ 1) + 1, face);
+            half.push(2 * h, m, after, 2 * (prev ^ 1) + 1, face);
             // 2h + 1: back to the origin, in the twin's face at the corner of the twin's next.
             let (before, face) =
                 if ft.is_valid() { (inside(t) + 1, corner_face(ft, twin_next)) } else { (2 * t, FaceId::INVALID) };
-            half.set(2 * h + 1, parent.to_vertex(HalfedgeId(t)).0, 2 * twin_next, before, face);
+            half.push(2 * h + 1, parent.to_vertex(HalfedgeId(t)).0, 2 * twin_next, before, face);
             if f.is_valid() {
                 let b = inside(h);
-                inner.set(b, face_point(f), inside(prev) + 1, 2 * h, corner_face(f, h));
-                inner.set(b + 1, m, 2 * t + 1, inside(next), corner_face(f, next));
+                inner.push(b, face_point(f), inside(prev) + 1, 2 * h, corner_face(f, h));
+                inner.push(b + 1, m, 2 * t + 1, inside(next), corner_face(f, next));
             }
         }
     }
