@@ -312,7 +312,7 @@ fn compute_dart(scheme: Scheme, n: usize) -> RingMask {
     if across[e(1)] < 0.0 {
         across.iter_mut().for_each(|w| *w = -*w);
     }
-    RingMask { weights: (0..size).map(|i| [limit[i], along[i], across[i]]).collect() }
+    RingMask::from_weights((0..size).map(|i| [limit[i], along[i], across[i]]).collect())
 }
 
 #[cfg(test)]

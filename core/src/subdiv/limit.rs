@@ -85,6 +85,16 @@ pub struct RingMask {
     /// Per ring column: the weights of the limit position, the first tangent and the second
     /// (`t1 × t2` is the outward normal for counter-clockwise faces).
     pub weights: Vec<[f64; 3]>,
+    /// Whether this is the smooth mask of a regular vertex (valence 4 for Catmull–Clark, 6 for
+    /// Loop), applied by [`regular_quad_sums`] or [`regular_triangle_sums`].
+    regular: Option<Scheme>,
+}
+
+impl RingMask {
+    /// A mask of the given weights, applied term by term.
+    pub(crate) fn from_weights(weights: Vec<[f64; 3]>) -> Self {
+        RingMask { weights, regular: None }
+    }
 }
 
 impl RingMask {
@@ -118,7 +128,11 @@ impl RingMask {
                 }
             }
         }
-        RingMask { weights }
+        let regular = match (scheme, n) {
+            (Scheme::CatmullClark, 4) | (Scheme::Loop, 6) => Some(scheme),
+            _ => None,
+        };
+        RingMask { weights, regular }
     }
 }
 
@@ -220,9 +234,15 @@ fn apply_ring(mask: &RingMask, columns: &[u32], points: &[DVec3]) -> (DVec3, DVe
     (p, cross.normalize_or_zero())
 }
 
-/// The limit position and the tangents' cross product (not yet normalised) of a ring.
+/// The limit position and the tangents' cross product (not yet normalised, its length
+/// arbitrary) of a ring.
 #[inline]
 fn ring_sums(mask: &RingMask, columns: &[u32], points: &[DVec3]) -> (DVec3, DVec3) {
+    match mask.regular {
+        Some(Scheme::CatmullClark) => return regular_quad_sums(columns, points),
+        Some(Scheme::Loop) => return regular_triangle_sums(mask, columns, points),
+        None => {}
+    }
     let (mut p, mut t1, mut t2) = (DVec3::ZERO, DVec3::ZERO, DVec3::ZERO);
     for (&c, w) in columns.iter().zip(&mask.weights) {
         let x = points[c as usize];
@@ -230,6 +250,41 @@ fn ring_sums(mask: &RingMask, columns: &[u32], points: &[DVec3]) -> (DVec3, DVec
         t1 += w[1] * x;
         t2 += w[2] * x;
     }
+    (p, t1.cross(t2))
+}
+
+/// [`ring_sums`] of a smooth Catmull–Clark vertex of valence 4, ring `[v, e_0, f_0, …, e_3, f_3]`:
+/// the mask of [`RingMask::smooth`] with its weights' exact values (`A_4 = 4`, the cosines 0 and
+/// ±1) and the equal terms gathered, `v* = (16 v + 4 Σ e_j + Σ f_j) / 36`, `c2 = 4 (e_0 − e_2) +
+/// (f_0 − f_2) + (f_3 − f_1)`, `c3 = 4 (e_1 − e_3) + (f_0 − f_2) − (f_3 − f_1)`: a third of the
+/// arithmetic of the general sum, for nearly every vertex of a refined level.
+#[inline]
+fn regular_quad_sums(columns: &[u32], points: &[DVec3]) -> (DVec3, DVec3) {
+    let &[v, e0, f0, e1, f1, e2, f2, e3, f3] = columns else { unreachable!("a valence-4 ring has 9 columns") };
+    let x = |c: u32| points[c as usize];
+    let (e0, e1, e2, e3) = (x(e0), x(e1), x(e2), x(e3));
+    let (f0, f1, f2, f3) = (x(f0), x(f1), x(f2), x(f3));
+    let p = ((4.0 * x(v) + ((e0 + e1) + (e2 + e3))) * 4.0 + ((f0 + f1) + (f2 + f3))) * (1.0 / 36.0);
+    let (across, turn) = (f0 - f2, f3 - f1);
+    let c2 = 4.0 * (e0 - e2) + (across + turn);
+    let c3 = 4.0 * (e1 - e3) + (across - turn);
+    (p, c2.cross(c3))
+}
+
+/// [`ring_sums`] of a smooth Loop vertex of valence 6, ring `[v, e_0, …, e_5]`: the mask of
+/// [`RingMask::smooth`] with the cosines' and sines' exact values and the equal terms gathered,
+/// `p∞ = (1 − 6χ) v + χ Σ e_j`, tangents `(e_0 − e_3) + ½ ((e_1 − e_2) + (e_5 − e_4))` and
+/// `(e_1 + e_2) − (e_4 + e_5)` (the second's factor `√3/2` dropped: only the normal's direction
+/// is used).
+#[inline]
+fn regular_triangle_sums(mask: &RingMask, columns: &[u32], points: &[DVec3]) -> (DVec3, DVec3) {
+    let &[v, e0, e1, e2, e3, e4, e5] = columns else { unreachable!("a valence-6 ring has 7 columns") };
+    let x = |c: u32| points[c as usize];
+    let (e0, e1, e2, e3, e4, e5) = (x(e0), x(e1), x(e2), x(e3), x(e4), x(e5));
+    let (centre, chi) = (mask.weights[0][0], mask.weights[1][0]);
+    let p = centre * x(v) + chi * (((e0 + e1) + (e2 + e3)) + (e4 + e5));
+    let t1 = (e0 - e3) + 0.5 * ((e1 - e2) + (e5 - e4));
+    let t2 = (e1 + e2) - (e4 + e5);
     (p, t1.cross(t2))
 }
 
