@@ -435,7 +435,10 @@ impl Refinement {
     fn refine_level(&self, index: usize, out: &mut RefinedPositions) {
         let (parent, sharpness, corners) = self.rule_topology(index as u32);
         let (coarse, fine) = out.levels.split_at_mut(index + 1);
-        refine_into(self.scheme, parent, sharpness, corners, &self.levels[index].split, &coarse[index], &mut fine[0]);
+        // Below the cage, a Catmull–Clark level is all quads.
+        let quads = self.scheme == Scheme::CatmullClark && index > 0;
+        let split = &self.levels[index].split;
+        refine_into(self.scheme, parent, sharpness, corners, split, quads, &coarse[index], &mut fine[0]);
     }
 
     /// After a drag: brings `out` (last filled by [`Refinement::evaluate`] or `update` of this

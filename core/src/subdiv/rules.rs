@@ -24,7 +24,7 @@ use super::loop_limit::loop_beta;
 use super::sparse::{RowBuilder, SparseRows};
 use super::topology::{SplitTopology, VertexOrigin};
 use crate::DVec3;
-use crate::mesh::{EdgeId, FaceId, PolyMesh, VertexId};
+use crate::mesh::{EdgeId, FaceId, HalfedgeId, PolyMesh, VertexId};
 use rayon::prelude::*;
 
 /// The subdivision scheme.
@@ -52,6 +52,14 @@ pub(crate) fn level_stencils(
     })
 }
 
+/// The pair across a smooth edge point's edge: the new face points of its two faces
+/// (Catmull–Clark) or the two parent vertices opposite it (Loop).
+#[derive(Clone, Copy)]
+pub(crate) enum Far {
+    FacePoints([FaceId; 2]),
+    Vertices([u32; 2]),
+}
+
 /// Where the rules write a child vertex: as stencil weights on the parent's vertices
 /// ([`RowBuilder`]), or applied at once to positions ([`Gather`]).
 pub(crate) trait Sink {
@@ -59,6 +67,38 @@ pub(crate) trait Sink {
     fn add(&mut self, column: u32, weight: f64);
     /// Adds `scale` times the new face point of parent face `f` (its centroid).
     fn add_face_point(&mut self, mesh: &PolyMesh, f: FaceId, scale: f64);
+
+    /// Adds `weight` times each of the parent vertices `columns`.
+    #[inline]
+    fn add_equal(&mut self, columns: impl Iterator<Item = u32>, weight: f64) {
+        for c in columns {
+            self.add(c, weight);
+        }
+    }
+
+    /// Adds `centre` times parent vertex `v` and `weight` times each spoke's end of `ring` and,
+    /// with `faces`, each valid spoke face's new face point.
+    #[inline]
+    fn add_ring(&mut self, mesh: &PolyMesh, v: u32, centre: f64, ring: &[(u32, FaceId)], faces: bool, weight: f64) {
+        self.add(v, centre);
+        for &(to, f) in ring {
+            self.add(to, weight);
+            if faces && f.is_valid() {
+                self.add_face_point(mesh, f, weight);
+            }
+        }
+    }
+
+    /// Adds `end` times parent vertices `p` and `q` and `across` times each of the pair `far`.
+    #[inline]
+    fn add_edge(&mut self, mesh: &PolyMesh, [p, q]: [u32; 2], end: f64, far: Far, across: f64) {
+        self.add(p, end);
+        self.add(q, end);
+        match far {
+            Far::FacePoints(faces) => faces.map(|f| self.add_face_point(mesh, f, across)),
+            Far::Vertices(vertices) => vertices.map(|v| self.add(v, across)),
+        };
+    }
 }
 
 impl Sink for RowBuilder {
@@ -95,27 +135,87 @@ impl Sink for Gather<'_> {
 
     #[inline]
     fn add_face_point(&mut self, _: &PolyMesh, f: FaceId, scale: f64) {
-        let rank = self.split.face_point_rank(f).expect("Catmull–Clark splits every face into quads");
-        self.sum += scale * self.face_points[rank];
+        self.sum += scale * self.face_point(f);
+    }
+
+    // Applied to positions, terms of equal weight are summed first and scaled once: a third
+    // fewer operations for the smooth rules (nearly every child point) than a multiply and an
+    // add per term.
+
+    #[inline]
+    fn add_equal(&mut self, columns: impl Iterator<Item = u32>, weight: f64) {
+        let sum: DVec3 = columns.map(|c| self.points[c as usize]).fold(DVec3::ZERO, |s, x| s + x);
+        self.sum += weight * sum;
+    }
+
+    #[inline]
+    fn add_ring(&mut self, _: &PolyMesh, v: u32, centre: f64, ring: &[(u32, FaceId)], faces: bool, weight: f64) {
+        let mut sum = DVec3::ZERO;
+        for &(to, f) in ring {
+            sum += self.points[to as usize];
+            if faces && f.is_valid() {
+                sum += self.face_point(f);
+            }
+        }
+        self.sum += centre * self.points[v as usize] + weight * sum;
+    }
+
+    #[inline]
+    fn add_edge(&mut self, _: &PolyMesh, [p, q]: [u32; 2], end: f64, far: Far, across: f64) {
+        let ends = self.points[p as usize] + self.points[q as usize];
+        let far = match far {
+            Far::FacePoints([f0, f1]) => self.face_point(f0) + self.face_point(f1),
+            Far::Vertices([c, d]) => self.points[c as usize] + self.points[d as usize],
+        };
+        self.sum += end * ends + across * far;
     }
 }
+
+impl Gather<'_> {
+    /// The child level's face point of parent face `f`.
+    #[inline]
+    fn face_point(&self, f: FaceId) -> DVec3 {
+        let rank = self.split.face_point_rank(f).expect("Catmull–Clark splits every face into quads");
+        self.face_points[rank]
+    }
+}
+
+/// Child points made per rayon task at the least. Small, so that the first levels (thousands of
+/// points, a few microseconds of work per task) are still shared between the threads: with
+/// 4,096, level 2 of a 2,048-face cage took as long on two threads as on one.
+const REFINE_CHUNK: usize = 1024;
 
 /// The positions of the child level `split` from the parent's positions `points`, by the rules
 /// applied directly (face points first, then the edge and vertex points that read them), into
 /// `out`. Equal to [`level_stencils`] applied to `points` up to rounding.
+///
+/// `quads`: every face of `parent` is a quad (a level below a Catmull–Clark cage). When it is
+/// also closed and smooth (no sharpness tables), each point takes [`smooth_quad_point`], the
+/// same terms in the same order without the checks that cannot fire there, so the same bits.
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn refine_into(
     scheme: Scheme,
     parent: &PolyMesh,
     sharpness: &[f64],
     corners: &[f64],
     split: &SplitTopology,
+    quads: bool,
     points: &[DVec3],
     out: &mut Vec<DVec3>,
 ) {
     let (n, first_face_point) = (split.mesh.vertex_count(), split.first_face_point());
+    let smooth_quads = scheme == Scheme::CatmullClark
+        && quads
+        && sharpness.is_empty()
+        && corners.is_empty()
+        && parent.halfedge_count() == 4 * parent.face_count();
     let point = |i: usize, face_points: &[DVec3]| {
         let mut gather = Gather { points, face_points, split, sum: DVec3::ZERO };
-        child_point(scheme, parent, sharpness, corners, split, i, &mut gather);
+        if smooth_quads {
+            smooth_quad_point(parent, split, i, &mut gather);
+        } else {
+            child_point(scheme, parent, sharpness, corners, split, i, &mut gather);
+        }
         gather.sum
     };
     if out.len() == n {
@@ -123,20 +223,20 @@ pub(crate) fn refine_into(
         let (near, face_points) = out.split_at_mut(first_face_point);
         face_points
             .par_iter_mut()
-            .with_min_len(4096)
+            .with_min_len(REFINE_CHUNK)
             .enumerate()
             .for_each(|(k, o)| *o = point(first_face_point + k, &[]));
         let face_points = &*face_points;
-        near.par_iter_mut().with_min_len(4096).enumerate().for_each(|(i, o)| *o = point(i, face_points));
+        near.par_iter_mut().with_min_len(REFINE_CHUNK).enumerate().for_each(|(i, o)| *o = point(i, face_points));
         return;
     }
     // A fresh buffer: every point written once as it is collected, none cleared first (clearing a
     // fine level's megabytes cost as much as a fifth of its rules); the face points go aside
     // first, since the others read them, and are appended after.
     let face_points: Vec<DVec3> =
-        (first_face_point..n).into_par_iter().with_min_len(4096).map(|i| point(i, &[])).collect();
+        (first_face_point..n).into_par_iter().with_min_len(REFINE_CHUNK).map(|i| point(i, &[])).collect();
     out.clear();
-    out.par_extend((0..first_face_point).into_par_iter().with_min_len(4096).map(|i| point(i, &face_points)));
+    out.par_extend((0..first_face_point).into_par_iter().with_min_len(REFINE_CHUNK).map(|i| point(i, &face_points)));
     out.par_extend(face_points.par_iter().with_min_len(1 << 14).copied());
 }
 
@@ -168,6 +268,46 @@ pub(crate) fn refine_rows(
     }
 }
 
+/// [`child_point`] of a Catmull–Clark level whose parent is closed, all quads and smooth: the
+/// terms [`child_point`] adds there, in its order, without looking up sharpness, boundaries,
+/// the point's origin or the face's valence.
+#[inline]
+fn smooth_quad_point(parent: &PolyMesh, split: &SplitTopology, i: usize, b: &mut Gather) {
+    let (nv, first_face_point) = (split.parent_vertex_count(), split.first_face_point());
+    let from = |h: HalfedgeId| parent.to_vertex(h.twin()).0;
+    if i >= first_face_point {
+        // A face point: faces split into quads have theirs in face order (`face_point_rank`).
+        let h0 = parent.face_halfedge(FaceId((i - first_face_point) as u32));
+        let h1 = parent.next(h0);
+        let h2 = parent.next(h1);
+        let h3 = parent.next(h2);
+        b.add_equal([from(h0), from(h1), from(h2), from(h3)].into_iter(), 0.25);
+    } else if i >= nv {
+        let e = EdgeId((i - nv) as u32);
+        let (h0, h1) = (e.halfedge(0), e.halfedge(1));
+        let far = Far::FacePoints([parent.face(h0), parent.face(h1)]);
+        b.add_edge(parent, [from(h0), parent.to_vertex(h0).0], 0.25, far, 0.25);
+    } else {
+        let v = VertexId(i as u32);
+        let mut ring = [(0u32, FaceId::INVALID); SPOKES];
+        let mut spokes = 0;
+        if !parent.is_isolated(v) {
+            for h in parent.outgoing(v) {
+                if spokes == SPOKES {
+                    // More spokes than the ring holds: the general rule.
+                    return child_point(Scheme::CatmullClark, parent, &[], &[], split, i, b);
+                }
+                ring[spokes] = (parent.to_vertex(h).0, parent.face(h));
+                spokes += 1;
+            }
+        }
+        if spokes == 0 {
+            return b.add(v.0, 1.0);
+        }
+        ring_smooth_vertex(Scheme::CatmullClark, parent, v, &ring[..spokes], spokes, b);
+    }
+}
+
 /// The rule of child vertex `i`, written to `b`.
 #[inline]
 fn child_point(
@@ -191,9 +331,7 @@ fn child_point(
 
 fn centroid(mesh: &PolyMesh, f: FaceId, scale: f64, b: &mut impl Sink) {
     let w = scale / mesh.face_valence(f) as f64;
-    for v in mesh.face_vertices(f) {
-        b.add(v.0, w);
-    }
+    b.add_equal(mesh.face_vertices(f).map(|v| v.0), w);
 }
 
 fn edge_point(scheme: Scheme, mesh: &PolyMesh, sharpness: &[f64], e: EdgeId, b: &mut impl Sink) {
@@ -206,6 +344,19 @@ fn edge_point(scheme: Scheme, mesh: &PolyMesh, sharpness: &[f64], e: EdgeId, b: 
     }
     let smooth = 1.0 - crease;
     let (h0, h1) = (e.halfedge(0), e.halfedge(1));
+    if crease == 0.0 {
+        // Smooth: the same weights as below.
+        match scheme {
+            Scheme::CatmullClark => {
+                b.add_edge(mesh, [p.0, q.0], 0.25, Far::FacePoints([mesh.face(h0), mesh.face(h1)]), 0.25)
+            }
+            Scheme::Loop => {
+                let far = [mesh.to_vertex(mesh.next(h0)).0, mesh.to_vertex(mesh.next(h1)).0];
+                b.add_edge(mesh, [p.0, q.0], 0.375, Far::Vertices(far), 0.125)
+            }
+        }
+        return;
+    }
     match scheme {
         Scheme::CatmullClark => {
             let end = 0.5 * crease + 0.25 * smooth;
@@ -310,20 +461,11 @@ fn ring_smooth_vertex(
     match scheme {
         Scheme::CatmullClark => {
             let w = 1.0 / (n * n) as f64;
-            b.add(v.0, 1.0 - (n + faces) as f64 * w);
-            for &(to, f) in ring {
-                b.add(to, w);
-                if f.is_valid() {
-                    b.add_face_point(mesh, f, w);
-                }
-            }
+            b.add_ring(mesh, v.0, 1.0 - (n + faces) as f64 * w, ring, true, w);
         }
         Scheme::Loop => {
             let beta = loop_beta(n);
-            b.add(v.0, 1.0 - n as f64 * beta);
-            for &(to, _) in ring {
-                b.add(to, beta);
-            }
+            b.add_ring(mesh, v.0, 1.0 - n as f64 * beta, ring, false, beta);
         }
     }
 }
