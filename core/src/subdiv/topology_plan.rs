@@ -25,7 +25,11 @@ impl ChildHalfedges {
     /// 2,048-face cage), and clearing them took a tenth of the level's split. Panics, leaving
     /// nothing, if a piece is left short.
     #[allow(unsafe_code)]
-    fn fill(nh: usize, ends: &[usize], fill: impl FnOnce(&mut [HalfedgeSlices])) -> Self {
+    fn fill(
+        nh: usize,
+        ends: &[usize],
+        fill: impl for<'a> FnOnce(Vec<HalfedgeSlices<'a>>) -> Vec<HalfedgeSlices<'a>>,
+    ) -> Self {
         let mut out = ChildHalfedges {
             to: Vec::with_capacity(nh),
             next: Vec::with_capacity(nh),
@@ -33,20 +37,25 @@ impl ChildHalfedges {
             face: Vec::with_capacity(nh),
         };
         {
-            let mut pieces = HalfedgeSlices::cut(&mut out, nh, ends);
-            fill(&mut pieces);
+            // The pieces go to `fill` by value and come back: a piece held in a local while it is
+            // filled keeps its cursor in a register (through a reference into a vector it was
+            // reloaded after every write).
+            let pieces = fill(HalfedgeSlices::cut(&mut out, nh, ends));
             assert!(
-                pieces.iter().all(|p| p.written == p.to.len()),
+                pieces.iter().all(|p| p.written == p.to.len())
+                    && pieces.iter().map(|p| p.to.len()).sum::<usize>() == nh,
                 "a child halfedge was left unwritten by its split's fill"
             );
         }
         // SAFETY: each array has capacity for `nh` entries (`with_capacity`). `cut` splits the
-        // first `nh` entries of each array's spare capacity into consecutive pieces that cover
-        // them (it asserts the last end is `nh`). `push` writes entry `written` of each of its
-        // piece's four slices and only then counts it (a write past the piece's end panics at the
-        // slice index), so a piece whose count is its length has every entry of its four slices
-        // written, and the assert above holds that for every piece. The first `nh` entries of
-        // each array are therefore initialised; they are plain integers, with no drop.
+        // first `nh` entries of each array's spare capacity into disjoint pieces that cover them
+        // (it asserts the last end is `nh`); pieces are made nowhere else, so those `fill` hands
+        // back are disjoint parts of that range, and the assert above holds that they are `nh`
+        // entries in all, so all of it. `push` writes entry `written` of each of its piece's four
+        // slices and only then counts it (a write past the piece's end panics at the slice
+        // index), so a piece whose count is its length has every entry of its four slices
+        // written, and the assert holds that for every piece. The first `nh` entries of each
+        // array are therefore initialised; they are plain integers, with no drop.
         unsafe {
             out.to.set_len(nh);
             out.next.set_len(nh);
@@ -358,11 +367,15 @@ impl<'a> Plan<'a> {
     pub(super) fn halfedges(&self, nh: usize) -> ChildHalfedges {
         let ends: Vec<usize> = (1..=nh.div_ceil(PARALLEL_CHUNK)).map(|k| (k * PARALLEL_CHUNK).min(nh)).collect();
         ChildHalfedges::fill(nh, &ends, |pieces| {
-            pieces.par_iter_mut().for_each(|s| {
-                for x in s.first..s.first + s.to.len() as u32 {
-                    s.push(x, self.to(x).0, self.next(x), self.prev(x), self.face(x));
-                }
-            })
+            pieces
+                .into_par_iter()
+                .map(|mut s| {
+                    for x in s.first..s.first + s.to.len() as u32 {
+                        s.push(x, self.to(x).0, self.next(x), self.prev(x), self.face(x));
+                    }
+                    s
+                })
+                .collect()
         })
     }
 
@@ -385,36 +398,45 @@ impl<'a> Plan<'a> {
         let inner_ends: Vec<usize> =
             starts.iter().map(|&h| halves as usize + 2 * interior_at((h + PARALLEL_CHUNK).min(np))).collect();
         let ends: Vec<usize> = half_ends.into_iter().chain(inner_ends).collect();
-        ChildHalfedges::fill(nh, &ends, |pieces| {
-            let (half_pieces, inner_pieces) = pieces.split_at_mut(starts.len());
-            let pieces = half_pieces.par_iter_mut().zip(inner_pieces.par_iter_mut()).zip(starts);
-            match self.made_by_quads.filter(|_| self.indexed) {
+        ChildHalfedges::fill(nh, &ends, |mut half_pieces| {
+            let inner_pieces = half_pieces.split_off(starts.len());
+            let pieces = half_pieces.into_par_iter().zip(inner_pieces).zip(starts);
+            let filled: Vec<(HalfedgeSlices, HalfedgeSlices)> = match self.made_by_quads.filter(|_| self.indexed) {
                 // Below a split into quads of a closed cage, slots, first child faces, corners and
                 // face points are functions of the indices (the same values the arrays hold).
                 Some(above) => {
                     let first_face_point = (nv as usize + parent.edge_count()) as u32;
-                    pieces.for_each(|((half, inner), h0)| {
-                        self.fill_quads(
-                            half,
-                            inner,
-                            h0 as u32..(h0 + PARALLEL_CHUNK).min(np) as u32,
-                            |h| halves + 2 * h,
-                            |f, h| FaceId(4 * f.0 + Plan::quad_child_corner(above, h)),
-                            |f| first_face_point + f.0,
-                        )
-                    })
+                    pieces
+                        .map(|((mut half, mut inner), h0)| {
+                            self.fill_quads(
+                                &mut half,
+                                &mut inner,
+                                h0 as u32..(h0 + PARALLEL_CHUNK).min(np) as u32,
+                                |h| halves + 2 * h,
+                                |f, h| FaceId(4 * f.0 + Plan::quad_child_corner(above, h)),
+                                |f| first_face_point + f.0,
+                            );
+                            (half, inner)
+                        })
+                        .collect()
                 }
-                None => pieces.for_each(|((half, inner), h0)| {
-                    self.fill_quads(
-                        half,
-                        inner,
-                        h0 as u32..(h0 + PARALLEL_CHUNK).min(np) as u32,
-                        |h| halves + 2 * self.slot(h),
-                        |f, h| self.corner_face(f, h),
-                        |f| self.face_point[f.index()].0,
-                    )
-                }),
-            }
+                None => pieces
+                    .map(|((mut half, mut inner), h0)| {
+                        self.fill_quads(
+                            &mut half,
+                            &mut inner,
+                            h0 as u32..(h0 + PARALLEL_CHUNK).min(np) as u32,
+                            |h| halves + 2 * self.slot(h),
+                            |f, h| self.corner_face(f, h),
+                            |f| self.face_point[f.index()].0,
+                        );
+                        (half, inner)
+                    })
+                    .collect(),
+            };
+            let (mut half, inner): (Vec<_>, Vec<_>) = filled.into_iter().unzip();
+            half.extend(inner);
+            half
         })
     }
 
