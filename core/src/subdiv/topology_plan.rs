@@ -49,11 +49,12 @@ impl ChildHalfedges {
         }
         // SAFETY: each array has capacity for `nh` entries (`with_capacity`). `cut` splits the
         // first `nh` entries of each array's spare capacity into disjoint pieces that cover them
-        // (it asserts the last end is `nh`); pieces are made nowhere else, so those `fill` hands
-        // back are disjoint parts of that range, and the assert above holds that they are `nh`
-        // entries in all, so all of it. `push` writes entry `written` of each of its piece's four
-        // slices and only then counts it (a write past the piece's end panics at the slice
-        // index), so a piece whose count is its length has every entry of its four slices
+        // (it asserts the last end is `nh`). This module makes pieces nowhere else and changes a
+        // piece's `written` only in `push`, so the pieces `fill` hands back are disjoint parts of
+        // that range (a `&mut` each), and the assert above holds that they are `nh` entries in
+        // all, so all of it. `push` writes entry `written` of each of its piece's four slices
+        // (of one length) and only then counts it (a write past the piece's end panics at the
+        // slice index), so a piece whose count is its length has every entry of its four slices
         // written, and the assert holds that for every piece. The first `nh` entries of each
         // array are therefore initialised; they are plain integers, with no drop.
         unsafe {
