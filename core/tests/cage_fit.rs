@@ -338,3 +338,151 @@ fn a_simplification_leaving_a_non_manifold_edge_is_retried_nearby() {
         assert!(kept.hausdorff <= qem.hausdorff && kept.mean <= qem.mean);
     }
 }
+
+/// The first parameter `t ≤ max` where `origin + t·direction` meets triangle `abc`
+/// (Möller–Trumbore, written here as an independent reference), counting a hit on an edge.
+fn ray_triangle(origin: DVec3, direction: DVec3, max: f64, a: DVec3, b: DVec3, c: DVec3) -> Option<f64> {
+    let (e1, e2) = (b - a, c - a);
+    let h = direction.cross(e2);
+    let det = e1.dot(h);
+    if det.abs() < 1e-300 {
+        return None;
+    }
+    let s = origin - a;
+    let u = s.dot(h) / det;
+    let q = s.cross(e1);
+    let v = direction.dot(q) / det;
+    let t = e2.dot(q) / det;
+    (u >= 0.0 && v >= 0.0 && u + v <= 1.0 && t >= 0.0 && t <= max).then_some(t)
+}
+
+#[test]
+fn the_surface_index_answers_as_brute_force_on_any_thread_count() {
+    use taut_core::cage_fit::surface_index::SurfaceIndex;
+    // 20,480 triangles: more than one of the index's parallel subtrees.
+    let (p, t) = icosphere(5, blob);
+    // Points around the surface, on it (corners and edge midpoints), inside and far away.
+    let mut points: Vec<DVec3> = (0..160)
+        .map(|k| {
+            let s = k as f64 * 0.61;
+            let dir = DVec3::new(s.sin() * (0.7 * s).cos(), s.cos() * (0.7 * s).cos(), (0.7 * s).sin());
+            dir * (0.3 + 2.5 * ((k * 37) % 100) as f64 / 100.0)
+        })
+        .collect();
+    points.extend(
+        t.iter().step_by(997).flat_map(|tri| [p[tri[0] as usize], 0.5 * (p[tri[1] as usize] + p[tri[2] as usize])]),
+    );
+    points.push(DVec3::new(40.0, -30.0, 7.0));
+    let run = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+        pool.install(|| {
+            let index = SurfaceIndex::new(&p, &t).unwrap();
+            let closest: Vec<_> = points.iter().map(|&q| index.closest_on_triangle(q)).collect();
+            let rays: Vec<_> = points
+                .iter()
+                .enumerate()
+                .map(|(k, &q)| {
+                    let s = k as f64 * 1.3;
+                    let dir = DVec3::new(s.cos(), (0.5 * s).sin(), (0.3 * s).cos()).normalize();
+                    index.cast_to_triangle(q, dir, 10.0)
+                })
+                .collect();
+            (index, closest, rays)
+        })
+    };
+    let (index, closest, rays) = run(2);
+    for (k, &q) in points.iter().enumerate() {
+        let (x, triangle, w) = closest[k];
+        let brute = brute_distance(q, &p, &t);
+        let d = (x - q).length();
+        assert!((d - brute).abs() <= 1e-12 * (1.0 + brute), "point {k}: {d} vs brute force {brute}");
+        // The point is where the weights put it on the triangle named.
+        let [a, b, c] = t[triangle].map(|i| p[i as usize]);
+        assert!((w[0] * a + w[1] * b + w[2] * c - x).length() < 1e-12, "point {k}");
+        assert!(w.iter().all(|&v| v >= -1e-12) && (w.iter().sum::<f64>() - 1.0).abs() < 1e-12);
+        // Bounded: the same answer above the distance, none below it.
+        assert_eq!(index.closest_point_within(q, d * (1.0 + 1e-9) + 1e-300), Some(x), "point {k}");
+        if d > 0.0 {
+            assert_eq!(index.closest_point_within(q, 0.5 * d), None, "point {k}");
+        }
+        // Rays from off the surface (from on it, rounding decides whether the start counts): the
+        // first hit of brute force over every triangle.
+        if d < 1e-9 {
+            continue;
+        }
+        let s = k as f64 * 1.3;
+        let dir = DVec3::new(s.cos(), (0.5 * s).sin(), (0.3 * s).cos()).normalize();
+        let brute_hit = t
+            .iter()
+            .enumerate()
+            .filter_map(|(i, tri)| {
+                let [a, b, c] = tri.map(|v| p[v as usize]);
+                ray_triangle(q, dir, 10.0, a, b, c).map(|h| (h, i))
+            })
+            .min_by(|a, b| a.0.total_cmp(&b.0));
+        match (rays[k], brute_hit) {
+            (Some((h, i)), Some((bh, _))) => {
+                assert!((h - bh).abs() <= 1e-9, "ray {k}: {h} vs brute force {bh}");
+                let [a, b, c] = t[i].map(|v| p[v as usize]);
+                assert!(ray_triangle(q, dir, 10.0, a, b, c).is_some_and(|th| (th - h).abs() <= 1e-9), "ray {k}");
+            }
+            (None, None) => {}
+            (ours, theirs) => panic!("ray {k}: {ours:?} vs brute force {theirs:?}"),
+        }
+    }
+    // The hierarchy is a function of the triangles alone: one thread answers bit for bit alike.
+    let (_, closest_one, rays_one) = run(1);
+    assert_eq!(closest_one, closest);
+    assert_eq!(rays_one, rays);
+    // Non-finite queries find nothing and do not panic.
+    assert_eq!(index.closest_point_within(DVec3::NAN, 1.0), None);
+    assert!(index.cast(DVec3::NAN, DVec3::X, 1.0).is_none());
+    assert!(SurfaceIndex::new(&p, &[]).is_err());
+    assert!(SurfaceIndex::new(&p[..3], &t[..10]).is_err());
+}
+
+#[test]
+fn staged_simplification_keeps_the_topology_and_the_closeness_of_one_stage() {
+    use taut_core::cage_fit::simplify::simplify_staged;
+    let (p, t) = icosphere(5, blob);
+    let dense = DenseMesh::from_triangles(p.clone(), &t).unwrap();
+    let one = simplify_staged(&dense, 300, usize::MAX).unwrap();
+    let run = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+        pool.install(|| simplify_staged(&dense, 300, 1000).unwrap())
+    };
+    let two = run(2);
+    // Both stages ran (the halves each went from 10 k to 640 triangles) and reached the target
+    // with a closed surface of the sphere's topology (V − E + F = 2).
+    for s in [&one, &two] {
+        let cage = &s.cage;
+        assert_eq!(cage.face_count(), 300);
+        assert_eq!(cage.vertex_count() as i64 - cage.edge_count() as i64 + cage.face_count() as i64, 2);
+        assert!(cage.vertices().all(|v| !cage.is_boundary_vertex(v)));
+        // Each cage vertex names a dense vertex of its own.
+        let mut named = s.dense_vertex.clone();
+        named.sort_unstable();
+        named.dedup();
+        assert_eq!(named.len(), cage.vertex_count());
+        assert!(named.iter().all(|&d| (d as usize) < p.len()));
+    }
+    // Closeness both ways, by brute force: the cage's vertices to the original, and every 20th
+    // original vertex to the cage's triangles. Two stages stay within a third of one stage.
+    let closeness = |cage: &PolyMesh| {
+        let vertices: f64 =
+            cage.positions().iter().map(|&q| brute_distance(q, &p, &t)).sum::<f64>() / cage.vertex_count() as f64;
+        let triangles = cage.triangles();
+        let sampled: Vec<DVec3> = p.iter().step_by(20).copied().collect();
+        let back: f64 = sampled.iter().map(|&q| brute_distance(q, cage.positions(), &triangles)).sum::<f64>()
+            / sampled.len() as f64;
+        (vertices, back)
+    };
+    let (a, b) = (closeness(&one.cage), closeness(&two.cage));
+    assert!(b.0 <= 1.33 * a.0 && b.1 <= 1.33 * a.1, "two stages {b:?} vs one {a:?}");
+    // The halves run side by side; one thread gives the same cage bit for bit.
+    let bits = |m: &PolyMesh| m.positions().iter().map(|q| q.to_array().map(f64::to_bits)).collect::<Vec<_>>();
+    assert_ne!(bits(&one.cage), bits(&two.cage), "the first stage ran");
+    let single = run(1);
+    assert_eq!(bits(&single.cage), bits(&two.cage));
+    assert_eq!(single.dense_vertex, two.dense_vertex);
+}

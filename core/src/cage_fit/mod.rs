@@ -329,14 +329,12 @@ pub fn fit_cage(dense: &DenseMesh, params: &CageFitParams, progress: &mut dyn Pr
     }
 
     step!("simplify and index original");
-    // meshoptimizer's simplifier and parry's hierarchy build each run on one thread and neither
-    // needs the other: side by side they take the longer of the two on two cores.
+    // Both use the two cores themselves (the index is built in parallel, the simplifier runs on
+    // two halves side by side), so they run one after the other: side by side, rayon's work
+    // stealing can leave one half of the simplification waiting behind the other.
     // A closed piece cannot go below a tetrahedron's four faces.
-    let (simplified, index) = rayon::join(
-        || simplify::simplify(dense, target.max(4 * dense.report.components)),
-        || surface_index::SurfaceIndex::new(&dense.positions, &dense.triangles),
-    );
-    let (simplified, index) = (simplified?, index?);
+    let index = surface_index::SurfaceIndex::new(&dense.positions, &dense.triangles)?;
+    let simplified = simplify::simplify(dense, target.max(4 * dense.report.components))?;
     let qem_cage = simplified.cage;
 
     step!("limit matrix");
