@@ -19,6 +19,7 @@
 //! Weak where a non-manifold configuration cannot be taken apart this way (a fan that closes
 //! around a cut edge onto itself with the wrong orientation): that is refused with a message.
 
+use super::surface_index::SurfaceIndex;
 use crate::mesh::PolyMesh;
 use crate::{DVec3, Error, Result};
 use rayon::prelude::*;
@@ -80,6 +81,8 @@ pub struct DenseMesh {
     pub(crate) report: InputReport,
     /// True when the mesh has no border: volumes are then meaningful.
     pub(crate) closed: bool,
+    /// The surface indexed for closest points and ray casts (triangles numbered as here).
+    pub(crate) index: std::sync::Arc<SurfaceIndex>,
 }
 
 impl DenseMesh {
@@ -282,84 +285,97 @@ fn prepare(mut positions: Vec<DVec3>, input: &[[u32; 3]]) -> Result<DenseMesh> {
         )));
     }
 
-    let uses;
-    (report.flipped, uses) = orient(&positions, &mut triangles);
-    // Neighbour across corner edge k of triangle t, if that edge is manifold and shared.
-    let mut across = vec![[u32::MAX; 3]; triangles.len()];
-    for list in uses.groups() {
-        if !is_manifold(list, &triangles) {
-            report.cut_edges += 1;
-        } else if let [c0, c1] = *list {
-            across[c0 as usize / 3][c0 as usize % 3] = c1 / 3;
-            across[c1 as usize / 3][c1 as usize % 3] = c0 / 3;
-        }
-    }
-
-    // Split vertices into fans: corners (t, k) at the same vertex are one fan when joined by a
-    // chain of manifold edges around it. Union–find over corners.
-    let mut parent: Vec<u32> = (0..3 * triangles.len() as u32).collect();
-    fn find(parent: &mut [u32], mut c: u32) -> u32 {
-        while parent[c as usize] != c {
-            parent[c as usize] = parent[parent[c as usize] as usize];
-            c = parent[c as usize];
-        }
-        c
-    }
-    for (t, tri) in triangles.iter().enumerate() {
-        for k in 0..3 {
-            let u = across[t][k];
-            if u == u32::MAX || (u as usize) < t {
-                continue;
-            }
-            // The edge runs from corner k to k + 1; both of its ends are shared with u.
-            let other = &triangles[u as usize];
-            for end in [k, (k + 1) % 3] {
-                let v = tri[end];
-                let j = other.iter().position(|&w| w == v).expect("a shared edge has both ends in both triangles");
-                let (a, b) = (find(&mut parent, (3 * t + end) as u32), find(&mut parent, 3 * u + j as u32));
-                if a != b {
-                    parent[a.max(b) as usize] = a.min(b);
+    // The fit's index of the surface is built while the triangles are oriented and split into
+    // fans (one thread, mostly): neither changes where the surface is, nor the triangles' order.
+    let (index, prepared) = rayon::join(
+        || SurfaceIndex::new(&positions, &triangles),
+        || -> Result<_> {
+            let mut triangles = triangles.clone();
+            let mut copies: Vec<DVec3> = Vec::new();
+            let uses;
+            (report.flipped, uses) = orient(&positions, &mut triangles);
+            // Neighbour across corner edge k of triangle t, if that edge is manifold and shared.
+            let mut across = vec![[u32::MAX; 3]; triangles.len()];
+            for list in uses.groups() {
+                if !is_manifold(list, &triangles) {
+                    report.cut_edges += 1;
+                } else if let [c0, c1] = *list {
+                    across[c0 as usize / 3][c0 as usize % 3] = c1 / 3;
+                    across[c1 as usize / 3][c1 as usize % 3] = c0 / 3;
                 }
             }
-        }
-    }
-    let mut fan_vertex: HashMap<u32, u32> = HashMap::new();
-    let mut first_fan = vec![u32::MAX; n];
-    for t in 0..triangles.len() {
-        for k in 0..3 {
-            let root = find(&mut parent, (3 * t + k) as u32);
-            let v = triangles[t][k];
-            if first_fan[v as usize] == u32::MAX {
-                first_fan[v as usize] = root;
-            }
-            if first_fan[v as usize] != root {
-                let copy = *fan_vertex.entry(root).or_insert_with(|| {
-                    positions.push(positions[v as usize]);
-                    (positions.len() - 1) as u32
-                });
-                triangles[t][k] = copy;
-            }
-        }
-    }
-    report.split_vertices = fan_vertex.len();
 
-    // Pieces and borders of the prepared mesh: with no vertex split the triangles are those the
-    // uses above were listed from.
-    let uses = if fan_vertex.is_empty() { uses } else { EdgeUses::new(&triangles, positions.len()) };
-    report.border_edges = uses.groups().filter(|u| u.len() == 1).count();
-    if let Some(list) = uses.groups().find(|u| !is_manifold(u, &triangles)) {
-        let c = list[0] as usize;
-        let (a, b) = (triangles[c / 3][c % 3], triangles[c / 3][(c % 3 + 1) % 3]);
-        return Err(Error::Topology(format!(
-            "the edge between vertices {a} and {b} is used by {} triangles that cannot be separated; \
-             remove the fin or flip the inconsistent triangles there and try again",
-            list.len()
-        )));
-    }
-    drop(uses);
-    report.components = components(&triangles, positions.len());
+            // Split vertices into fans: corners (t, k) at the same vertex are one fan when joined by a
+            // chain of manifold edges around it. Union–find over corners.
+            let mut parent: Vec<u32> = (0..3 * triangles.len() as u32).collect();
+            fn find(parent: &mut [u32], mut c: u32) -> u32 {
+                while parent[c as usize] != c {
+                    parent[c as usize] = parent[parent[c as usize] as usize];
+                    c = parent[c as usize];
+                }
+                c
+            }
+            for (t, tri) in triangles.iter().enumerate() {
+                for k in 0..3 {
+                    let u = across[t][k];
+                    if u == u32::MAX || (u as usize) < t {
+                        continue;
+                    }
+                    // The edge runs from corner k to k + 1; both of its ends are shared with u.
+                    let other = &triangles[u as usize];
+                    for end in [k, (k + 1) % 3] {
+                        let v = tri[end];
+                        let j = other.iter().position(|&w| w == v).expect("a shared edge has both ends in both triangles");
+                        let (a, b) = (find(&mut parent, (3 * t + end) as u32), find(&mut parent, 3 * u + j as u32));
+                        if a != b {
+                            parent[a.max(b) as usize] = a.min(b);
+                        }
+                    }
+                }
+            }
+            let mut fan_vertex: HashMap<u32, u32> = HashMap::new();
+            let mut first_fan = vec![u32::MAX; n];
+            for t in 0..triangles.len() {
+                for k in 0..3 {
+                    let root = find(&mut parent, (3 * t + k) as u32);
+                    let v = triangles[t][k];
+                    if first_fan[v as usize] == u32::MAX {
+                        first_fan[v as usize] = root;
+                    }
+                    if first_fan[v as usize] != root {
+                        let copy = *fan_vertex.entry(root).or_insert_with(|| {
+                            copies.push(positions[v as usize]);
+                            (n + copies.len() - 1) as u32
+                        });
+                        triangles[t][k] = copy;
+                    }
+                }
+            }
+            report.split_vertices = fan_vertex.len();
+
+            // Pieces and borders of the prepared mesh: with no vertex split the triangles are those the
+            // uses above were listed from.
+            let uses = if fan_vertex.is_empty() { uses } else { EdgeUses::new(&triangles, n + copies.len()) };
+            report.border_edges = uses.groups().filter(|u| u.len() == 1).count();
+            if let Some(list) = uses.groups().find(|u| !is_manifold(u, &triangles)) {
+                let c = list[0] as usize;
+                let (a, b) = (triangles[c / 3][c % 3], triangles[c / 3][(c % 3 + 1) % 3]);
+                return Err(Error::Topology(format!(
+                    "the edge between vertices {a} and {b} is used by {} triangles that cannot be separated; \
+                     remove the fin or flip the inconsistent triangles there and try again",
+                    list.len()
+                )));
+            }
+            drop(uses);
+            report.components = components(&triangles, n + copies.len());
+            Ok((triangles, copies))
+        },
+    );
+    let (triangles, copies) = prepared?;
+    positions.extend(copies);
+    let index = std::sync::Arc::new(index?);
     let closed = report.border_edges == 0;
-    Ok(DenseMesh { positions, triangles, report, closed })
+    Ok(DenseMesh { positions, triangles, report, closed, index })
 }
 
 /// Orients each piece consistently (breadth first from its lowest triangle) and flips closed

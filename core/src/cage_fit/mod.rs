@@ -328,12 +328,10 @@ pub fn fit_cage(dense: &DenseMesh, params: &CageFitParams, progress: &mut dyn Pr
         };
     }
 
-    step!("simplify and index original");
-    // Both use the two cores themselves (the index is built in parallel, the simplifier runs on
-    // two halves side by side), so they run one after the other: side by side, rayon's work
-    // stealing can leave one half of the simplification waiting behind the other.
+    step!("simplify original");
+    // The original was indexed as it was prepared ([`DenseMesh`]).
     // A closed piece cannot go below a tetrahedron's four faces.
-    let index = surface_index::SurfaceIndex::new(&dense.positions, &dense.triangles)?;
+    let index = &*dense.index;
     let simplified = simplify::simplify(dense, target.max(4 * dense.report.components))?;
     let qem_cage = simplified.cage;
 
@@ -343,7 +341,7 @@ pub fn fit_cage(dense: &DenseMesh, params: &CageFitParams, progress: &mut dyn Pr
 
     step!("sample original");
     let volume = dense.closed.then(|| dense.signed_volume());
-    let original = evaluate::Original::new(&index, &dense.positions, dense.triangles.len(), volume);
+    let original = evaluate::Original::new(index, &dense.positions, dense.triangles.len(), volume);
 
     step!("correspondence");
     let lengths = correspond::local_edge_lengths(&qem_cage);
