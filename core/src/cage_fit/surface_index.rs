@@ -63,6 +63,7 @@ const MAX_TRIANGLES: usize = 1 << 29;
 /// A child reference's index bits; the three above them hold a leaf's triangle count (0 for an
 /// inner node).
 const INDEX_BITS: u32 = 29;
+const _: () = assert!(LEAF < 1 << (32 - INDEX_BITS), "a leaf's count must fit above the index bits");
 
 /// A node of the hierarchy, in depth-first order: an inner node's left child follows it, its
 /// right child is `at` nodes further on; a leaf holds the `count` triangles from slot `at`.
