@@ -325,7 +325,8 @@ fn prepare(mut positions: Vec<DVec3>, input: &[[u32; 3]]) -> Result<DenseMesh> {
                     let other = &triangles[u as usize];
                     for end in [k, (k + 1) % 3] {
                         let v = tri[end];
-                        let j = other.iter().position(|&w| w == v).expect("a shared edge has both ends in both triangles");
+                        let j =
+                            other.iter().position(|&w| w == v).expect("a shared edge has both ends in both triangles");
                         let (a, b) = (find(&mut parent, (3 * t + end) as u32), find(&mut parent, 3 * u + j as u32));
                         if a != b {
                             parent[a.max(b) as usize] = a.min(b);

@@ -349,7 +349,7 @@ pub fn fit_cage(dense: &DenseMesh, params: &CageFitParams, progress: &mut dyn Pr
     let border: Vec<bool> = qem_cage.vertices().map(|v| qem_cage.is_boundary_vertex(v)).collect();
     let a = qem_cage.positions();
     let Some(found) =
-        monitor.map(a.len(), |i| correspond::target(&index, a[i], limit[i], normals[i], lengths[i], border[i]))
+        monitor.map(a.len(), |i| correspond::target(index, a[i], limit[i], normals[i], lengths[i], border[i]))
     else {
         return Ok(None);
     };

@@ -120,6 +120,42 @@ impl Wide {
     }
 }
 
+/// A child reference's leaf triangle count (0 for an inner node) and its index ([`INDEX_BITS`]).
+fn decode(reference: u32) -> (usize, usize) {
+    ((reference >> INDEX_BITS) as usize, (reference & ((1 << INDEX_BITS) - 1)) as usize)
+}
+
+/// The children a search met but has not visited yet, latest first, each with a lower bound of
+/// what it can hold (a squared distance, a ray parameter) rounded down to an `f32` above it.
+struct Pending {
+    entries: [u64; MAX_DEPTH],
+    depth: usize,
+}
+
+impl Pending {
+    fn new() -> Self {
+        Pending { entries: [0; MAX_DEPTH], depth: 0 }
+    }
+
+    fn push(&mut self, reference: u32, bound: f64) {
+        self.entries[self.depth] = u64::from(down(bound).max(0.0).to_bits()) << 32 | u64::from(reference);
+        self.depth += 1;
+    }
+
+    /// The latest pending child whose bound `keep` accepts, dropping those it does not; `None`
+    /// when none is left.
+    fn pop(&mut self, keep: impl Fn(f64) -> bool) -> Option<u32> {
+        while self.depth > 0 {
+            self.depth -= 1;
+            let entry = self.entries[self.depth];
+            if keep(f64::from(f32::from_bits((entry >> 32) as u32))) {
+                return Some(entry as u32);
+            }
+        }
+        None
+    }
+}
+
 /// `x` rounded down to an `f32`.
 fn down(x: f64) -> f32 {
     let y = x as f32;
@@ -366,16 +402,12 @@ impl SurfaceIndex {
         // A positive bound whose square underflows still admits a point at distance 0.
         let mut best = if max > 0.0 { (max * max).max(f64::from_bits(1)) } else { max * max };
         let mut found = None;
-        // Pending children nearer than the best when met: the reference, the box's squared
-        // distance rounded down to an `f32` above it.
-        let mut stack = [0u64; MAX_DEPTH];
-        let mut depth = 0;
+        let mut pending = Pending::new();
         let mut current = 0u32;
         loop {
-            let count = current >> INDEX_BITS;
-            let at = (current & ((1 << INDEX_BITS) - 1)) as usize;
+            let (count, at) = decode(current);
             if count > 0 {
-                for slot in at..at + count as usize {
+                for slot in at..at + count {
                     let [a, b, c] = self.corners[slot];
                     let (projection, location) = Triangle::new(a, b, c).project_local_point_and_get_location(q, false);
                     let d = (projection.point - q).length_squared();
@@ -392,24 +424,16 @@ impl SurfaceIndex {
                 let ((near, dn), (far, df)) = if d1 < d0 { ((1, d1), (0, d0)) } else { ((0, d0), (1, d1)) };
                 if dn < best {
                     if df < best {
-                        stack[depth] = u64::from(down(df).to_bits()) << 32 | u64::from(w.child[far]);
-                        depth += 1;
+                        pending.push(w.child[far], df);
                     }
                     current = w.child[near];
                     continue;
                 }
             }
             // The next pending child still nearer than the best triangle.
-            loop {
-                if depth == 0 {
-                    return found;
-                }
-                depth -= 1;
-                let entry = stack[depth];
-                if f64::from(f32::from_bits((entry >> 32) as u32)) < best {
-                    current = entry as u32;
-                    break;
-                }
+            match pending.pop(|d| d < best) {
+                Some(next) => current = next,
+                None => return found,
             }
         }
     }
@@ -501,16 +525,12 @@ impl SurfaceIndex {
         let inverse = DVec3::ONE / direction;
         let mut best = max;
         let mut found: Option<(f64, usize)> = None;
-        // Pending children the ray meets before the best hit: the reference, where it enters
-        // the box rounded down to an `f32` above it.
-        let mut stack = [0u64; MAX_DEPTH];
-        let mut depth = 0;
+        let mut pending = Pending::new();
         let mut current = 0u32;
         loop {
-            let count = current >> INDEX_BITS;
-            let at = (current & ((1 << INDEX_BITS) - 1)) as usize;
+            let (count, at) = decode(current);
             if count > 0 {
-                for slot in at..at + count as usize {
+                for slot in at..at + count {
                     let [a, b, c] = self.corners[slot];
                     if let Some(t) = Triangle::new(a, b, c).cast_local_ray(&ray, best, false)
                         && (found.is_none() || t < best)
@@ -524,8 +544,7 @@ impl SurfaceIndex {
                 match (w.entry(0, origin, inverse, best), w.entry(1, origin, inverse, best)) {
                     (Some(t0), Some(t1)) => {
                         let ((near, _), (far, tf)) = if t1 < t0 { ((1, t1), (0, t0)) } else { ((0, t0), (1, t1)) };
-                        stack[depth] = u64::from(down(tf).max(0.0).to_bits()) << 32 | u64::from(w.child[far]);
-                        depth += 1;
+                        pending.push(w.child[far], tf);
                         current = w.child[near];
                         continue;
                     }
@@ -540,16 +559,10 @@ impl SurfaceIndex {
                     (None, None) => {}
                 }
             }
-            loop {
-                if depth == 0 {
-                    return found;
-                }
-                depth -= 1;
-                let entry = stack[depth];
-                if f64::from(f32::from_bits((entry >> 32) as u32)) <= best {
-                    current = entry as u32;
-                    break;
-                }
+            // The next pending child the ray enters before the best hit.
+            match pending.pop(|t| t <= best) {
+                Some(next) => current = next,
+                None => return found,
             }
         }
     }
