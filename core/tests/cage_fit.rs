@@ -486,3 +486,36 @@ fn staged_simplification_keeps_the_topology_and_the_closeness_of_one_stage() {
     assert_eq!(bits(&single.cage), bits(&two.cage));
     assert_eq!(single.dense_vertex, two.dense_vertex);
 }
+
+#[test]
+fn staged_simplification_of_an_open_mesh_keeps_its_border_in_place() {
+    use taut_core::cage_fit::simplify::simplify_staged;
+    // The upper half of a 20,480-triangle sphere: one border loop, cut across by the halves.
+    let (p, t) = icosphere(5, |d| d);
+    let t: Vec<[u32; 3]> = t.into_iter().filter(|tri| tri.iter().all(|&i| p[i as usize].z > -0.05)).collect();
+    let dense = DenseMesh::from_triangles(p.clone(), &t).unwrap();
+    assert!(!dense.is_closed());
+    let one = simplify_staged(&dense, 400, usize::MAX).unwrap();
+    let two = simplify_staged(&dense, 400, 1000).unwrap();
+    let bits = |m: &PolyMesh| m.positions().iter().map(|q| q.to_array().map(f64::to_bits)).collect::<Vec<_>>();
+    assert_ne!(bits(&one.cage), bits(&two.cage), "the first stage ran");
+    // Every border vertex of the input is a border vertex of both cages, at its exact position.
+    let dense_border: std::collections::BTreeSet<[u64; 3]> = {
+        let mesh = PolyMesh::from_polygons(p.clone(), &t).unwrap();
+        mesh.vertices()
+            .filter(|&v| mesh.is_boundary_vertex(v))
+            .map(|v| mesh.position(v).to_array().map(f64::to_bits))
+            .collect()
+    };
+    for s in [&one, &two] {
+        let cage = &s.cage;
+        let border: std::collections::BTreeSet<[u64; 3]> = cage
+            .vertices()
+            .filter(|&v| cage.is_boundary_vertex(v))
+            .map(|v| cage.position(v).to_array().map(f64::to_bits))
+            .collect();
+        assert_eq!(border, dense_border);
+        // A disc: V − E + F = 1.
+        assert_eq!(cage.vertex_count() as i64 - cage.edge_count() as i64 + cage.face_count() as i64, 1);
+    }
+}
