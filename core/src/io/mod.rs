@@ -23,6 +23,7 @@ pub mod points;
 pub mod soup;
 pub mod stl;
 pub mod weld;
+mod weld_soup;
 
 pub use glb::export_glb;
 pub use obj::{export_obj, export_obj_with};
@@ -158,7 +159,32 @@ pub fn import_mesh_with(path: &Path, options: &ImportOptions) -> Result<(PolyMes
 /// manifold still arrives (for [`DenseMesh`](crate::cage_fit::DenseMesh), which repairs it).
 /// Polygons are split into fans of triangles from their first corner.
 pub fn import_triangles(path: &Path, options: &ImportOptions) -> Result<(Vec<DVec3>, Vec<[u32; 3]>, ImportReport)> {
-    let soup = read_soup(path, options)?;
+    if MeshFormat::from_path(path)? == MeshFormat::Stl {
+        // A binary STL's corners are welded as they are; its `f32` extent is never below
+        // [`MIN_MODEL_SIZE`].
+        let soup = match stl::read_stl_content(path)? {
+            stl::StlContent::Binary { triangles, warnings } => {
+                let faces = triangles.len();
+                let (positions, triangles, mut report) =
+                    weld_soup::weld_triangle_soup(&triangles).map_err(|e| Error::format(path, e.to_string()))?;
+                if triangles.is_empty() {
+                    return Err(Error::format(path, format!("no faces: the file has {faces} usable polygons")));
+                }
+                let mut all = warnings;
+                all.append(&mut report.warnings);
+                report.warnings = all;
+                return Ok((positions, triangles, report));
+            }
+            stl::StlContent::Ascii(soup) => soup,
+        };
+        check_size(path, &soup.positions)?;
+        return triangles_of(path, soup);
+    }
+    triangles_of(path, read_soup(path, options)?)
+}
+
+/// Welds a soup and splits its polygons into fans of triangles (see [`import_triangles`]).
+fn triangles_of(path: &Path, soup: Soup) -> Result<(Vec<DVec3>, Vec<[u32; 3]>, ImportReport)> {
     let faces = soup.faces.len();
     let welded = weld_faces(&soup.positions, &soup.faces).map_err(|e| Error::format(path, e.to_string()))?;
     drop(soup.faces);

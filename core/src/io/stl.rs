@@ -15,6 +15,7 @@
 
 use super::soup::Soup;
 use crate::{DVec3, Error, Result};
+use rayon::prelude::*;
 use std::path::Path;
 
 /// Bytes per triangle record of a binary STL.
@@ -28,8 +29,33 @@ pub(crate) fn read_stl(path: &Path) -> Result<Soup> {
     parse_stl(&bytes, path)
 }
 
+/// What an STL file holds: a binary file's triangles as their `f32` corners (welded by
+/// [`weld_triangle_soup`](super::weld_soup::weld_triangle_soup) without a soup in between), or an
+/// ASCII file's soup.
+pub(crate) enum StlContent {
+    Binary { triangles: Vec<[[f32; 3]; 3]>, warnings: Vec<String> },
+    Ascii(Soup),
+}
+
+/// Reads an STL file as its triangles ([`StlContent`]).
+pub(crate) fn read_stl_content(path: &Path) -> Result<StlContent> {
+    let bytes = super::file::read_regular_file(path)?;
+    parse_stl_content(&bytes, path)
+}
+
 /// Parses STL bytes; `origin` names the file in messages.
 pub(crate) fn parse_stl(bytes: &[u8], origin: &Path) -> Result<Soup> {
+    Ok(match parse_stl_content(bytes, origin)? {
+        StlContent::Binary { triangles, warnings } => {
+            let positions = triangles.iter().flatten().map(|p| DVec3::from_array(p.map(f64::from))).collect();
+            let faces = (0..triangles.len() as u32).map(|t| [3 * t, 3 * t + 1, 3 * t + 2]).collect();
+            Soup { positions, faces, warnings }
+        }
+        StlContent::Ascii(soup) => soup,
+    })
+}
+
+fn parse_stl_content(bytes: &[u8], origin: &Path) -> Result<StlContent> {
     let fail = |m: String| Error::format(origin, m);
     if bytes.is_empty() {
         return Err(fail("the file is empty".into()));
@@ -49,7 +75,7 @@ pub(crate) fn parse_stl(bytes: &[u8], origin: &Path) -> Result<Soup> {
         (Some(n), Some(Some(size))) if size == bytes.len() || (!looks_ascii && size < bytes.len()) => {
             parse_binary(bytes, n, size, origin)
         }
-        _ if looks_ascii => parse_ascii(&String::from_utf8_lossy(text), origin),
+        _ if looks_ascii => Ok(StlContent::Ascii(parse_ascii(&String::from_utf8_lossy(text), origin)?)),
         (Some(n), _) => Err(fail(format!(
             "truncated binary STL: the header declares {n} triangles ({} bytes) but the file has {} bytes",
             n.saturating_mul(RECORD).saturating_add(HEADER),
@@ -62,32 +88,29 @@ pub(crate) fn parse_stl(bytes: &[u8], origin: &Path) -> Result<Soup> {
     }
 }
 
-fn parse_binary(bytes: &[u8], count: usize, size: usize, origin: &Path) -> Result<Soup> {
-    let mut soup = Soup { positions: Vec::with_capacity(3 * count), ..Soup::default() };
-    let f32_at = |k: usize| f32::from_le_bytes([bytes[k], bytes[k + 1], bytes[k + 2], bytes[k + 3]]);
-    for t in 0..count {
-        let record = HEADER + t * RECORD;
-        for corner in 0..3 {
-            let at = record + 12 + 12 * corner;
-            let p = DVec3::new(f64::from(f32_at(at)), f64::from(f32_at(at + 4)), f64::from(f32_at(at + 8)));
-            if !p.is_finite() {
-                return Err(Error::format(
-                    origin,
-                    format!(
-                        "triangle {t} has a non-finite corner ({:?}); every coordinate must be a finite number",
-                        p.to_array()
-                    ),
-                ));
-            }
-            soup.positions.push(p);
-        }
-        let base = 3 * t as u32;
-        soup.faces.push([base, base + 1, base + 2]);
+fn parse_binary(bytes: &[u8], count: usize, size: usize, origin: &Path) -> Result<StlContent> {
+    let records = &bytes[HEADER..size];
+    let f32_at = |r: &[u8], k: usize| f32::from_le_bytes([r[k], r[k + 1], r[k + 2], r[k + 3]]);
+    let triangles: Vec<[[f32; 3]; 3]> = records
+        .par_chunks_exact(RECORD)
+        .map(|r| [0, 1, 2].map(|corner| [0, 1, 2].map(|axis| f32_at(r, 12 + 12 * corner + 4 * axis))))
+        .collect();
+    let finite = |t: &[[f32; 3]; 3]| t.iter().flatten().all(|x| x.is_finite());
+    if let Some(t) = triangles.par_iter().position_first(|t| !finite(t)) {
+        let p = triangles[t].iter().find(|p| !p.iter().all(|x| x.is_finite())).expect("a corner is not finite");
+        return Err(Error::format(
+            origin,
+            format!(
+                "triangle {t} has a non-finite corner ({:?}); every coordinate must be a finite number",
+                p.map(f64::from)
+            ),
+        ));
     }
+    let mut warnings = Vec::new();
     if size < bytes.len() {
-        soup.warnings.push(format!("ignored {} bytes after the {count} declared triangles", bytes.len() - size));
+        warnings.push(format!("ignored {} bytes after the {count} declared triangles", bytes.len() - size));
     }
-    Ok(soup)
+    Ok(StlContent::Binary { triangles, warnings })
 }
 
 fn parse_ascii(text: &str, origin: &Path) -> Result<Soup> {

@@ -34,9 +34,9 @@ use std::fmt;
 use std::path::Path;
 
 /// How many cases of one kind of repair are listed by face in the warnings.
-const LISTED_CASES: usize = 5;
+pub(super) const LISTED_CASES: usize = 5;
 
-const NONE: u32 = u32::MAX;
+pub(super) const NONE: u32 = u32::MAX;
 
 /// What an import changed on the way from the file to the cage, and what it skipped.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
@@ -498,7 +498,7 @@ fn first_at_same_position_searching(positions: &[DVec3], linear: usize) -> Vec<u
 }
 
 /// splitmix64's finaliser: a cheap hash whose every output bit depends on every input bit.
-fn mix(mut x: u64) -> u64 {
+pub(super) fn mix(mut x: u64) -> u64 {
     x = (x ^ (x >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
     x = (x ^ (x >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
     x ^ (x >> 31)
@@ -593,22 +593,22 @@ fn numbering_note(e: Error, welded: usize) -> String {
 
 /// The first few repairs of each kind, listed by face.
 #[derive(Default)]
-struct Listed {
-    repaired: Vec<String>,
-    dropped: Vec<String>,
-    duplicate: Vec<String>,
-    apart: Vec<String>,
+pub(super) struct Listed {
+    pub(super) repaired: Vec<String>,
+    pub(super) dropped: Vec<String>,
+    pub(super) duplicate: Vec<String>,
+    pub(super) apart: Vec<String>,
 }
 
 /// Lists one more case unless enough of its kind are listed already.
-fn note(list: &mut Vec<String>, message: impl FnOnce() -> String) {
+pub(super) fn note(list: &mut Vec<String>, message: impl FnOnce() -> String) {
     if list.len() < LISTED_CASES {
         list.push(message());
     }
 }
 
 impl Listed {
-    fn finish(self, report: &ImportReport) -> Vec<String> {
+    pub(super) fn finish(self, report: &ImportReport) -> Vec<String> {
         let mut out = Vec::new();
         for (list, total) in [
             (self.repaired, report.repaired_faces),
