@@ -281,11 +281,18 @@ fn plan(keys: &[u64], start: usize, end: usize, plan_out: &mut Vec<Plan>) -> usi
 
 /// The tree over slots `start..end` in depth-first order, appended to `out` (its own node
 /// offsets are relative, so it can be moved as a block).
-fn build(keys: &[u64], boxes: &[(DVec3, DVec3)], start: usize, end: usize, out: &mut Vec<Node>) -> (DVec3, DVec3) {
+/// The slots' triangles, whose boxes (widened by `pad`) the leaves take.
+struct Boxes<'a> {
+    corners: &'a [[Vector; 3]],
+    pad: f64,
+}
+
+fn build(keys: &[u64], boxes: &Boxes<'_>, start: usize, end: usize, out: &mut Vec<Node>) -> (DVec3, DVec3) {
     if end - start <= LEAF {
-        let (lo, hi) = boxes[start..end]
+        let (lo, hi) = boxes.corners[start..end]
             .iter()
-            .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), (a, b)| (lo.min(*a), hi.max(*b)));
+            .map(|c| triangle_box(c, boxes.pad))
+            .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), (a, b)| (lo.min(a), hi.max(b)));
         out.push(Node { lo, hi, at: start as u32, count: (end - start) as u32 });
         return (lo, hi);
     }
@@ -348,14 +355,18 @@ impl SurfaceIndex {
             return Err(fail(format!("triangle {t} refers to a vertex past the {} given", positions.len())));
         }
         let centroid = |t: &[u32; 3]| t.iter().map(|&v| positions[v as usize]).sum::<DVec3>() / 3.0;
-        let centroids: Vec<DVec3> = triangles.par_iter().map(centroid).collect();
-        let finite: Vec<DVec3> = centroids.iter().copied().filter(|c| c.is_finite()).collect();
-        let (lo, hi) = crate::mesh::bounding_box(&finite).unwrap_or((DVec3::ZERO, DVec3::ZERO));
+        // The box of the finite centroids.
+        let (lo, hi) = triangles
+            .par_iter()
+            .map(centroid)
+            .filter(|c| c.is_finite())
+            .fold(|| (DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), c| (lo.min(c), hi.max(c)))
+            .reduce(|| (DVec3::INFINITY, DVec3::NEG_INFINITY), |(a, b), (c, d)| (a.min(c), b.max(d)));
+        let (lo, hi) = if lo.x <= hi.x { (lo, hi) } else { (DVec3::ZERO, DVec3::ZERO) };
         let extent = (hi - lo).max_element();
         let scale = if extent > 0.0 && extent.is_finite() { f64::from((1u32 << 21) - 1) / extent } else { 0.0 };
         let mut keyed: Vec<(u64, u32)> =
-            centroids.par_iter().enumerate().map(|(t, c)| (morton(*c, lo, scale), t as u32)).collect();
-        drop((centroids, finite));
+            triangles.par_iter().enumerate().map(|(t, c)| (morton(centroid(c), lo, scale), t as u32)).collect();
         keyed.par_sort_unstable();
         let (keys, ids): (Vec<u64>, Vec<u32>) = keyed.into_par_iter().unzip();
         let mut index = SurfaceIndex {
@@ -367,8 +378,7 @@ impl SurfaceIndex {
             pad: padding(positions),
         };
         index.corners = index.slot_corners(positions);
-        let pad = index.pad;
-        let boxes: Vec<(DVec3, DVec3)> = index.corners.par_iter().map(|c| triangle_box(c, pad)).collect();
+        let boxes = Boxes { corners: &index.corners, pad: index.pad };
 
         let mut planned = Vec::new();
         let root = plan(&keys, 0, keys.len(), &mut planned);
