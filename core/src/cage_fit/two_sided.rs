@@ -202,7 +202,7 @@ pub fn round(
             ((1.0 + relative * relative) / count as f64).sqrt()
         })
         .collect();
-    let system = PullSystem::new(sampling, &pulls.rows, &scale);
+    let system = PullSystem { sampling, pulls: &pulls.rows, scale: &scale };
     let goals: Vec<DVec3> = pulls.goals.iter().zip(&scale).map(|(g, s)| *g * *s).collect();
     let mut moved = x.to_vec();
     let steps = least_squares_scaled(&system, &system.column_scales(), &goals, &mut moved, 1e-4, iterations);
@@ -225,21 +225,9 @@ struct PullSystem<'a> {
     sampling: &'a Sampling,
     pulls: &'a [([u32; 3], [f64; 3])],
     scale: &'a [f64],
-    /// The scaled pulls transposed: per sample, the pulls on it with their scaled weights in
-    /// ascending order, so the transposed product gathers in parallel what a scatter over the
-    /// pulls in order would add, bit for bit.
-    gather: SparseRows,
 }
 
-impl<'a> PullSystem<'a> {
-    fn new(sampling: &'a Sampling, pulls: &'a [([u32; 3], [f64; 3])], scale: &'a [f64]) -> Self {
-        let mut scaled = SparseRows::with_columns(sampling.rows.row_count());
-        for ((corners, weights), &s) in pulls.iter().zip(scale) {
-            scaled.push_row(corners.iter().zip(weights).filter(|(_, w)| **w != 0.0).map(|(&c, &w)| (c, s * w)));
-        }
-        PullSystem { sampling, pulls, scale, gather: scaled.transpose() }
-    }
-
+impl PullSystem<'_> {
     /// Per cage vertex, `1 / √d` with `d` an estimate of the normal matrix's diagonal entry (the
     /// squared norm of the vertex's column), for [`least_squares_scaled`]: each sample's row
     /// squared, weighted by the squared coefficients of the pulls on that sample. A backward
@@ -284,18 +272,15 @@ impl LinearMap for PullSystem<'_> {
     }
 
     fn apply_transposed(&self, y: &[DVec3]) -> Vec<DVec3> {
-        let at_samples: Vec<DVec3> = (0..self.gather.row_count())
-            .into_par_iter()
-            .with_min_len(1024)
-            .map(|j| self.gather.apply_row(j, y))
-            .collect();
-        // A few long rows (a cage vertex gathers from every sample near it).
-        let transposed = &self.sampling.transposed;
-        (0..transposed.row_count())
-            .into_par_iter()
-            .with_min_len(64)
-            .map(|i| transposed.apply_row(i, &at_samples))
-            .collect()
+        let mut at_samples = vec![DVec3::ZERO; self.sampling.rows.row_count()];
+        for (((corners, weights), &s), &yk) in self.pulls.iter().zip(self.scale).zip(y) {
+            for (&c, &w) in corners.iter().zip(weights) {
+                if w != 0.0 {
+                    at_samples[c as usize] += (s * w) * yk;
+                }
+            }
+        }
+        self.sampling.transposed.apply(&at_samples)
     }
 }
 
@@ -375,7 +360,7 @@ mod tests {
             })
             .collect();
         let scale: Vec<f64> = (0..300).map(|k| 0.5 + (k as f64 * 0.37).sin().abs()).collect();
-        let system = PullSystem::new(&sampling, &pulls, &scale);
+        let system = PullSystem { sampling: &sampling, pulls: &pulls, scale: &scale };
         let mut dense = SparseRows::with_columns(cage.vertex_count());
         for (k, (corners, weights)) in pulls.iter().enumerate() {
             let mut row = Vec::new();
