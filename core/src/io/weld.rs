@@ -23,6 +23,10 @@
 //! read, before anything per corner is allocated, so one hostile face with millions of repeated
 //! corners fails at once.
 //!
+//! A binary STL, whose every corner is a vertex of its own, is welded by
+//! [`weld_soup`](super::weld_soup) instead: the same result, found position by position in
+//! parallel.
+//!
 //! Weak where a file relies on nearly equal positions: welding is exact, with no tolerance, so
 //! vertices that differ in the last bit stay apart and the surface stays torn there.
 
