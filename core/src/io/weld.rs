@@ -24,7 +24,7 @@
 //! corners fails at once.
 //!
 //! A binary STL, whose every corner is a vertex of its own, is welded by
-//! [`weld_soup`](super::weld_soup) instead: the same result, found position by position in
+//! `io/weld_soup.rs` instead: the same result, found position by position in
 //! parallel.
 //!
 //! Weak where a file relies on nearly equal positions: welding is exact, with no tolerance, so
