@@ -198,15 +198,7 @@ pub fn weld_faces(positions: &[DVec3], faces: &FaceList) -> Result<Welded> {
     let duplicates = find_duplicates(&kept);
     if !duplicates.is_empty() {
         for &(f, g, reversed) in &duplicates {
-            report.dropped_faces += 1;
-            report.duplicate_faces += 1;
-            note(&mut listed.duplicate, || {
-                if reversed {
-                    format!("dropped face {f}: it is face {g} facing the other way")
-                } else {
-                    format!("dropped face {f}: it repeats face {g}")
-                }
-            });
+            listed.repeat(&mut report, f, g, reversed);
         }
         let gone: std::collections::HashSet<u32> = duplicates.iter().map(|d| d.0).collect();
         kept.retain(|source| !gone.contains(&source));
@@ -286,18 +278,7 @@ pub fn weld_faces(positions: &[DVec3], faces: &FaceList) -> Result<Welded> {
     report.welded = n - out_positions.len();
     let apart: Vec<usize> = (0..n).filter(|&t| fans_at_position[t] > 1).collect();
     report.kept_apart = apart.iter().map(|&t| fans_at_position[t] as usize - 1).sum();
-    if !apart.is_empty() {
-        let shown: Vec<String> =
-            apart.iter().take(LISTED_CASES).map(|&t| format!("{:?}", positions[t].to_array())).collect();
-        let more = if apart.len() > LISTED_CASES {
-            format!(" and {} more", apart.len() - LISTED_CASES)
-        } else {
-            String::new()
-        };
-        listed
-            .apart
-            .push(format!("parts only touch at {}{more}: each keeps a vertex of its own there", shown.join(", ")));
-    }
+    listed.touching(apart.len(), apart.iter().map(|&t| positions[t].to_array()));
 
     let mut out_faces = FaceList::default();
     for face in 0..kept.len() {
@@ -525,7 +506,8 @@ fn same_cycle(a: &[u32], b: &[u32]) -> Option<bool> {
 }
 
 /// Disjoint sets over corners, with path halving; the smaller index becomes the root.
-struct UnionFind {
+#[derive(Default)]
+pub(super) struct UnionFind {
     parent: Vec<u32>,
 }
 
@@ -534,7 +516,18 @@ impl UnionFind {
         UnionFind { parent: (0..n as u32).collect() }
     }
 
-    fn find(&mut self, mut x: u32) -> u32 {
+    /// Back to `n` sets of one, keeping the buffer.
+    pub(super) fn reset(&mut self, n: usize) {
+        self.parent.clear();
+        self.parent.extend(0..n as u32);
+    }
+
+    /// True when `x` is the root of its set.
+    pub(super) fn is_root(&self, x: u32) -> bool {
+        self.parent[x as usize] == x
+    }
+
+    pub(super) fn find(&mut self, mut x: u32) -> u32 {
         while self.parent[x as usize] != x {
             let grand = self.parent[self.parent[x as usize] as usize];
             self.parent[x as usize] = grand;
@@ -543,7 +536,7 @@ impl UnionFind {
         x
     }
 
-    fn union(&mut self, a: u32, b: u32) {
+    pub(super) fn union(&mut self, a: u32, b: u32) {
         let (a, b) = (self.find(a), self.find(b));
         if a != b {
             let (lo, hi) = (a.min(b), a.max(b));
@@ -612,6 +605,30 @@ pub(super) fn note(list: &mut Vec<String>, message: impl FnOnce() -> String) {
 }
 
 impl Listed {
+    /// Counts face `f` as dropped for repeating face `g`, and lists it among the first few.
+    pub(super) fn repeat(&mut self, report: &mut ImportReport, f: u32, g: u32, reversed: bool) {
+        report.dropped_faces += 1;
+        report.duplicate_faces += 1;
+        note(&mut self.duplicate, || {
+            if reversed {
+                format!("dropped face {f}: it is face {g} facing the other way")
+            } else {
+                format!("dropped face {f}: it repeats face {g}")
+            }
+        });
+    }
+
+    /// Lists the first few of `count` positions where parts only touch.
+    pub(super) fn touching(&mut self, count: usize, positions: impl Iterator<Item = [f64; 3]>) {
+        if count == 0 {
+            return;
+        }
+        let shown: Vec<String> = positions.take(LISTED_CASES).map(|p| format!("{p:?}")).collect();
+        let more = if count > LISTED_CASES { format!(" and {} more", count - LISTED_CASES) } else { String::new() };
+        self.apart
+            .push(format!("parts only touch at {}{more}: each keeps a vertex of its own there", shown.join(", ")));
+    }
+
     pub(super) fn finish(self, report: &ImportReport) -> Vec<String> {
         let mut out = Vec::new();
         for (list, total) in [

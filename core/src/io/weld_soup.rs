@@ -26,7 +26,7 @@
 //! and a kept triangle's three corners are at three. Deterministic on any number of threads: each
 //! bucket is worked on alone and everything is collected in the file's order.
 
-use super::weld::{ImportReport, LISTED_CASES, Listed, NONE, mix, note};
+use super::weld::{ImportReport, Listed, NONE, UnionFind, mix, note};
 use crate::{DVec3, Error, Result};
 use rayon::prelude::*;
 
@@ -101,15 +101,7 @@ pub(crate) fn weld_triangle_soup(triangles: &[[[f32; 3]; 3]]) -> Result<(Vec<DVe
     repeats.sort_unstable();
     for &(f, g, reversed) in &repeats {
         dropped[f as usize] = true;
-        report.dropped_faces += 1;
-        report.duplicate_faces += 1;
-        note(&mut listed.duplicate, || {
-            if reversed {
-                format!("dropped face {f}: it is face {g} facing the other way")
-            } else {
-                format!("dropped face {f}: it repeats face {g}")
-            }
-        });
+        listed.repeat(&mut report, f, g, reversed);
     }
     if !repeats.is_empty() {
         found = positions_pass(&buckets, &starts, &mut heads, &welded, &dropped);
@@ -134,18 +126,7 @@ pub(crate) fn weld_triangle_soup(triangles: &[[[f32; 3]; 3]]) -> Result<(Vec<DVe
     let mut apart: Vec<(u32, u32)> = found.into_iter().flat_map(|f| f.apart).collect();
     apart.sort_unstable();
     report.kept_apart = apart.iter().map(|&(_, fans)| fans as usize - 1).sum();
-    if !apart.is_empty() {
-        let shown: Vec<String> =
-            apart.iter().take(LISTED_CASES).map(|&(c, _)| format!("{:?}", corner(c).map(f64::from))).collect();
-        let more = if apart.len() > LISTED_CASES {
-            format!(" and {} more", apart.len() - LISTED_CASES)
-        } else {
-            String::new()
-        };
-        listed
-            .apart
-            .push(format!("parts only touch at {}{more}: each keeps a vertex of its own there", shown.join(", ")));
-    }
+    listed.touching(apart.len(), apart.iter().map(|&(c, _)| corner(c).map(f64::from)));
     let out: Vec<[u32; 3]> = (0..triangles.len())
         .into_par_iter()
         .filter(|&f| !dropped[f])
@@ -222,7 +203,7 @@ struct Fans {
     /// The live corners by the position they run to (next) and come from (previous).
     out: Vec<(u32, u32)>,
     into: Vec<(u32, u32)>,
-    parent: Vec<u32>,
+    sets: UnionFind,
     /// Triangles whose smallest position this is: (other two positions in order, triangle, next).
     smallest: Vec<(u32, u32, u32, u32)>,
 }
@@ -261,8 +242,7 @@ impl Fans {
                 repeats.extend(same[1..].iter().map(|&(_, _, f, next)| (f, first, next != first_next)));
             }
         }
-        self.parent.clear();
-        self.parent.extend(0..run.len() as u32);
+        self.sets.reset(run.len());
         // Edge a–b joins two corners here when it is used once each way: once running to b
         // (out) and once coming from b (into).
         let live = &self.live;
@@ -271,7 +251,7 @@ impl Fans {
                 if live.iter().filter(|e| e.0 == next).count() == 1 {
                     let mut from = live.iter().filter(|e| e.1 == next);
                     if let (Some(e), None) = (from.next(), from.next()) {
-                        union(&mut self.parent, i, e.2);
+                        self.sets.union(i, e.2);
                     }
                 }
             }
@@ -291,7 +271,7 @@ impl Fans {
                 }
                 let from = self.into[j..].iter().take_while(|e| e.0 == b).count();
                 if end - i == 1 && from == 1 {
-                    union(&mut self.parent, self.out[i].1, self.into[j].1);
+                    self.sets.union(self.out[i].1, self.into[j].1);
                 }
                 i = end;
             }
@@ -300,7 +280,7 @@ impl Fans {
         self.head.resize(run.len(), NONE);
         let mut count = 0;
         for &(_, _, i) in &self.live {
-            let root = find(&mut self.parent, i);
+            let root = self.sets.find(i);
             if root == i {
                 count += 1;
             }
@@ -311,25 +291,7 @@ impl Fans {
 
     /// The first corner of each fan found last.
     fn heads(&self) -> impl Iterator<Item = u32> + '_ {
-        self.live.iter().filter(|e| self.parent[e.2 as usize] == e.2).map(|e| self.head[e.2 as usize])
-    }
-}
-
-fn find(parent: &mut [u32], mut x: u32) -> u32 {
-    while parent[x as usize] != x {
-        let grand = parent[parent[x as usize] as usize];
-        parent[x as usize] = grand;
-        x = grand;
-    }
-    x
-}
-
-/// Joins two sets; the smaller index (the earlier corner) becomes the root.
-fn union(parent: &mut [u32], a: u32, b: u32) {
-    let (a, b) = (find(parent, a), find(parent, b));
-    if a != b {
-        let (lo, hi) = (a.min(b), a.max(b));
-        parent[hi as usize] = lo;
+        self.live.iter().filter(|e| self.sets.is_root(e.2)).map(|e| self.head[e.2 as usize])
     }
 }
 
