@@ -4,10 +4,10 @@
 //!
 //! The build sorts the triangles by the Morton code of their centroids and splits each range
 //! where the codes' highest differing bit changes (a linear BVH, Lauterbach et al. 2009, built
-//! top down), with up to [`LEAF`] triangles in a leaf. The ranges above [`PARALLEL`] triangles
-//! are planned on one thread (binary searches only) and the subtrees below them built side by
-//! side, so a million triangles index in a fraction of what parry's one-thread binned build
-//! takes. The tree is a function of the sorted codes alone: the same on any number of threads.
+//! top down), with up to `LEAF` triangles in a leaf. The ranges above `PARALLEL` triangles are
+//! planned on one thread (binary searches only) and the subtrees below them built side by side,
+//! so a million triangles index in a fraction of what parry's one-thread binned build takes.
+//! The tree is a function of the sorted codes alone: the same on any number of threads.
 //!
 //! The searches read a copy of the tree laid out for memory: each inner node holds both
 //! children's boxes in `f32` (rounded outwards) in one 64-byte cache line, so a step down costs
@@ -24,14 +24,20 @@
 //!
 //! parry's own vector type is `glam` of another version than Taut's, so points cross the
 //! boundary as plain coordinates.
+//!
+//! This file holds the index and its searches; `tree.rs` the hierarchy: its nodes, their search
+//! layout, the searches' pending stack, and the build.
 
 use crate::{DVec3, Error, Result};
 use parry3d_f64::math::Vector;
 use parry3d_f64::query::{PointQueryWithLocation, Ray, RayCast};
 use parry3d_f64::shape::Triangle;
 use rayon::prelude::*;
+use tree::{MAX_TRIANGLES, Node, Pending, Wide, decode, hierarchy, morton, refit};
 
-/// Consecutive queries of a [`coherent_blocks`] block: each after the first is bounded by its
+mod tree;
+
+/// Consecutive queries of a [`coherent_order`] block: each after the first is bounded by its
 /// predecessor's answer.
 pub const BLOCK: usize = 32;
 
@@ -47,155 +53,6 @@ pub fn coherent_order(points: &[DVec3]) -> Vec<u32> {
         points.par_iter().enumerate().map(|(i, p)| (morton(*p, lo, scale), i as u32)).collect();
     keyed.par_sort_unstable();
     keyed.into_iter().map(|(_, i)| i).collect()
-}
-
-/// The most triangles in a leaf of the hierarchy.
-const LEAF: usize = 4;
-/// Ranges of more triangles than this are planned on one thread; the subtrees below them are
-/// built side by side.
-const PARALLEL: usize = 1 << 14;
-/// Deeper than any tree the build makes: each split either consumes a bit of the 63-bit codes or
-/// halves a range of more than [`LEAF`] equal codes (fewer than 29 times below [`MAX_TRIANGLES`]),
-/// and a search keeps at most one pending node per level.
-const MAX_DEPTH: usize = 96;
-/// The most triangles an index takes: a child reference keeps 29 bits for a slot.
-const MAX_TRIANGLES: usize = 1 << 29;
-/// A child reference's index bits; the three above them hold a leaf's triangle count (0 for an
-/// inner node).
-const INDEX_BITS: u32 = 29;
-const _: () = assert!(LEAF < 1 << (32 - INDEX_BITS), "a leaf's count must fit above the index bits");
-
-/// A node of the hierarchy, in depth-first order: an inner node's left child follows it, its
-/// right child is `at` nodes further on; a leaf holds the `count` triangles from slot `at`.
-#[derive(Clone, Copy, Debug)]
-struct Node {
-    lo: DVec3,
-    hi: DVec3,
-    at: u32,
-    count: u32,
-}
-
-impl Node {
-    /// The parameter where the ray enters the box, if it meets it at some `t` in `0..=max`.
-    fn entry(&self, origin: DVec3, inverse: DVec3, max: f64) -> Option<f64> {
-        let (mut near, mut far) = (0.0f64, max);
-        for k in 0..3 {
-            let (o, inv) = (origin[k], inverse[k]);
-            if inv.is_infinite() {
-                // Parallel to this pair of planes: in between them or never.
-                if o < self.lo[k] || o > self.hi[k] {
-                    return None;
-                }
-                continue;
-            }
-            let (a, b) = ((self.lo[k] - o) * inv, (self.hi[k] - o) * inv);
-            near = near.max(a.min(b));
-            far = far.min(a.max(b));
-        }
-        (near <= far).then_some(near)
-    }
-}
-
-/// An inner node as the searches read it: both children's boxes in one cache line (`f32`,
-/// rounded outwards, so a box never shrinks), and a reference to each ([`INDEX_BITS`]).
-#[derive(Clone, Copy, Debug)]
-#[repr(C, align(64))]
-struct Wide {
-    lo: [[f32; 3]; 2],
-    hi: [[f32; 3]; 2],
-    child: [u32; 2],
-}
-
-impl Wide {
-    /// The squared distance from `p` to child `k`'s box (a lower bound of the exact one).
-    fn distance_squared(&self, k: usize, p: DVec3) -> f64 {
-        let (lo, hi) = (DVec3::from(self.lo[k].map(f64::from)), DVec3::from(self.hi[k].map(f64::from)));
-        (lo - p).max(p - hi).max(DVec3::ZERO).length_squared()
-    }
-
-    /// Where the ray enters child `k`'s box, if it meets it at some `t` in `0..=max`.
-    fn entry(&self, k: usize, origin: DVec3, inverse: DVec3, max: f64) -> Option<f64> {
-        let (lo, hi) = (DVec3::from(self.lo[k].map(f64::from)), DVec3::from(self.hi[k].map(f64::from)));
-        Node { lo, hi, at: 0, count: 0 }.entry(origin, inverse, max)
-    }
-}
-
-/// A child reference's leaf triangle count (0 for an inner node) and its index ([`INDEX_BITS`]).
-fn decode(reference: u32) -> (usize, usize) {
-    ((reference >> INDEX_BITS) as usize, (reference & ((1 << INDEX_BITS) - 1)) as usize)
-}
-
-/// The children a search met but has not visited yet, latest first, each with a lower bound of
-/// what it can hold (a squared distance, a ray parameter) rounded down to an `f32` above it.
-struct Pending {
-    entries: [u64; MAX_DEPTH],
-    depth: usize,
-}
-
-impl Pending {
-    fn new() -> Self {
-        Pending { entries: [0; MAX_DEPTH], depth: 0 }
-    }
-
-    fn push(&mut self, reference: u32, bound: f64) {
-        self.entries[self.depth] = u64::from(down(bound).max(0.0).to_bits()) << 32 | u64::from(reference);
-        self.depth += 1;
-    }
-
-    /// The latest pending child whose bound `keep` accepts, dropping those it does not; `None`
-    /// when none is left.
-    fn pop(&mut self, keep: impl Fn(f64) -> bool) -> Option<u32> {
-        while self.depth > 0 {
-            self.depth -= 1;
-            let entry = self.entries[self.depth];
-            if keep(f64::from(f32::from_bits((entry >> 32) as u32))) {
-                return Some(entry as u32);
-            }
-        }
-        None
-    }
-}
-
-/// `x` rounded down to an `f32`.
-fn down(x: f64) -> f32 {
-    let y = x as f32;
-    if f64::from(y) > x { y.next_down() } else { y }
-}
-
-/// `x` rounded up to an `f32`.
-fn up(x: f64) -> f32 {
-    let y = x as f32;
-    if f64::from(y) < x { y.next_up() } else { y }
-}
-
-/// The search layout of a depth-first tree: one [`Wide`] per inner node, in the same order.
-fn widen(nodes: &[Node]) -> Vec<Wide> {
-    // An inner node's place among the inner nodes.
-    let mut rank = vec![0u32; nodes.len()];
-    let mut inner = 0;
-    for (k, n) in nodes.iter().enumerate() {
-        if n.count == 0 {
-            rank[k] = inner;
-            inner += 1;
-        }
-    }
-    let reference = |k: usize| {
-        let n = &nodes[k];
-        if n.count > 0 { n.count << INDEX_BITS | n.at } else { rank[k] }
-    };
-    let pair = |a: usize, b: usize| {
-        let (l, r) = (&nodes[a], &nodes[b]);
-        Wide {
-            lo: [l.lo, r.lo].map(|c| c.to_array().map(down)),
-            hi: [l.hi, r.hi].map(|c| c.to_array().map(up)),
-            child: [reference(a), reference(b)],
-        }
-    };
-    if nodes.len() == 1 {
-        // One leaf: a root with it on both sides (a triangle met twice is no nearer the second time).
-        return vec![pair(0, 0)];
-    }
-    nodes.par_iter().enumerate().filter(|(_, n)| n.count == 0).map(|(k, n)| pair(k + 1, k + n.at as usize)).collect()
 }
 
 /// A triangle surface ready for queries.
@@ -226,112 +83,6 @@ fn to_parry(p: DVec3) -> Vector {
 
 fn from_parry(p: Vector) -> DVec3 {
     DVec3::new(p.x, p.y, p.z)
-}
-
-/// Spreads the low 21 bits of `x` to every third bit.
-fn spread(x: u64) -> u64 {
-    let mut x = x & 0x1f_ffff;
-    x = (x | x << 32) & 0x001f_0000_0000_ffff;
-    x = (x | x << 16) & 0x001f_0000_ff00_00ff;
-    x = (x | x << 8) & 0x100f_00f0_0f00_f00f;
-    x = (x | x << 4) & 0x10c3_0c30_c30c_30c3;
-    (x | x << 2) & 0x1249_2492_4924_9249
-}
-
-/// The 63-bit Morton code of `p` in the box from `lo` scaled by `scale`; non-finite coordinates
-/// saturate.
-fn morton(p: DVec3, lo: DVec3, scale: f64) -> u64 {
-    let top = f64::from((1u32 << 21) - 1);
-    let q = ((p - lo) * scale).to_array().map(|c| if c.is_nan() { 0 } else { c.clamp(0.0, top) as u64 });
-    spread(q[0]) | spread(q[1]) << 1 | spread(q[2]) << 2
-}
-
-/// Where the sorted `keys` split: after the last key with the highest differing bit clear, or in
-/// the middle when all are equal. Both halves are non-empty for at least two keys.
-fn split(keys: &[u64]) -> usize {
-    let (first, last) = (keys[0], keys[keys.len() - 1]);
-    if first == last {
-        return keys.len() / 2;
-    }
-    let bit = 63 - (first ^ last).leading_zeros();
-    keys.partition_point(|&k| k >> bit & 1 == 0)
-}
-
-/// A subtree built on its own: its nodes (offsets relative) and its box.
-type Subtree = (Vec<Node>, (DVec3, DVec3));
-
-/// A part of the tree above the subtrees that are built side by side.
-enum Plan {
-    Inner(usize, usize),
-    Subtree(usize, usize),
-}
-
-/// Plans the range `start..end` of the sorted keys into `plan`; returns its entry.
-fn plan(keys: &[u64], start: usize, end: usize, plan_out: &mut Vec<Plan>) -> usize {
-    if end - start <= PARALLEL {
-        plan_out.push(Plan::Subtree(start, end));
-        return plan_out.len() - 1;
-    }
-    let mid = start + split(&keys[start..end]);
-    let left = plan(keys, start, mid, plan_out);
-    let right = plan(keys, mid, end, plan_out);
-    plan_out.push(Plan::Inner(left, right));
-    plan_out.len() - 1
-}
-
-/// The tree over slots `start..end` in depth-first order, appended to `out` (its own node
-/// offsets are relative, so it can be moved as a block).
-/// The slots' triangles, whose boxes (widened by `pad`) the leaves take.
-struct Boxes<'a> {
-    corners: &'a [[Vector; 3]],
-    pad: f64,
-}
-
-fn build(keys: &[u64], boxes: &Boxes<'_>, start: usize, end: usize, out: &mut Vec<Node>) -> (DVec3, DVec3) {
-    if end - start <= LEAF {
-        let (lo, hi) = boxes.corners[start..end]
-            .iter()
-            .map(|c| triangle_box(c, boxes.pad))
-            .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), (a, b)| (lo.min(a), hi.max(b)));
-        out.push(Node { lo, hi, at: start as u32, count: (end - start) as u32 });
-        return (lo, hi);
-    }
-    let at = out.len();
-    out.push(Node { lo: DVec3::ZERO, hi: DVec3::ZERO, at: 0, count: 0 });
-    let mid = start + split(&keys[start..end]);
-    let (a, b) = build(keys, boxes, start, mid, out);
-    let right = out.len();
-    let (c, d) = build(keys, boxes, mid, end, out);
-    let (lo, hi) = (a.min(c), b.max(d));
-    out[at] = Node { lo, hi, at: (right - at) as u32, count: 0 };
-    (lo, hi)
-}
-
-/// Appends the planned entry `entry` to `out`, with the subtrees built beforehand; returns its box.
-fn assemble(plan: &[Plan], entry: usize, subtrees: &mut [Option<Subtree>], out: &mut Vec<Node>) -> (DVec3, DVec3) {
-    match plan[entry] {
-        Plan::Subtree(..) => {
-            let (nodes, bounds) = subtrees[entry].take().expect("each subtree is placed once");
-            out.extend_from_slice(&nodes);
-            bounds
-        }
-        Plan::Inner(left, right) => {
-            let at = out.len();
-            out.push(Node { lo: DVec3::ZERO, hi: DVec3::ZERO, at: 0, count: 0 });
-            let (a, b) = assemble(plan, left, subtrees, out);
-            let right_at = out.len();
-            let (c, d) = assemble(plan, right, subtrees, out);
-            let (lo, hi) = (a.min(c), b.max(d));
-            out[at] = Node { lo, hi, at: (right_at - at) as u32, count: 0 };
-            (lo, hi)
-        }
-    }
-}
-
-/// The box of a triangle's corners widened by `pad`.
-fn triangle_box(c: &[Vector; 3], pad: f64) -> (DVec3, DVec3) {
-    let [a, b, c] = c.map(from_parry);
-    (a.min(b).min(c) - DVec3::splat(pad), a.max(b).max(c) + DVec3::splat(pad))
 }
 
 /// How far boxes are widened: a relative 1e-10 of the model's size and distance from the origin.
@@ -378,25 +129,7 @@ impl SurfaceIndex {
             pad: padding(positions),
         };
         index.corners = index.slot_corners(positions);
-        let boxes = Boxes { corners: &index.corners, pad: index.pad };
-
-        let mut planned = Vec::new();
-        let root = plan(&keys, 0, keys.len(), &mut planned);
-        let mut subtrees: Vec<Option<Subtree>> = planned
-            .par_iter()
-            .map(|p| match *p {
-                Plan::Subtree(start, end) => {
-                    let mut nodes = Vec::with_capacity(2 * (end - start).div_ceil(LEAF));
-                    let bounds = build(&keys, &boxes, start, end, &mut nodes);
-                    Some((nodes, bounds))
-                }
-                Plan::Inner(..) => None,
-            })
-            .collect();
-        let mut nodes = Vec::with_capacity(subtrees.iter().flatten().map(|s| s.0.len()).sum::<usize>() + planned.len());
-        assemble(&planned, root, &mut subtrees, &mut nodes);
-        index.wide = widen(&nodes);
-        index.nodes = nodes;
+        (index.nodes, index.wide) = hierarchy(&keys, &index.corners, index.pad);
         Ok(index)
     }
 
@@ -494,24 +227,7 @@ impl SurfaceIndex {
     pub fn set_positions(&mut self, positions: &[DVec3]) {
         self.pad = padding(positions);
         self.corners = self.slot_corners(positions);
-        let pad = self.pad;
-        let corners = &self.corners;
-        // Children follow their parent: from the last node back, both are refitted before it.
-        self.nodes.par_iter_mut().filter(|n| n.count > 0).for_each(|n| {
-            let slots = n.at as usize..(n.at + n.count) as usize;
-            (n.lo, n.hi) = corners[slots]
-                .iter()
-                .map(|c| triangle_box(c, pad))
-                .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), (a, b)| (lo.min(a), hi.max(b)));
-        });
-        for k in (0..self.nodes.len()).rev() {
-            if self.nodes[k].count == 0 {
-                let (left, right) = (self.nodes[k + 1], self.nodes[k + self.nodes[k].at as usize]);
-                self.nodes[k].lo = left.lo.min(right.lo);
-                self.nodes[k].hi = left.hi.max(right.hi);
-            }
-        }
-        self.wide = widen(&self.nodes);
+        self.wide = refit(&mut self.nodes, &self.corners, self.pad);
     }
 
     /// The distance from `p` to the surface.

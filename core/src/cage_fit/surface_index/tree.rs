@@ -1,0 +1,313 @@
+//! The hierarchy of a [`SurfaceIndex`](super::SurfaceIndex): its nodes as built (`f64` boxes,
+//! depth first, kept for refitting), their search layout ([`Wide`]: both children's boxes in
+//! `f32` in one cache line), the pending stack the searches share, and the parallel build over
+//! Morton-ordered triangles (see the parent module).
+
+use super::from_parry;
+use crate::DVec3;
+use parry3d_f64::math::Vector;
+use rayon::prelude::*;
+
+/// The most triangles in a leaf of the hierarchy.
+pub(super) const LEAF: usize = 4;
+/// Ranges of more triangles than this are planned on one thread; the subtrees below them are
+/// built side by side.
+pub(super) const PARALLEL: usize = 1 << 14;
+/// Deeper than any tree the build makes: each split either consumes a bit of the 63-bit codes or
+/// halves a range of more than [`LEAF`] equal codes (fewer than 29 times below [`MAX_TRIANGLES`]),
+/// and a search keeps at most one pending node per level.
+pub(super) const MAX_DEPTH: usize = 96;
+/// The most triangles an index takes: a child reference keeps 29 bits for a slot.
+pub(super) const MAX_TRIANGLES: usize = 1 << 29;
+/// A child reference's index bits; the three above them hold a leaf's triangle count (0 for an
+/// inner node).
+pub(super) const INDEX_BITS: u32 = 29;
+const _: () = assert!(LEAF < 1 << (32 - INDEX_BITS), "a leaf's count must fit above the index bits");
+
+/// A node of the hierarchy, in depth-first order: an inner node's left child follows it, its
+/// right child is `at` nodes further on; a leaf holds the `count` triangles from slot `at`.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Node {
+    lo: DVec3,
+    hi: DVec3,
+    at: u32,
+    count: u32,
+}
+
+impl Node {
+    /// The parameter where the ray enters the box, if it meets it at some `t` in `0..=max`.
+    fn entry(&self, origin: DVec3, inverse: DVec3, max: f64) -> Option<f64> {
+        let (mut near, mut far) = (0.0f64, max);
+        for k in 0..3 {
+            let (o, inv) = (origin[k], inverse[k]);
+            if inv.is_infinite() {
+                // Parallel to this pair of planes: in between them or never.
+                if o < self.lo[k] || o > self.hi[k] {
+                    return None;
+                }
+                continue;
+            }
+            let (a, b) = ((self.lo[k] - o) * inv, (self.hi[k] - o) * inv);
+            near = near.max(a.min(b));
+            far = far.min(a.max(b));
+        }
+        (near <= far).then_some(near)
+    }
+}
+
+/// An inner node as the searches read it: both children's boxes in one cache line (`f32`,
+/// rounded outwards, so a box never shrinks), and a reference to each ([`INDEX_BITS`]).
+#[derive(Clone, Copy, Debug)]
+#[repr(C, align(64))]
+pub(super) struct Wide {
+    lo: [[f32; 3]; 2],
+    hi: [[f32; 3]; 2],
+    pub(super) child: [u32; 2],
+}
+
+impl Wide {
+    /// The squared distance from `p` to child `k`'s box (a lower bound of the exact one).
+    pub(super) fn distance_squared(&self, k: usize, p: DVec3) -> f64 {
+        let (lo, hi) = (DVec3::from(self.lo[k].map(f64::from)), DVec3::from(self.hi[k].map(f64::from)));
+        (lo - p).max(p - hi).max(DVec3::ZERO).length_squared()
+    }
+
+    /// Where the ray enters child `k`'s box, if it meets it at some `t` in `0..=max`.
+    pub(super) fn entry(&self, k: usize, origin: DVec3, inverse: DVec3, max: f64) -> Option<f64> {
+        let (lo, hi) = (DVec3::from(self.lo[k].map(f64::from)), DVec3::from(self.hi[k].map(f64::from)));
+        Node { lo, hi, at: 0, count: 0 }.entry(origin, inverse, max)
+    }
+}
+
+/// A child reference's leaf triangle count (0 for an inner node) and its index ([`INDEX_BITS`]).
+pub(super) fn decode(reference: u32) -> (usize, usize) {
+    ((reference >> INDEX_BITS) as usize, (reference & ((1 << INDEX_BITS) - 1)) as usize)
+}
+
+/// The children a search met but has not visited yet, latest first, each with a lower bound of
+/// what it can hold (a squared distance, a ray parameter) rounded down to an `f32` above it.
+pub(super) struct Pending {
+    entries: [u64; MAX_DEPTH],
+    depth: usize,
+}
+
+impl Pending {
+    pub(super) fn new() -> Self {
+        Pending { entries: [0; MAX_DEPTH], depth: 0 }
+    }
+
+    pub(super) fn push(&mut self, reference: u32, bound: f64) {
+        self.entries[self.depth] = u64::from(down(bound).max(0.0).to_bits()) << 32 | u64::from(reference);
+        self.depth += 1;
+    }
+
+    /// The latest pending child whose bound `keep` accepts, dropping those it does not; `None`
+    /// when none is left.
+    pub(super) fn pop(&mut self, keep: impl Fn(f64) -> bool) -> Option<u32> {
+        while self.depth > 0 {
+            self.depth -= 1;
+            let entry = self.entries[self.depth];
+            if keep(f64::from(f32::from_bits((entry >> 32) as u32))) {
+                return Some(entry as u32);
+            }
+        }
+        None
+    }
+}
+
+/// `x` rounded down to an `f32`.
+pub(super) fn down(x: f64) -> f32 {
+    let y = x as f32;
+    if f64::from(y) > x { y.next_down() } else { y }
+}
+
+/// `x` rounded up to an `f32`.
+pub(super) fn up(x: f64) -> f32 {
+    let y = x as f32;
+    if f64::from(y) < x { y.next_up() } else { y }
+}
+
+/// The search layout of a depth-first tree: one [`Wide`] per inner node, in the same order.
+fn widen(nodes: &[Node]) -> Vec<Wide> {
+    // An inner node's place among the inner nodes.
+    let mut rank = vec![0u32; nodes.len()];
+    let mut inner = 0;
+    for (k, n) in nodes.iter().enumerate() {
+        if n.count == 0 {
+            rank[k] = inner;
+            inner += 1;
+        }
+    }
+    let reference = |k: usize| {
+        let n = &nodes[k];
+        if n.count > 0 { n.count << INDEX_BITS | n.at } else { rank[k] }
+    };
+    let pair = |a: usize, b: usize| {
+        let (l, r) = (&nodes[a], &nodes[b]);
+        Wide {
+            lo: [l.lo, r.lo].map(|c| c.to_array().map(down)),
+            hi: [l.hi, r.hi].map(|c| c.to_array().map(up)),
+            child: [reference(a), reference(b)],
+        }
+    };
+    if nodes.len() == 1 {
+        // One leaf: a root with it on both sides (a triangle met twice is no nearer the second time).
+        return vec![pair(0, 0)];
+    }
+    nodes.par_iter().enumerate().filter(|(_, n)| n.count == 0).map(|(k, n)| pair(k + 1, k + n.at as usize)).collect()
+}
+
+/// Spreads the low 21 bits of `x` to every third bit.
+pub(super) fn spread(x: u64) -> u64 {
+    let mut x = x & 0x1f_ffff;
+    x = (x | x << 32) & 0x001f_0000_0000_ffff;
+    x = (x | x << 16) & 0x001f_0000_ff00_00ff;
+    x = (x | x << 8) & 0x100f_00f0_0f00_f00f;
+    x = (x | x << 4) & 0x10c3_0c30_c30c_30c3;
+    (x | x << 2) & 0x1249_2492_4924_9249
+}
+
+/// The 63-bit Morton code of `p` in the box from `lo` scaled by `scale`; non-finite coordinates
+/// saturate.
+pub(super) fn morton(p: DVec3, lo: DVec3, scale: f64) -> u64 {
+    let top = f64::from((1u32 << 21) - 1);
+    let q = ((p - lo) * scale).to_array().map(|c| if c.is_nan() { 0 } else { c.clamp(0.0, top) as u64 });
+    spread(q[0]) | spread(q[1]) << 1 | spread(q[2]) << 2
+}
+
+/// Where the sorted `keys` split: after the last key with the highest differing bit clear, or in
+/// the middle when all are equal. Both halves are non-empty for at least two keys.
+pub(super) fn split(keys: &[u64]) -> usize {
+    let (first, last) = (keys[0], keys[keys.len() - 1]);
+    if first == last {
+        return keys.len() / 2;
+    }
+    let bit = 63 - (first ^ last).leading_zeros();
+    keys.partition_point(|&k| k >> bit & 1 == 0)
+}
+
+/// A subtree built on its own: its nodes (offsets relative) and its box.
+pub(super) type Subtree = (Vec<Node>, (DVec3, DVec3));
+
+/// A part of the tree above the subtrees that are built side by side.
+pub(super) enum Plan {
+    Inner(usize, usize),
+    Subtree(usize, usize),
+}
+
+/// Plans the range `start..end` of the sorted keys into `plan`; returns its entry.
+pub(super) fn plan(keys: &[u64], start: usize, end: usize, plan_out: &mut Vec<Plan>) -> usize {
+    if end - start <= PARALLEL {
+        plan_out.push(Plan::Subtree(start, end));
+        return plan_out.len() - 1;
+    }
+    let mid = start + split(&keys[start..end]);
+    let left = plan(keys, start, mid, plan_out);
+    let right = plan(keys, mid, end, plan_out);
+    plan_out.push(Plan::Inner(left, right));
+    plan_out.len() - 1
+}
+
+/// The tree over slots `start..end` in depth-first order, appended to `out` (its own node
+/// offsets are relative, so it can be moved as a block).
+/// The slots' triangles, whose boxes (widened by `pad`) the leaves take.
+pub(super) struct Boxes<'a> {
+    corners: &'a [[Vector; 3]],
+    pad: f64,
+}
+
+pub(super) fn build(keys: &[u64], boxes: &Boxes<'_>, start: usize, end: usize, out: &mut Vec<Node>) -> (DVec3, DVec3) {
+    if end - start <= LEAF {
+        let (lo, hi) = boxes.corners[start..end]
+            .iter()
+            .map(|c| triangle_box(c, boxes.pad))
+            .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), (a, b)| (lo.min(a), hi.max(b)));
+        out.push(Node { lo, hi, at: start as u32, count: (end - start) as u32 });
+        return (lo, hi);
+    }
+    let at = out.len();
+    out.push(Node { lo: DVec3::ZERO, hi: DVec3::ZERO, at: 0, count: 0 });
+    let mid = start + split(&keys[start..end]);
+    let (a, b) = build(keys, boxes, start, mid, out);
+    let right = out.len();
+    let (c, d) = build(keys, boxes, mid, end, out);
+    let (lo, hi) = (a.min(c), b.max(d));
+    out[at] = Node { lo, hi, at: (right - at) as u32, count: 0 };
+    (lo, hi)
+}
+
+/// Appends the planned entry `entry` to `out`, with the subtrees built beforehand; returns its box.
+pub(super) fn assemble(
+    plan: &[Plan],
+    entry: usize,
+    subtrees: &mut [Option<Subtree>],
+    out: &mut Vec<Node>,
+) -> (DVec3, DVec3) {
+    match plan[entry] {
+        Plan::Subtree(..) => {
+            let (nodes, bounds) = subtrees[entry].take().expect("each subtree is placed once");
+            out.extend_from_slice(&nodes);
+            bounds
+        }
+        Plan::Inner(left, right) => {
+            let at = out.len();
+            out.push(Node { lo: DVec3::ZERO, hi: DVec3::ZERO, at: 0, count: 0 });
+            let (a, b) = assemble(plan, left, subtrees, out);
+            let right_at = out.len();
+            let (c, d) = assemble(plan, right, subtrees, out);
+            let (lo, hi) = (a.min(c), b.max(d));
+            out[at] = Node { lo, hi, at: (right_at - at) as u32, count: 0 };
+            (lo, hi)
+        }
+    }
+}
+
+/// The box of a triangle's corners widened by `pad`.
+pub(super) fn triangle_box(c: &[Vector; 3], pad: f64) -> (DVec3, DVec3) {
+    let [a, b, c] = c.map(from_parry);
+    (a.min(b).min(c) - DVec3::splat(pad), a.max(b).max(c) + DVec3::splat(pad))
+}
+
+/// The hierarchy over the slots' triangles (`corners`, their sorted Morton `keys`), boxes widened
+/// by `pad`: the depth-first nodes, and their search layout.
+pub(super) fn hierarchy(keys: &[u64], corners: &[[Vector; 3]], pad: f64) -> (Vec<Node>, Vec<Wide>) {
+    let boxes = Boxes { corners, pad };
+    let mut planned = Vec::new();
+    let root = plan(keys, 0, keys.len(), &mut planned);
+    let mut subtrees: Vec<Option<Subtree>> = planned
+        .par_iter()
+        .map(|p| match *p {
+            Plan::Subtree(start, end) => {
+                let mut nodes = Vec::with_capacity(2 * (end - start).div_ceil(LEAF));
+                let bounds = build(keys, &boxes, start, end, &mut nodes);
+                Some((nodes, bounds))
+            }
+            Plan::Inner(..) => None,
+        })
+        .collect();
+    let mut nodes = Vec::with_capacity(subtrees.iter().flatten().map(|s| s.0.len()).sum::<usize>() + planned.len());
+    assemble(&planned, root, &mut subtrees, &mut nodes);
+    let wide = widen(&nodes);
+    (nodes, wide)
+}
+
+/// Refits the boxes of `nodes` to the slots' moved `corners` (widened by `pad`); returns the new
+/// search layout.
+pub(super) fn refit(nodes: &mut [Node], corners: &[[Vector; 3]], pad: f64) -> Vec<Wide> {
+    nodes.par_iter_mut().filter(|n| n.count > 0).for_each(|n| {
+        let slots = n.at as usize..(n.at + n.count) as usize;
+        (n.lo, n.hi) = corners[slots]
+            .iter()
+            .map(|c| triangle_box(c, pad))
+            .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), (a, b)| (lo.min(a), hi.max(b)));
+    });
+    // Children follow their parent: from the last node back, both are refitted before it.
+    for k in (0..nodes.len()).rev() {
+        if nodes[k].count == 0 {
+            let (left, right) = (nodes[k + 1], nodes[k + nodes[k].at as usize]);
+            nodes[k].lo = left.lo.min(right.lo);
+            nodes[k].hi = left.hi.max(right.hi);
+        }
+    }
+    widen(nodes)
+}
