@@ -9,18 +9,20 @@
 //! so a million triangles index in a fraction of what parry's one-thread binned build takes.
 //! The tree is a function of the sorted codes alone: the same on any number of threads.
 //!
-//! The searches read a copy of the tree laid out for memory: each inner node holds both
-//! children's boxes in `f32` (rounded outwards) in one 64-byte cache line, so a step down costs
-//! one line where two full nodes would cost two; the searches wait on memory far more than they
-//! compute, so this is most of their speed.
+//! The searches read a copy of the tree laid out for memory, four children to a node: each node
+//! of the binary tree at an even depth takes its children's children (or a child that is a
+//! leaf), their boxes in `f32` rounded outwards, by coordinate, in two cache lines. A search then
+//! takes half the steps down the binary tree's, each a node whose four boxes are tested together.
 //!
-//! A closest-point search walks the tree depth first, nearer child first, and skips every box at
+//! A closest-point search walks the tree depth first, nearest child first, and skips every box at
 //! least as far as the best triangle found (distances squared); the triangle test is parry's
-//! (Voronoi regions, so a point on an edge or corner says which). Of triangles equally far the
-//! first met wins. A ray cast walks it the same way with the boxes' slab tests. Every box is
-//! widened by a relative 1e-10 of the model's size, so rounding in a box test never hides a
-//! triangle. Queries take `&self` and are answered independently, so they run in parallel and
-//! give the same answers on any number of threads.
+//! (Voronoi regions, so a point on an edge or corner says which). Of triangles equally far, the
+//! one numbered first wins, so the answer does not depend on the tree's shape or the order it
+//! was walked in (nor on a bound given to a search, as long as the answer lies within it). A ray
+//! cast walks it the same way with the boxes' slab tests, the first hit's parameter taking the
+//! place of the distance. Every box is widened by a relative 1e-10 of the model's size, so
+//! rounding in a box test never hides a triangle. Queries take `&self` and are answered
+//! independently, so they run in parallel and give the same answers on any number of threads.
 //!
 //! parry's own vector type is `glam` of another version than Taut's, so points cross the
 //! boundary as plain coordinates.
@@ -33,7 +35,7 @@ use parry3d_f64::math::Vector;
 use parry3d_f64::query::{PointQueryWithLocation, Ray, RayCast};
 use parry3d_f64::shape::Triangle;
 use rayon::prelude::*;
-use tree::{MAX_TRIANGLES, Node, Pending, Wide, decode, hierarchy, morton, refit};
+use tree::{EMPTY, MAX_TRIANGLES, NONE, Node, Pending, Wide, decode, hierarchy, met, morton, refit};
 
 mod tree;
 
@@ -138,6 +140,12 @@ impl SurfaceIndex {
         self.ids.par_iter().map(|&t| self.triangles[t as usize].map(|v| to_parry(positions[v as usize]))).collect()
     }
 
+    /// Whether the triangle at `slot` was numbered before the one at `other`: of triangles
+    /// equally near, that one is the answer, whatever order the tree was walked in.
+    fn first(&self, slot: usize, other: usize) -> bool {
+        self.ids[slot] < self.ids[other]
+    }
+
     /// The closest triangle to `p` nearer than `max`: its slot, the point and where on the
     /// triangle it lies.
     fn nearest(&self, p: DVec3, max: f64) -> Option<(usize, Vector, [f64; 3])> {
@@ -154,7 +162,7 @@ impl SurfaceIndex {
                     let [a, b, c] = self.corners[slot];
                     let (projection, location) = Triangle::new(a, b, c).project_local_point_and_get_location(q, false);
                     let d = (projection.point - q).length_squared();
-                    if d < best {
+                    if d < best || (d == best && found.is_some_and(|(first, _, _)| self.first(slot, first))) {
                         best = d;
                         // Inside a solid cannot happen for a surface query; weigh the corners evenly.
                         let weights = location.barycentric_coordinates().unwrap_or([1.0 / 3.0; 3]);
@@ -163,13 +171,16 @@ impl SurfaceIndex {
                 }
             } else {
                 let w = &self.wide[at];
-                let (d0, d1) = (w.distance_squared(0, p), w.distance_squared(1, p));
-                let ((near, dn), (far, df)) = if d1 < d0 { ((1, d1), (0, d0)) } else { ((0, d0), (1, d1)) };
-                if dn < best {
-                    if df < best {
-                        pending.push(w.child[far], df);
-                    }
-                    current = w.child[near];
+                let d = w.distances_squared(p);
+                // On to the nearest child nearer than the best triangle, the others pending.
+                let near =
+                    std::array::from_fn(
+                        |k| {
+                            if w.child[k] != EMPTY && d[k] < best { met(w.child[k], d[k]) } else { NONE }
+                        },
+                    );
+                if let Some(next) = pending.descend(near) {
+                    current = next;
                     continue;
                 }
             }
@@ -259,36 +270,28 @@ impl SurfaceIndex {
                 for slot in at..at + count {
                     let [a, b, c] = self.corners[slot];
                     if let Some(t) = Triangle::new(a, b, c).cast_local_ray(&ray, best, false)
-                        && (found.is_none() || t < best)
+                        && found.is_none_or(|(_, first)| t < best || (t == best && self.first(slot, first)))
                     {
                         best = t;
-                        found = Some((t, self.ids[slot] as usize));
+                        found = Some((t, slot));
                     }
                 }
             } else {
                 let w = &self.wide[at];
-                match (w.entry(0, origin, inverse, best), w.entry(1, origin, inverse, best)) {
-                    (Some(t0), Some(t1)) => {
-                        let ((near, _), (far, tf)) = if t1 < t0 { ((1, t1), (0, t0)) } else { ((0, t0), (1, t1)) };
-                        pending.push(w.child[far], tf);
-                        current = w.child[near];
-                        continue;
-                    }
-                    (Some(_), None) => {
-                        current = w.child[0];
-                        continue;
-                    }
-                    (None, Some(_)) => {
-                        current = w.child[1];
-                        continue;
-                    }
-                    (None, None) => {}
+                // On to the child the ray enters first before the best hit, the others pending.
+                let entered = std::array::from_fn(|k| match w.entry(k, origin, inverse, best) {
+                    Some(t) if w.child[k] != EMPTY => met(w.child[k], t),
+                    _ => NONE,
+                });
+                if let Some(next) = pending.descend(entered) {
+                    current = next;
+                    continue;
                 }
             }
             // The next pending child the ray enters before the best hit.
             match pending.pop(|t| t <= best) {
                 Some(next) => current = next,
-                None => return found,
+                None => return found.map(|(t, slot)| (t, self.ids[slot] as usize)),
             }
         }
     }
@@ -325,6 +328,38 @@ mod tests {
             let [a, b, c] = [[0, 1, 2], [0, 2, 3]][t].map(|i| p[i]);
             assert!((w[0] * a + w[1] * b + w[2] * c - x).length() < 1e-12, "{q}: {x} in {t} at {w:?}");
             assert!((x - index.closest_point(q)).length() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn of_triangles_equally_near_the_one_numbered_first_is_the_answer() {
+        // A unit square split along its diagonal, in both orders, and as a fan of many thin
+        // triangles around its centre, where a point above the centre is equally far from all
+        // of them (the projections are exact): the answer is the triangle numbered first
+        // whichever way the tree was built and walked, bounded or not.
+        let p = vec![DVec3::ZERO, DVec3::X, DVec3::new(1.0, 1.0, 0.0), DVec3::Y];
+        let above = DVec3::new(0.5, 0.5, 1.0);
+        for triangles in [[[0, 1, 2], [0, 2, 3]], [[0, 2, 3], [0, 1, 2]]] {
+            let index = SurfaceIndex::new(&p, &triangles).unwrap();
+            assert_eq!(index.closest_on_triangle(above).1, 0, "{triangles:?}");
+            assert_eq!(index.closest_on_triangle_within(above, 1.5).map(|a| a.1), Some(0));
+            assert_eq!(index.cast_to_triangle(above, -DVec3::Z, 10.0), Some((1.0, 0)), "{triangles:?}");
+        }
+        // A fan of 64 triangles around (0, 0, 0) over a circle, numbered from a rotating start:
+        // deep enough for several levels of the hierarchy. (A cast through their shared corner
+        // meets them at parameters a rounding apart, so only closest points tie there.)
+        for start in [0usize, 17, 40, 63] {
+            let mut positions = vec![DVec3::ZERO];
+            positions.extend((0..64).map(|k| {
+                let a = std::f64::consts::TAU * k as f64 / 64.0;
+                DVec3::new(a.cos(), a.sin(), 0.0)
+            }));
+            let triangles: Vec<[u32; 3]> =
+                (0..64).map(|k| (k + start) % 64).map(|k| [0, 1 + k as u32, 1 + ((k + 1) % 64) as u32]).collect();
+            let index = SurfaceIndex::new(&positions, &triangles).unwrap();
+            let (x, t, _) = index.closest_on_triangle(DVec3::new(0.0, 0.0, 2.0));
+            assert_eq!((x, t), (DVec3::ZERO, 0), "start {start}");
+            assert_eq!(index.closest_on_triangle_within(DVec3::new(0.0, 0.0, 2.0), 2.5).map(|a| a.1), Some(0));
         }
     }
 

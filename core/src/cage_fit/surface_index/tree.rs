@@ -1,6 +1,6 @@
 //! The hierarchy of a [`SurfaceIndex`](super::SurfaceIndex): its nodes as built (`f64` boxes,
-//! depth first, kept for refitting), their search layout ([`Wide`]: both children's boxes in
-//! `f32` in one cache line), the pending stack the searches share, and the parallel build over
+//! depth first, kept for refitting), their search layout ([`Wide`]: four grandchildren's boxes
+//! in `f32` in two cache lines), the pending stack the searches share, and the parallel build over
 //! Morton-ordered triangles (see the parent module).
 
 use super::from_parry;
@@ -14,9 +14,11 @@ pub(super) const LEAF: usize = 4;
 /// built side by side.
 pub(super) const PARALLEL: usize = 1 << 14;
 /// Deeper than any tree the build makes: each split either consumes a bit of the 63-bit codes or
-/// halves a range of more than [`LEAF`] equal codes (fewer than 29 times below [`MAX_TRIANGLES`]),
-/// and a search keeps at most one pending node per level.
-pub(super) const MAX_DEPTH: usize = 96;
+/// halves a range of more than [`LEAF`] equal codes (fewer than 29 times below [`MAX_TRIANGLES`]).
+const MAX_DEPTH: usize = 96;
+/// The most children a search keeps pending: all but one of a node's at each level of the
+/// search layout, which is half as deep as the tree.
+const MAX_PENDING: usize = (WIDTH - 1) * MAX_DEPTH.div_ceil(2);
 /// The most triangles an index takes: a child reference keeps 29 bits for a slot.
 pub(super) const MAX_TRIANGLES: usize = 1 << 29;
 /// A child reference's index bits; the three above them hold a leaf's triangle count (0 for an
@@ -55,27 +57,45 @@ impl Node {
     }
 }
 
-/// An inner node as the searches read it: both children's boxes in one cache line (`f32`,
-/// rounded outwards, so a box never shrinks), and a reference to each ([`INDEX_BITS`]).
+/// Children of a node of the search layout: two levels of the binary tree in one.
+pub(super) const WIDTH: usize = 4;
+/// The reference of a child place left empty (a node of fewer than [`WIDTH`] children).
+pub(super) const EMPTY: u32 = u32::MAX;
+
+/// A node as the searches read it: the boxes of up to [`WIDTH`] children (the binary tree's
+/// grandchildren, or a child that is a leaf) by coordinate, in `f32` rounded outwards (a box
+/// never shrinks), and a reference to each ([`INDEX_BITS`]; [`EMPTY`] for none). Two cache lines.
 #[derive(Clone, Copy, Debug)]
 #[repr(C, align(64))]
 pub(super) struct Wide {
-    lo: [[f32; 3]; 2],
-    hi: [[f32; 3]; 2],
-    pub(super) child: [u32; 2],
+    lo: [[f32; WIDTH]; 3],
+    hi: [[f32; WIDTH]; 3],
+    pub(super) child: [u32; WIDTH],
 }
 
 impl Wide {
-    /// The squared distance from `p` to child `k`'s box (a lower bound of the exact one).
-    pub(super) fn distance_squared(&self, k: usize, p: DVec3) -> f64 {
-        let (lo, hi) = (DVec3::from(self.lo[k].map(f64::from)), DVec3::from(self.hi[k].map(f64::from)));
-        (lo - p).max(p - hi).max(DVec3::ZERO).length_squared()
+    /// The squared distance from `p` to each child's box (a lower bound of the exact one;
+    /// meaningless for an [`EMPTY`] child).
+    #[inline]
+    pub(super) fn distances_squared(&self, p: DVec3) -> [f64; WIDTH] {
+        let mut d = [0.0; WIDTH];
+        for (axis, &x) in p.to_array().iter().enumerate() {
+            let (lo, hi) = (self.lo[axis].map(f64::from), self.hi[axis].map(f64::from));
+            for k in 0..WIDTH {
+                // Comparisons rather than `max`, which would also order NaNs: a NaN `x` gives 0.
+                let (below, above) = (lo[k] - x, x - hi[k]);
+                let e = if below > above { below } else { above };
+                let e = if e > 0.0 { e } else { 0.0 };
+                d[k] += e * e;
+            }
+        }
+        d
     }
 
     /// Where the ray enters child `k`'s box, if it meets it at some `t` in `0..=max`.
     pub(super) fn entry(&self, k: usize, origin: DVec3, inverse: DVec3, max: f64) -> Option<f64> {
-        let (lo, hi) = (DVec3::from(self.lo[k].map(f64::from)), DVec3::from(self.hi[k].map(f64::from)));
-        Node { lo, hi, at: 0, count: 0 }.entry(origin, inverse, max)
+        let corner = |c: &[[f32; WIDTH]; 3]| DVec3::new(c[0][k].into(), c[1][k].into(), c[2][k].into());
+        Node { lo: corner(&self.lo), hi: corner(&self.hi), at: 0, count: 0 }.entry(origin, inverse, max)
     }
 }
 
@@ -87,18 +107,29 @@ pub(super) fn decode(reference: u32) -> (usize, usize) {
 /// The children a search met but has not visited yet, latest first, each with a lower bound of
 /// what it can hold (a squared distance, a ray parameter) rounded down to an `f32` above it.
 pub(super) struct Pending {
-    entries: [u64; MAX_DEPTH],
+    entries: [u64; MAX_PENDING],
     depth: usize,
 }
 
 impl Pending {
     pub(super) fn new() -> Self {
-        Pending { entries: [0; MAX_DEPTH], depth: 0 }
+        Pending { entries: [0; MAX_PENDING], depth: 0 }
     }
 
-    pub(super) fn push(&mut self, reference: u32, bound: f64) {
-        self.entries[self.depth] = u64::from(down(bound).max(0.0).to_bits()) << 32 | u64::from(reference);
-        self.depth += 1;
+    /// Of a node's children `met` by a search ([`met`], in any order; [`NONE`] for the others):
+    /// the nearest, to go on with, and the others pending, the nearer of them on top; `None`
+    /// when none was met.
+    pub(super) fn descend(&mut self, mut met: [u64; WIDTH]) -> Option<u32> {
+        // A sorting network: the same comparisons whatever the bounds, no branch to mispredict.
+        for (i, j) in [(0, 1), (2, 3), (0, 2), (1, 3), (1, 2)] {
+            (met[i], met[j]) = (met[i].min(met[j]), met[i].max(met[j]));
+        }
+        let n = met.iter().filter(|&&m| m != NONE).count();
+        for &m in met[1..n.max(1)].iter().rev() {
+            self.entries[self.depth] = m;
+            self.depth += 1;
+        }
+        (n > 0).then_some(met[0] as u32)
     }
 
     /// The latest pending child whose bound `keep` accepts, dropping those it does not; `None`
@@ -115,6 +146,17 @@ impl Pending {
     }
 }
 
+const _: () = assert!(WIDTH == 4, "the sorting network of `Pending::descend` sorts four");
+
+/// A child a search met, as it waits: its lower bound (a squared distance, a ray parameter)
+/// rounded down to a non-negative `f32`, whose bits order as the numbers do, above its reference.
+pub(super) fn met(reference: u32, bound: f64) -> u64 {
+    u64::from(down(bound).max(0.0).to_bits()) << 32 | u64::from(reference)
+}
+
+/// A child a search did not meet: after every [`met`] one.
+pub(super) const NONE: u64 = u64::MAX;
+
 /// `x` rounded down to an `f32`.
 pub(super) fn down(x: f64) -> f32 {
     let y = x as f32;
@@ -127,34 +169,60 @@ pub(super) fn up(x: f64) -> f32 {
     if f64::from(y) < x { y.next_up() } else { y }
 }
 
-/// The search layout of a depth-first tree: one [`Wide`] per inner node, in the same order.
+/// The search layout of a depth-first tree: one [`Wide`] per inner node at an even depth (the
+/// root's is 0), in the same order, whose children are its children's children (or a child
+/// that is a leaf).
 fn widen(nodes: &[Node]) -> Vec<Wide> {
-    // An inner node's place among the inner nodes.
-    let mut rank = vec![0u32; nodes.len()];
-    let mut inner = 0;
-    for (k, n) in nodes.iter().enumerate() {
-        if n.count == 0 {
-            rank[k] = inner;
-            inner += 1;
-        }
-    }
-    let reference = |k: usize| {
-        let n = &nodes[k];
-        if n.count > 0 { n.count << INDEX_BITS | n.at } else { rank[k] }
-    };
-    let pair = |a: usize, b: usize| {
-        let (l, r) = (&nodes[a], &nodes[b]);
-        Wide {
-            lo: [l.lo, r.lo].map(|c| c.to_array().map(down)),
-            hi: [l.hi, r.hi].map(|c| c.to_array().map(up)),
-            child: [reference(a), reference(b)],
-        }
-    };
+    let leaf = |n: &Node| n.count << INDEX_BITS | n.at;
+    let empty = Wide { lo: [[f32::INFINITY; WIDTH]; 3], hi: [[f32::NEG_INFINITY; WIDTH]; 3], child: [EMPTY; WIDTH] };
     if nodes.len() == 1 {
-        // One leaf: a root with it on both sides (a triangle met twice is no nearer the second time).
-        return vec![pair(0, 0)];
+        // One leaf: a root with it as the only child.
+        let mut root = empty;
+        root.child[0] = leaf(&nodes[0]);
+        for axis in 0..3 {
+            root.lo[axis][0] = down(nodes[0].lo[axis]);
+            root.hi[axis][0] = up(nodes[0].hi[axis]);
+        }
+        return vec![root];
     }
-    nodes.par_iter().enumerate().filter(|(_, n)| n.count == 0).map(|(k, n)| pair(k + 1, k + n.at as usize)).collect()
+    // Children follow their parent: depths (their parity) in one pass, then the even inner
+    // nodes' places among themselves.
+    let mut even = vec![false; nodes.len()];
+    even[0] = true;
+    let mut rank = vec![0u32; nodes.len()];
+    let mut heads = 0;
+    for k in 0..nodes.len() {
+        if nodes[k].count == 0 {
+            let odd = !even[k];
+            even[k + 1] = odd;
+            even[k + nodes[k].at as usize] = odd;
+            if even[k] {
+                rank[k] = heads;
+                heads += 1;
+            }
+        }
+    }
+    let children = |k: usize| [k + 1, k + nodes[k].at as usize];
+    nodes
+        .par_iter()
+        .enumerate()
+        .filter(|&(k, n)| n.count == 0 && even[k])
+        .map(|(k, _)| {
+            let mut wide = empty;
+            let below = children(k)
+                .into_iter()
+                .flat_map(|c| if nodes[c].count > 0 { [Some(c), None] } else { children(c).map(Some) });
+            for (place, c) in below.flatten().enumerate() {
+                let n = &nodes[c];
+                wide.child[place] = if n.count > 0 { leaf(n) } else { rank[c] };
+                for axis in 0..3 {
+                    wide.lo[axis][place] = down(n.lo[axis]);
+                    wide.hi[axis][place] = up(n.hi[axis]);
+                }
+            }
+            wide
+        })
+        .collect()
 }
 
 /// Spreads the low 21 bits of `x` to every third bit.
