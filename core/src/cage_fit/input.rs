@@ -7,8 +7,10 @@
 //! 1. drops triangles with a repeated or out-of-range corner and repeated triangles (the same
 //!    three corners in either orientation);
 //! 2. orients every connected piece consistently by a breadth-first walk over edges with two
-//!    triangles, flipping neighbours that run the same way; a closed piece enclosing a negative
-//!    volume is flipped as a whole, so every closed piece faces outward;
+//!    triangles, flipping neighbours that run the same way (when no two do, as on a clean
+//!    surface, the walk would flip nothing, and the pieces are found by joining neighbours
+//!    instead); a closed piece enclosing a negative volume is flipped as a whole, so every
+//!    closed piece faces outward;
 //! 3. cuts every edge that still is not manifold (three or more triangles, or two running the
 //!    same way, as on a Möbius band): its triangles stop being neighbours there;
 //! 4. splits every vertex whose triangles form several fans (joined only through cut edges or a
@@ -21,6 +23,7 @@
 
 use super::surface_index::SurfaceIndex;
 use crate::mesh::PolyMesh;
+use crate::mesh::union_find::UnionFind;
 use crate::{DVec3, Error, Result};
 use rayon::prelude::*;
 use serde::Serialize;
@@ -307,14 +310,7 @@ fn prepare(mut positions: Vec<DVec3>, input: &[[u32; 3]]) -> Result<DenseMesh> {
 
             // Split vertices into fans: corners (t, k) at the same vertex are one fan when joined by a
             // chain of manifold edges around it. Union–find over corners.
-            let mut parent: Vec<u32> = (0..3 * triangles.len() as u32).collect();
-            fn find(parent: &mut [u32], mut c: u32) -> u32 {
-                while parent[c as usize] != c {
-                    parent[c as usize] = parent[parent[c as usize] as usize];
-                    c = parent[c as usize];
-                }
-                c
-            }
+            let mut fans = UnionFind::new(3 * triangles.len());
             for (t, tri) in triangles.iter().enumerate() {
                 for k in 0..3 {
                     let u = across[t][k];
@@ -327,10 +323,7 @@ fn prepare(mut positions: Vec<DVec3>, input: &[[u32; 3]]) -> Result<DenseMesh> {
                         let v = tri[end];
                         let j =
                             other.iter().position(|&w| w == v).expect("a shared edge has both ends in both triangles");
-                        let (a, b) = (find(&mut parent, (3 * t + end) as u32), find(&mut parent, 3 * u + j as u32));
-                        if a != b {
-                            parent[a.max(b) as usize] = a.min(b);
-                        }
+                        fans.union((3 * t + end) as u32, 3 * u + j as u32);
                     }
                 }
             }
@@ -338,7 +331,7 @@ fn prepare(mut positions: Vec<DVec3>, input: &[[u32; 3]]) -> Result<DenseMesh> {
             let mut first_fan = vec![u32::MAX; n];
             for t in 0..triangles.len() {
                 for k in 0..3 {
-                    let root = find(&mut parent, (3 * t + k) as u32);
+                    let root = fans.find((3 * t + k) as u32);
                     let v = triangles[t][k];
                     if first_fan[v as usize] == u32::MAX {
                         first_fan[v as usize] = root;
@@ -384,18 +377,62 @@ fn prepare(mut positions: Vec<DVec3>, input: &[[u32; 3]]) -> Result<DenseMesh> {
 /// oriented triangles.
 fn orient(positions: &[DVec3], triangles: &mut [[u32; 3]]) -> (usize, EdgeUses) {
     let uses = EdgeUses::new(triangles, positions.len());
+    let mut flipped = vec![false; triangles.len()];
+    // Each triangle's piece, named by its lowest triangle: triangles joined through edges of two.
+    let piece: Vec<u32> = if uses.groups().all(|list| list.len() != 2 || is_manifold(list, triangles)) {
+        // No two neighbours run their edge the same way (a clean surface): the walk would flip
+        // nothing, and only the pieces are wanted.
+        let mut sets = UnionFind::new(triangles.len());
+        for list in uses.groups() {
+            if let [c0, c1] = *list {
+                sets.union(c0 / 3, c1 / 3);
+            }
+        }
+        (0..triangles.len() as u32).map(|t| sets.find(t)).collect()
+    } else {
+        walk(&uses, triangles, &mut flipped)
+    };
+    // A piece whose every edge has two triangles encloses a volume: make it positive. Volumes
+    // are summed over each piece's triangles in their order, about the centroid of the vertices.
+    let mut border = vec![false; triangles.len()];
+    for list in uses.groups() {
+        if list.len() != 2 {
+            for &c in list {
+                border[piece[c as usize / 3] as usize] = true;
+            }
+        }
+    }
+    let centre = positions.iter().copied().sum::<DVec3>() / positions.len().max(1) as f64;
+    let mut volume = vec![0.0; triangles.len()];
+    for (tri, &p) in triangles.iter().zip(&piece) {
+        if !border[p as usize] {
+            let [a, b, c] = tri.map(|i| positions[i as usize] - centre);
+            volume[p as usize] += a.dot(b.cross(c));
+        }
+    }
+    for (t, &p) in piece.iter().enumerate() {
+        if !border[p as usize] && volume[p as usize] < 0.0 {
+            triangles[t].swap(1, 2);
+            flipped[t] = !flipped[t];
+        }
+    }
+    let count = flipped.iter().filter(|&&f| f).count();
+    (count, uses.flipped(&flipped))
+}
+
+/// The breadth-first walk of [`orient`] over triangles whose neighbours may run their edges the
+/// same way: from each piece's lowest triangle, every neighbour across an edge of two triangles
+/// that runs it the same way is flipped (marked in `flipped`). Returns each triangle's piece,
+/// named by its lowest triangle.
+fn walk(uses: &EdgeUses, triangles: &mut [[u32; 3]], flipped: &mut [bool]) -> Vec<u32> {
     let original = triangles.to_vec();
     let mut piece = vec![u32::MAX; triangles.len()];
-    let mut flipped = vec![false; triangles.len()];
     let mut queue = std::collections::VecDeque::new();
-    let mut pieces: Vec<Vec<u32>> = Vec::new();
     for start in 0..triangles.len() {
         if piece[start] != u32::MAX {
             continue;
         }
-        let id = pieces.len() as u32;
-        piece[start] = id;
-        let mut members = vec![start as u32];
+        piece[start] = start as u32;
         queue.push_back(start);
         while let Some(t) = queue.pop_front() {
             for k in 0..3 {
@@ -415,55 +452,20 @@ fn orient(positions: &[DVec3], triangles: &mut [[u32; 3]]) -> (usize, EdgeUses) 
                     triangles[u].swap(1, 2);
                     flipped[u] = true;
                 }
-                piece[u] = id;
-                members.push(u as u32);
+                piece[u] = start as u32;
                 queue.push_back(u);
             }
         }
-        pieces.push(members);
     }
-    // A piece whose every edge has two triangles encloses a volume: make it positive.
-    let mut border = vec![false; pieces.len()];
-    for list in uses.groups() {
-        if list.len() != 2 {
-            for &c in list {
-                border[piece[c as usize / 3] as usize] = true;
-            }
-        }
-    }
-    for (id, members) in pieces.iter().enumerate() {
-        if border[id] {
-            continue;
-        }
-        let tris: Vec<[u32; 3]> = members.iter().map(|&t| triangles[t as usize]).collect();
-        if signed_volume(positions, &tris) < 0.0 {
-            for &t in members {
-                triangles[t as usize].swap(1, 2);
-                flipped[t as usize] = !flipped[t as usize];
-            }
-        }
-    }
-    let count = flipped.iter().filter(|&&f| f).count();
-    (count, uses.flipped(&flipped))
+    piece
 }
 
 /// Number of pieces joined through shared vertices.
 fn components(triangles: &[[u32; 3]], n: usize) -> usize {
-    let mut parent: Vec<u32> = (0..n as u32).collect();
-    fn find(parent: &mut [u32], mut c: u32) -> u32 {
-        while parent[c as usize] != c {
-            parent[c as usize] = parent[parent[c as usize] as usize];
-            c = parent[c as usize];
-        }
-        c
-    }
+    let mut sets = UnionFind::new(n);
     for tri in triangles {
-        for k in 1..3 {
-            let (a, b) = (find(&mut parent, tri[0]), find(&mut parent, tri[k]));
-            if a != b {
-                parent[a.max(b) as usize] = a.min(b);
-            }
-        }
+        sets.union(tri[0], tri[1]);
+        sets.union(tri[0], tri[2]);
     }
     let mut used = vec![false; n];
     for tri in triangles {
@@ -471,7 +473,7 @@ fn components(triangles: &[[u32; 3]], n: usize) -> usize {
             used[v as usize] = true;
         }
     }
-    (0..n).filter(|&v| used[v] && find(&mut parent, v as u32) == v as u32).count()
+    (0..n).filter(|&v| used[v] && sets.is_root(v as u32)).count()
 }
 
 #[cfg(test)]
@@ -512,6 +514,49 @@ mod tests {
         assert!(flipped > t.len() / 4, "{flipped}");
         assert_ne!(oriented, t);
         assert_eq!(uses, EdgeUses::new(&oriented, p.len()));
+    }
+
+    #[test]
+    fn a_clean_surface_is_oriented_as_the_walk_would_without_walking() {
+        // An outward sphere, an inside-out tetrahedron (consistent, but enclosing a negative
+        // volume) and an open strip: no two neighbours run an edge the same way.
+        let sphere = crate::mesh::primitives::icosphere(2, 1.0).unwrap();
+        let mut p = sphere.positions().to_vec();
+        let mut t: Vec<[u32; 3]> = sphere.triangles();
+        let (tp, tt) = tetra();
+        let (tetra_from, base) = (t.len(), p.len() as u32);
+        p.extend(tp.iter().map(|q| *q + DVec3::splat(3.0)));
+        t.extend(tt.iter().map(|tri| [tri[0] + base, tri[2] + base, tri[1] + base]));
+        let (strip_from, base) = (t.len(), p.len() as u32);
+        p.extend([DVec3::new(5.0, 0.0, 0.0), DVec3::new(6.0, 0.0, 0.0), DVec3::new(5.0, 1.0, 0.0)]);
+        p.push(DVec3::new(6.0, 1.0, 0.0));
+        t.extend([[base, base + 1, base + 2], [base + 1, base + 3, base + 2]]);
+        let uses = EdgeUses::new(&t, p.len());
+        assert!(uses.groups().all(|list| list.len() != 2 || is_manifold(list, &t)), "a clean surface");
+        // The walk flips nothing here and names the pieces by their lowest triangles.
+        let (mut walked, mut flipped) = (t.clone(), vec![false; t.len()]);
+        let pieces = walk(&uses, &mut walked, &mut flipped);
+        assert!(flipped.iter().all(|f| !f) && walked == t);
+        let named = |k: usize| {
+            if k < tetra_from {
+                0
+            } else if k < strip_from {
+                tetra_from
+            } else {
+                strip_from
+            }
+        };
+        assert_eq!(pieces, (0..t.len()).map(|k| named(k) as u32).collect::<Vec<_>>());
+        // The short way flips the inside-out tetrahedron alone, as the walk's volumes would.
+        let mut oriented = t.clone();
+        let (count, uses) = orient(&p, &mut oriented);
+        assert_eq!(count, 4);
+        for (k, (a, b)) in t.iter().zip(&oriented).enumerate() {
+            assert_eq!(a == b, !(tetra_from..strip_from).contains(&k), "triangle {k}");
+        }
+        assert_eq!(uses, EdgeUses::new(&oriented, p.len()));
+        let dense = DenseMesh::from_triangles(p, &t).unwrap();
+        assert_eq!((dense.report.flipped, dense.report.components, dense.report.border_edges), (4, 3, 4));
     }
 
     #[test]

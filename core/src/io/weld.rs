@@ -32,6 +32,7 @@
 
 use super::soup::{FaceList, Soup};
 use crate::mesh::PolyMesh;
+use crate::mesh::union_find::UnionFind;
 use crate::{DVec3, Error, Result};
 use rayon::prelude::*;
 use std::fmt;
@@ -503,46 +504,6 @@ fn same_cycle(a: &[u32], b: &[u32]) -> Option<bool> {
         return Some(true);
     }
     None
-}
-
-/// Disjoint sets over corners, with path halving; the smaller index becomes the root.
-#[derive(Default)]
-pub(super) struct UnionFind {
-    parent: Vec<u32>,
-}
-
-impl UnionFind {
-    fn new(n: usize) -> Self {
-        UnionFind { parent: (0..n as u32).collect() }
-    }
-
-    /// Back to `n` sets of one, keeping the buffer.
-    pub(super) fn reset(&mut self, n: usize) {
-        self.parent.clear();
-        self.parent.extend(0..n as u32);
-    }
-
-    /// True when `x` is the root of its set.
-    pub(super) fn is_root(&self, x: u32) -> bool {
-        self.parent[x as usize] == x
-    }
-
-    pub(super) fn find(&mut self, mut x: u32) -> u32 {
-        while self.parent[x as usize] != x {
-            let grand = self.parent[self.parent[x as usize] as usize];
-            self.parent[x as usize] = grand;
-            x = grand;
-        }
-        x
-    }
-
-    pub(super) fn union(&mut self, a: u32, b: u32) {
-        let (a, b) = (self.find(a), self.find(b));
-        if a != b {
-            let (lo, hi) = (a.min(b), a.max(b));
-            self.parent[hi as usize] = lo;
-        }
-    }
 }
 
 /// Welds a soup read from `path` and builds the cage; every failure names the file.

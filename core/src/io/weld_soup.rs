@@ -26,7 +26,8 @@
 //! and a kept triangle's three corners are at three. Deterministic on any number of threads: each
 //! bucket is worked on alone and everything is collected in the file's order.
 
-use super::weld::{ImportReport, Listed, NONE, UnionFind, mix, note};
+use super::weld::{ImportReport, Listed, NONE, mix, note};
+use crate::mesh::union_find::UnionFind;
 use crate::{DVec3, Error, Result};
 use rayon::prelude::*;
 

@@ -17,6 +17,7 @@ pub mod edit;
 mod handles;
 pub mod primitives;
 pub mod sections;
+pub(crate) mod union_find;
 pub mod visibility;
 
 pub use handles::{EdgeId, FaceId, HalfedgeId, VertexId};
