@@ -10,8 +10,10 @@
 use crate::DVec3;
 use rayon::prelude::*;
 
-/// Rows below this count are applied on one thread.
-const PARALLEL_ROWS: usize = 8192;
+/// Matrices of fewer entries than this are applied on one thread; larger ones in tasks of about
+/// this many entries (a few long rows, as a transposed stencil has, are worth several threads
+/// as much as many short ones).
+const PARALLEL_ENTRIES: usize = 1 << 15;
 
 /// A sparse matrix in compressed rows (CSR).
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -86,12 +88,17 @@ impl SparseRows {
             points.len()
         );
         out.resize(self.row_count(), DVec3::ZERO);
-        if out.len() < PARALLEL_ROWS {
+        let entries = self.columns.len();
+        if entries < PARALLEL_ENTRIES {
             for (i, o) in out.iter_mut().enumerate() {
                 *o = self.apply_row(i, points);
             }
         } else {
-            out.par_iter_mut().with_min_len(4096).enumerate().for_each(|(i, o)| *o = self.apply_row(i, points));
+            let rows_per_task = (PARALLEL_ENTRIES / 4 * out.len()).div_ceil(entries).max(1);
+            out.par_iter_mut()
+                .with_min_len(rows_per_task)
+                .enumerate()
+                .for_each(|(i, o)| *o = self.apply_row(i, points));
         }
     }
 
