@@ -446,28 +446,9 @@ fn staged_simplification_keeps_the_topology_and_the_closeness_of_one_stage() {
     use taut_core::cage_fit::simplify::simplify_staged;
     let (p, t) = icosphere(5, blob);
     let dense = DenseMesh::from_triangles(p.clone(), &t).unwrap();
-    let one = simplify_staged(&dense, 300, usize::MAX).unwrap();
-    let run = |threads: usize| {
-        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
-        pool.install(|| simplify_staged(&dense, 300, 1000).unwrap())
-    };
-    let two = run(2);
-    // Both stages ran (the halves each went from 10 k to 640 triangles) and reached the target
-    // with a closed surface of the sphere's topology (V − E + F = 2).
-    for s in [&one, &two] {
-        let cage = &s.cage;
-        assert_eq!(cage.face_count(), 300);
-        assert_eq!(cage.vertex_count() as i64 - cage.edge_count() as i64 + cage.face_count() as i64, 2);
-        assert!(cage.vertices().all(|v| !cage.is_boundary_vertex(v)));
-        // Each cage vertex names a dense vertex of its own.
-        let mut named = s.dense_vertex.clone();
-        named.sort_unstable();
-        named.dedup();
-        assert_eq!(named.len(), cage.vertex_count());
-        assert!(named.iter().all(|&d| (d as usize) < p.len()));
-    }
+    let one = simplify_staged(&dense, 300, usize::MAX, usize::MAX).unwrap();
     // Closeness both ways, by brute force: the cage's vertices to the original, and every 20th
-    // original vertex to the cage's triangles. Two stages stay within a third of one stage.
+    // original vertex to the cage's triangles.
     let closeness = |cage: &PolyMesh| {
         let vertices: f64 =
             cage.positions().iter().map(|&q| brute_distance(q, &p, &t)).sum::<f64>() / cage.vertex_count() as f64;
@@ -477,28 +458,55 @@ fn staged_simplification_keeps_the_topology_and_the_closeness_of_one_stage() {
             / sampled.len() as f64;
         (vertices, back)
     };
-    let (a, b) = (closeness(&one.cage), closeness(&two.cage));
-    assert!(b.0 <= 1.33 * a.0 && b.1 <= 1.33 * a.1, "two stages {b:?} vs one {a:?}");
-    // The halves run side by side; one thread gives the same cage bit for bit.
+    let single_stage = closeness(&one.cage);
     let bits = |m: &PolyMesh| m.positions().iter().map(|q| q.to_array().map(f64::to_bits)).collect::<Vec<_>>();
-    assert_ne!(bits(&one.cage), bits(&two.cage), "the first stage ran");
-    let single = run(1);
-    assert_eq!(bits(&single.cage), bits(&two.cage));
-    assert_eq!(single.dense_vertex, two.dense_vertex);
+    // The 20,480 triangles in two parts (halves), and in eight.
+    for part in [10_240, 2_560] {
+        let run = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            pool.install(|| simplify_staged(&dense, 300, 1000, part).unwrap())
+        };
+        let two = run(2);
+        // Both stages ran and reached the target with a closed surface of the sphere's topology
+        // (V − E + F = 2).
+        for s in [&one, &two] {
+            let cage = &s.cage;
+            assert_eq!(cage.face_count(), 300);
+            assert_eq!(cage.vertex_count() as i64 - cage.edge_count() as i64 + cage.face_count() as i64, 2);
+            assert!(cage.vertices().all(|v| !cage.is_boundary_vertex(v)));
+            // Each cage vertex names a dense vertex of its own.
+            let mut named = s.dense_vertex.clone();
+            named.sort_unstable();
+            named.dedup();
+            assert_eq!(named.len(), cage.vertex_count());
+            assert!(named.iter().all(|&d| (d as usize) < p.len()));
+        }
+        // Two stages stay within a third of one stage.
+        let (a, b) = (single_stage, closeness(&two.cage));
+        assert!(b.0 <= 1.33 * a.0 && b.1 <= 1.33 * a.1, "parts of {part}: two stages {b:?} vs one {a:?}");
+        // The parts run side by side; one thread gives the same cage bit for bit.
+        assert_ne!(bits(&one.cage), bits(&two.cage), "the first stage ran");
+        let single = run(1);
+        assert_eq!(bits(&single.cage), bits(&two.cage));
+        assert_eq!(single.dense_vertex, two.dense_vertex);
+    }
 }
 
 #[test]
 fn staged_simplification_of_an_open_mesh_keeps_its_border_in_place() {
     use taut_core::cage_fit::simplify::simplify_staged;
-    // The upper half of a 20,480-triangle sphere: one border loop, cut across by the halves.
+    // The upper half of a 20,480-triangle sphere: one border loop, cut across by the parts.
     let (p, t) = icosphere(5, |d| d);
     let t: Vec<[u32; 3]> = t.into_iter().filter(|tri| tri.iter().all(|&i| p[i as usize].z > -0.05)).collect();
     let dense = DenseMesh::from_triangles(p.clone(), &t).unwrap();
     assert!(!dense.is_closed());
-    let one = simplify_staged(&dense, 400, usize::MAX).unwrap();
-    let two = simplify_staged(&dense, 400, 1000).unwrap();
+    let one = simplify_staged(&dense, 400, usize::MAX, usize::MAX).unwrap();
     let bits = |m: &PolyMesh| m.positions().iter().map(|q| q.to_array().map(f64::to_bits)).collect::<Vec<_>>();
-    assert_ne!(bits(&one.cage), bits(&two.cage), "the first stage ran");
+    let halves = simplify_staged(&dense, 400, 1000, 5_000).unwrap();
+    let eighths = simplify_staged(&dense, 400, 1000, 1_250).unwrap();
+    for two in [&halves, &eighths] {
+        assert_ne!(bits(&one.cage), bits(&two.cage), "the first stage ran");
+    }
     // Every border vertex of the input is a border vertex of both cages, at its exact position.
     let dense_border: std::collections::BTreeSet<[u64; 3]> = {
         let mesh = PolyMesh::from_polygons(p.clone(), &t).unwrap();
@@ -507,7 +515,7 @@ fn staged_simplification_of_an_open_mesh_keeps_its_border_in_place() {
             .map(|v| mesh.position(v).to_array().map(f64::to_bits))
             .collect()
     };
-    for s in [&one, &two] {
+    for s in [&one, &halves, &eighths] {
         let cage = &s.cage;
         let border: std::collections::BTreeSet<[u64; 3]> = cage
             .vertices()

@@ -21,6 +21,7 @@
 use super::input::DenseMesh;
 use crate::mesh::PolyMesh;
 use crate::{DVec3, Error, Result};
+use rayon::prelude::*;
 
 /// The starting cage and how close it came to the target.
 #[derive(Clone, Debug)]
@@ -35,18 +36,29 @@ pub struct Simplified {
 
 /// Simplifies to about `target_faces` triangles (never fewer than the topology allows).
 pub fn simplify(dense: &DenseMesh, target_faces: usize) -> Result<Simplified> {
-    simplify_staged(dense, target_faces, STAGED_ABOVE)
+    simplify_staged(dense, target_faces, STAGED_ABOVE, PART_TRIANGLES)
 }
 
-/// Inputs of more triangles than this are simplified in two stages (see [`halves`]).
+/// Inputs of more triangles than this are simplified in two stages (see [`first_stage`]).
 pub const STAGED_ABOVE: usize = 200_000;
 
-/// [`simplify`], in two stages when the input has more than `staged_above` triangles: the halves
-/// side by side to an intermediate mesh, then that mesh to the target. Should the second stage
-/// find no valid cage, the input is simplified in one stage.
-pub fn simplify_staged(dense: &DenseMesh, target_faces: usize, staged_above: usize) -> Result<Simplified> {
+/// About how many triangles each part of the first stage has: meshoptimizer goes through a part
+/// this small several times faster a triangle than through half of a million-triangle mesh,
+/// whose arrays are far larger than the processor's caches.
+pub const PART_TRIANGLES: usize = 1 << 16;
+
+/// [`simplify`], in two stages when the input has more than `staged_above` triangles: parts of
+/// about `part_triangles` (at least two) side by side to an intermediate mesh, then that mesh
+/// to the target. Should the second stage find no valid cage, the input is simplified in one
+/// stage.
+pub fn simplify_staged(
+    dense: &DenseMesh,
+    target_faces: usize,
+    staged_above: usize,
+    part_triangles: usize,
+) -> Result<Simplified> {
     if dense.triangles.len() > staged_above
-        && let Some(intermediate) = halves(dense, target_faces)?
+        && let Some(intermediate) = first_stage(dense, target_faces, part_triangles)?
         && let Ok(mut simplified) =
             simplify_mesh(&intermediate.positions, &intermediate.triangles, dense.closed, target_faces)
     {
@@ -66,61 +78,111 @@ struct Intermediate {
 /// A triangle the first stage kept: its dense vertices, and each one's position if it moved.
 type KeptTriangle = ([u32; 3], [Option<[f32; 3]>; 3]);
 
-/// How much smaller than its input each half of the first stage is made.
+/// How much smaller than its input each part of the first stage is made.
 const FIRST_STAGE_RATIO: usize = 16;
 
-/// The first stage: the triangles are split at the median of their centroids along the bounding
-/// box's longest axis, and meshoptimizer simplifies each half on its own thread, with the
-/// vertices the halves share locked so the two still meet, to a sixteenth of its size (never
-/// below twice the target). The simplification is sequential, so two halves take about half the
-/// time of the whole on two cores; the second stage is then small. `None` when the first stage
-/// leaves nothing to gain (a half would not shrink).
-fn halves(dense: &DenseMesh, target_faces: usize) -> Result<Option<Intermediate>> {
+/// The most parts of the first stage.
+const MOST_PARTS: usize = 1 << 10;
+
+/// The triangles split into `parts` compact parts: the triangles' slots in
+/// `order`, part `k` holding `order[k n / parts .. (k + 1) n / parts]`, each part's in ascending
+/// order. Each split is at the median of the part's centroids along the longest side of their
+/// box, by (centroid, index): a total order, so the parts depend neither on the sort nor on the
+/// number of threads.
+fn split_into_parts(dense: &DenseMesh, parts: usize) -> Vec<(DVec3, u32)> {
+    let mut keyed: Vec<(DVec3, u32)> = dense
+        .triangles
+        .par_iter()
+        .enumerate()
+        .map(|(t, tri)| (tri.iter().map(|&v| dense.positions[v as usize]).sum::<DVec3>(), t as u32))
+        .collect();
+    // Parts `first..last` over `keyed`, which starts at slot `start`: part `k` begins at slot
+    // `k n / parts`, so each split falls where the parts it separates meet.
+    let n = keyed.len();
+    fn split(keyed: &mut [(DVec3, u32)], start: usize, first: usize, last: usize, n: usize, parts: usize) {
+        if last - first <= 1 || keyed.len() < 2 {
+            keyed.sort_unstable_by_key(|k| k.1);
+            return;
+        }
+        let (lo, hi) =
+            keyed.iter().fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), k| (lo.min(k.0), hi.max(k.0)));
+        let axis = (hi - lo).max_position();
+        let half = (first + last) / 2;
+        let middle = half * n / parts - start;
+        if middle < keyed.len() {
+            keyed.select_nth_unstable_by(middle, |a, b| a.0[axis].total_cmp(&b.0[axis]).then(a.1.cmp(&b.1)));
+        }
+        let (left, right) = keyed.split_at_mut(middle);
+        rayon::join(
+            || split(left, start, first, half, n, parts),
+            || split(right, start + middle, half, last, n, parts),
+        );
+    }
+    split(&mut keyed, 0, 0, parts, n, parts);
+    keyed
+}
+
+/// The first stage: the triangles are split into compact parts of about `part_triangles` (at
+/// least two parts, [`split_into_parts`]), and meshoptimizer simplifies each part on its own,
+/// the parts side by side, with the vertices the parts share locked so they still meet, to a
+/// sixteenth of its size plus two triangles for each locked vertex (the seam stays dense, and
+/// the rest of the part is left as fine as with fewer, larger parts; never below twice the
+/// target in all). meshoptimizer is sequential, so parts side by side take a fraction of the
+/// time of the whole on two cores, and parts this small fit in the processor's caches; the
+/// second stage is then small. `None` when the first stage leaves nothing to gain (a part would
+/// not shrink).
+fn first_stage(dense: &DenseMesh, target_faces: usize, part_triangles: usize) -> Result<Option<Intermediate>> {
     let (lo, hi) = crate::mesh::bounding_box(&dense.positions).ok_or_else(|| Error::Input("no vertices".into()))?;
     let centre = 0.5 * (lo + hi);
-    let axis = (hi - lo).max_position();
-    // The median by (centroid, index): a total order, so the halves do not depend on the sort.
-    let mut keyed: Vec<(f64, u32)> = dense
-        .triangles
-        .iter()
-        .enumerate()
-        .map(|(t, tri)| (tri.iter().map(|&v| dense.positions[v as usize][axis]).sum::<f64>(), t as u32))
-        .collect();
-    let middle = keyed.len() / 2;
-    keyed.select_nth_unstable_by(middle, |a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-    let mut side = vec![0u8; dense.triangles.len()];
-    keyed[middle..].iter().for_each(|&(_, t)| side[t as usize] = 1);
-    drop(keyed);
-    // Which halves use each vertex: bit 0 the first, bit 1 the second.
-    let mut used = vec![0u8; dense.positions.len()];
-    for (tri, &s) in dense.triangles.iter().zip(&side) {
-        tri.iter().for_each(|&v| used[v as usize] |= 1 << s);
+    let n = dense.triangles.len();
+    // At least two parts, and none of fewer than two triangles.
+    let parts = n.div_ceil(part_triangles.max(1)).clamp(2, MOST_PARTS).min(n / 2).max(1);
+    let order = split_into_parts(dense, parts);
+    let range = |k: usize| &order[k * n / parts..(k + 1) * n / parts];
+    // The part that uses each vertex, or `SHARED` when several do.
+    const UNUSED: u32 = u32::MAX;
+    const SHARED: u32 = u32::MAX - 1;
+    let mut owner = vec![UNUSED; dense.positions.len()];
+    for k in 0..parts {
+        for &(_, t) in range(k) {
+            for &v in &dense.triangles[t as usize] {
+                let o = &mut owner[v as usize];
+                *o = if *o == UNUSED || *o == k as u32 { k as u32 } else { SHARED };
+            }
+        }
     }
     let mut options = meshopt::SimplifyOptions::RegularizeLight;
     if !dense.closed {
         options |= meshopt::SimplifyOptions::LockBorder;
     }
-    let half = |s: u8| -> Option<Vec<KeptTriangle>> {
-        let triangles: Vec<[u32; 3]> =
-            dense.triangles.iter().zip(&side).filter(|(_, h)| **h == s).map(|(t, _)| *t).collect();
-        // The half's own numbering, in order of first use.
-        let mut local_of = vec![u32::MAX; dense.positions.len()];
+    let least = (2 * target_faces).div_ceil(parts);
+    // `local_of`: a scratch numbering over the dense vertices, left all unset after each part.
+    let part = |local_of: &mut Vec<u32>, k: usize| -> Option<Vec<KeptTriangle>> {
+        let triangles = range(k);
+        // The part's own numbering, in order of first use.
+        local_of.resize(dense.positions.len(), u32::MAX);
         let mut dense_of = Vec::new();
         let mut indices = Vec::with_capacity(3 * triangles.len());
-        for &v in triangles.iter().flatten() {
-            if local_of[v as usize] == u32::MAX {
-                local_of[v as usize] = dense_of.len() as u32;
-                dense_of.push(v);
+        for &(_, t) in triangles {
+            for &v in &dense.triangles[t as usize] {
+                if local_of[v as usize] == u32::MAX {
+                    local_of[v as usize] = dense_of.len() as u32;
+                    dense_of.push(v);
+                }
+                indices.push(local_of[v as usize]);
             }
-            indices.push(local_of[v as usize]);
         }
+        dense_of.iter().for_each(|&v| local_of[v as usize] = u32::MAX);
         let local: Vec<[f32; 3]> =
             dense_of.iter().map(|&v| (dense.positions[v as usize] - centre).as_vec3().to_array()).collect();
         let locked: Vec<meshopt::SimplifyVertex> = dense_of
             .iter()
-            .map(|&v| if used[v as usize] == 3 { meshopt::SimplifyVertex::Lock } else { meshopt::SimplifyVertex::None })
+            .map(|&v| {
+                if owner[v as usize] == SHARED { meshopt::SimplifyVertex::Lock } else { meshopt::SimplifyVertex::None }
+            })
             .collect();
-        let target = (triangles.len() / FIRST_STAGE_RATIO).max(2 * target_faces);
+        let seam = locked.iter().filter(|&&l| matches!(l, meshopt::SimplifyVertex::Lock)).count();
+        let target = (triangles.len() / FIRST_STAGE_RATIO + 2 * seam).max(least);
         if target >= triangles.len() {
             return None;
         }
@@ -153,12 +215,12 @@ fn halves(dense: &DenseMesh, target_faces: usize) -> Result<Option<Intermediate>
                 .collect(),
         )
     };
-    let (first, second) = rayon::join(|| half(0), || half(1));
-    let (Some(first), Some(second)) = (first, second) else { return Ok(None) };
-    // A vertex the halves share is locked in both; any other is in one half only.
+    let kept: Vec<Option<Vec<KeptTriangle>>> = (0..parts).into_par_iter().map_init(Vec::new, part).collect();
+    let Some(kept) = kept.into_iter().collect::<Option<Vec<_>>>() else { return Ok(None) };
+    // A vertex the parts share is locked in all of them; any other is in one part only.
     let mut number = vec![u32::MAX; dense.positions.len()];
     let mut intermediate = Intermediate { positions: Vec::new(), triangles: Vec::new(), dense_vertex: Vec::new() };
-    for (tri, moved) in first.iter().chain(&second) {
+    for (tri, moved) in kept.iter().flatten() {
         let t = [0, 1, 2].map(|k| {
             let v = tri[k] as usize;
             if number[v] == u32::MAX {
