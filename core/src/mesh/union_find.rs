@@ -10,22 +10,26 @@ pub(crate) struct UnionFind {
 
 impl UnionFind {
     /// `n` sets of one.
+    #[inline]
     pub(crate) fn new(n: usize) -> Self {
         UnionFind { parent: (0..n as u32).collect() }
     }
 
     /// Back to `n` sets of one, keeping the buffer.
+    #[inline]
     pub(crate) fn reset(&mut self, n: usize) {
         self.parent.clear();
         self.parent.extend(0..n as u32);
     }
 
     /// True when `x` is the root of its set.
+    #[inline]
     pub(crate) fn is_root(&self, x: u32) -> bool {
         self.parent[x as usize] == x
     }
 
     /// The root of `x`'s set.
+    #[inline]
     pub(crate) fn find(&mut self, mut x: u32) -> u32 {
         while self.parent[x as usize] != x {
             let grand = self.parent[self.parent[x as usize] as usize];
@@ -36,6 +40,7 @@ impl UnionFind {
     }
 
     /// Joins the sets of `a` and `b`.
+    #[inline]
     pub(crate) fn union(&mut self, a: u32, b: u32) {
         let (a, b) = (self.find(a), self.find(b));
         if a != b {
