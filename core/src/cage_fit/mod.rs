@@ -412,6 +412,11 @@ pub fn fit_cage(dense: &DenseMesh, params: &CageFitParams, progress: &mut dyn Pr
                         &points,
                         &mut x,
                         ROUND_ITERATIONS,
+                        if round == params.rounds {
+                            two_sided::LAST_ROUND_TOLERANCE
+                        } else {
+                            two_sided::ROUND_TOLERANCE
+                        },
                         true,
                         &mut memory,
                         &mut monitor,
