@@ -276,20 +276,71 @@ pub(super) fn plan(keys: &[u64], start: usize, end: usize, plan_out: &mut Vec<Pl
     plan_out.len() - 1
 }
 
-/// The tree over slots `start..end` in depth-first order, appended to `out` (its own node
-/// offsets are relative, so it can be moved as a block).
+/// The triangles by slot (the leaves' order) as the searches read them: each slot's corners as
+/// places in `vertices`, the positions the triangles use, numbered by their first use in slot
+/// order. A leaf's triangles share most of their corners and lie together in the space, so
+/// their vertices lie together in memory, and the whole takes a third of the memory of three
+/// corners a triangle: the searches wait on memory far more than they compute.
+#[derive(Clone, Debug, Default)]
+pub(super) struct Corners {
+    slots: Vec<[u32; 3]>,
+    vertices: Vec<Vector>,
+    /// The position each vertex is, for moving them.
+    position_of: Vec<u32>,
+}
+
+impl Corners {
+    /// The corners of `triangles` (over `positions`) taken in the order `ids`.
+    pub(super) fn new(triangles: &[[u32; 3]], ids: &[u32], positions: &[DVec3]) -> Self {
+        let mut number = vec![u32::MAX; positions.len()];
+        let mut position_of = Vec::new();
+        let slots = ids
+            .iter()
+            .map(|&t| {
+                triangles[t as usize].map(|v| {
+                    if number[v as usize] == u32::MAX {
+                        number[v as usize] = position_of.len() as u32;
+                        position_of.push(v);
+                    }
+                    number[v as usize]
+                })
+            })
+            .collect();
+        let mut corners = Corners { slots, vertices: Vec::new(), position_of };
+        corners.set_positions(positions);
+        corners
+    }
+
+    /// Moves the vertices to `positions` (numbered as given to [`new`](Self::new)).
+    pub(super) fn set_positions(&mut self, positions: &[DVec3]) {
+        self.vertices = self.position_of.par_iter().map(|&v| super::to_parry(positions[v as usize])).collect();
+    }
+
+    /// The corners of the triangle at `slot`.
+    #[inline]
+    pub(super) fn get(&self, slot: usize) -> [Vector; 3] {
+        self.slots[slot].map(|v| self.vertices[v as usize])
+    }
+
+    /// The box of the triangles at `slots`, widened by `pad`.
+    fn bounds(&self, slots: std::ops::Range<usize>, pad: f64) -> (DVec3, DVec3) {
+        slots
+            .map(|slot| triangle_box(&self.get(slot), pad))
+            .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), (a, b)| (lo.min(a), hi.max(b)))
+    }
+}
+
 /// The slots' triangles, whose boxes (widened by `pad`) the leaves take.
 pub(super) struct Boxes<'a> {
-    corners: &'a [[Vector; 3]],
+    corners: &'a Corners,
     pad: f64,
 }
 
+/// The tree over slots `start..end` in depth-first order, appended to `out` (its own node
+/// offsets are relative, so it can be moved as a block).
 pub(super) fn build(keys: &[u64], boxes: &Boxes<'_>, start: usize, end: usize, out: &mut Vec<Node>) -> (DVec3, DVec3) {
     if end - start <= LEAF {
-        let (lo, hi) = boxes.corners[start..end]
-            .iter()
-            .map(|c| triangle_box(c, boxes.pad))
-            .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), (a, b)| (lo.min(a), hi.max(b)));
+        let (lo, hi) = boxes.corners.bounds(start..end, boxes.pad);
         out.push(Node { lo, hi, at: start as u32, count: (end - start) as u32 });
         return (lo, hi);
     }
@@ -338,7 +389,7 @@ pub(super) fn triangle_box(c: &[Vector; 3], pad: f64) -> (DVec3, DVec3) {
 
 /// The hierarchy over the slots' triangles (`corners`, their sorted Morton `keys`), boxes widened
 /// by `pad`: the depth-first nodes, and their search layout.
-pub(super) fn hierarchy(keys: &[u64], corners: &[[Vector; 3]], pad: f64) -> (Vec<Node>, Vec<Wide>) {
+pub(super) fn hierarchy(keys: &[u64], corners: &Corners, pad: f64) -> (Vec<Node>, Vec<Wide>) {
     let boxes = Boxes { corners, pad };
     let mut planned = Vec::new();
     let root = plan(keys, 0, keys.len(), &mut planned);
@@ -361,13 +412,9 @@ pub(super) fn hierarchy(keys: &[u64], corners: &[[Vector; 3]], pad: f64) -> (Vec
 
 /// Refits the boxes of `nodes` to the slots' moved `corners` (widened by `pad`); returns the new
 /// search layout.
-pub(super) fn refit(nodes: &mut [Node], corners: &[[Vector; 3]], pad: f64) -> Vec<Wide> {
+pub(super) fn refit(nodes: &mut [Node], corners: &Corners, pad: f64) -> Vec<Wide> {
     nodes.par_iter_mut().filter(|n| n.count > 0).for_each(|n| {
-        let slots = n.at as usize..(n.at + n.count) as usize;
-        (n.lo, n.hi) = corners[slots]
-            .iter()
-            .map(|c| triangle_box(c, pad))
-            .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), (a, b)| (lo.min(a), hi.max(b)));
+        (n.lo, n.hi) = corners.bounds(n.at as usize..(n.at + n.count) as usize, pad);
     });
     // Children follow their parent: from the last node back, both are refitted before it.
     for k in (0..nodes.len()).rev() {
