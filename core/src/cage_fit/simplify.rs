@@ -84,29 +84,31 @@ const FIRST_STAGE_RATIO: usize = 16;
 /// The most parts of the first stage.
 const MOST_PARTS: usize = 1 << 10;
 
-/// The triangles split into `parts` compact parts: the triangles' slots in
-/// `order`, part `k` holding `order[k n / parts .. (k + 1) n / parts]`, each part's in ascending
-/// order. Each split is at the median of the part's centroids along the longest side of their
-/// box, by (centroid, index): a total order, so the parts depend neither on the sort nor on the
-/// number of threads.
-fn split_into_parts(dense: &DenseMesh, parts: usize) -> Vec<(DVec3, u32)> {
-    let mut keyed: Vec<(DVec3, u32)> = dense
+/// The triangles split into `parts` compact parts: the triangles' indices, part `k` holding
+/// `order[k n / parts .. (k + 1) n / parts]` in ascending order. Each split is at the median of
+/// the part's centroids along the longest side of their box, by (centroid, index): a total
+/// order, so the parts depend neither on the sort nor on the number of threads. (The centroids
+/// are sums of the corners in `f32`: they only decide where a part ends.)
+fn split_into_parts(dense: &DenseMesh, parts: usize) -> Vec<u32> {
+    let n = dense.triangles.len();
+    let mut keyed: Vec<([f32; 3], u32)> = dense
         .triangles
         .par_iter()
         .enumerate()
-        .map(|(t, tri)| (tri.iter().map(|&v| dense.positions[v as usize]).sum::<DVec3>(), t as u32))
+        .map(|(t, tri)| {
+            (tri.iter().map(|&v| dense.positions[v as usize]).sum::<DVec3>().as_vec3().to_array(), t as u32)
+        })
         .collect();
     // Parts `first..last` over `keyed`, which starts at slot `start`: part `k` begins at slot
     // `k n / parts`, so each split falls where the parts it separates meet.
-    let n = keyed.len();
-    fn split(keyed: &mut [(DVec3, u32)], start: usize, first: usize, last: usize, n: usize, parts: usize) {
+    fn split(keyed: &mut [([f32; 3], u32)], start: usize, first: usize, last: usize, n: usize, parts: usize) {
         if last - first <= 1 || keyed.len() < 2 {
-            keyed.sort_unstable_by_key(|k| k.1);
             return;
         }
-        let (lo, hi) =
-            keyed.iter().fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), k| (lo.min(k.0), hi.max(k.0)));
-        let axis = (hi - lo).max_position();
+        let (lo, hi) = keyed.iter().fold(([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]), |(lo, hi), (c, _)| {
+            (std::array::from_fn(|k| lo[k].min(c[k])), std::array::from_fn(|k| hi[k].max(c[k])))
+        });
+        let axis = (0..3).max_by(|&a, &b| (hi[a] - lo[a]).total_cmp(&(hi[b] - lo[b])).then(b.cmp(&a))).unwrap_or(0);
         let half = (first + last) / 2;
         let middle = half * n / parts - start;
         if middle < keyed.len() {
@@ -119,7 +121,19 @@ fn split_into_parts(dense: &DenseMesh, parts: usize) -> Vec<(DVec3, u32)> {
         );
     }
     split(&mut keyed, 0, 0, parts, n, parts);
-    keyed
+    // Each triangle's part, then the parts' triangles gathered in ascending order.
+    let mut part = vec![0u32; n];
+    for k in 0..parts {
+        keyed[k * n / parts..(k + 1) * n / parts].iter().for_each(|&(_, t)| part[t as usize] = k as u32);
+    }
+    drop(keyed);
+    let mut next: Vec<usize> = (0..parts).map(|k| k * n / parts).collect();
+    let mut order = vec![0u32; n];
+    for (t, &k) in part.iter().enumerate() {
+        order[next[k as usize]] = t as u32;
+        next[k as usize] += 1;
+    }
+    order
 }
 
 /// The first stage: the triangles are split into compact parts of about `part_triangles` (at
@@ -144,7 +158,7 @@ fn first_stage(dense: &DenseMesh, target_faces: usize, part_triangles: usize) ->
     const SHARED: u32 = u32::MAX - 1;
     let mut owner = vec![UNUSED; dense.positions.len()];
     for k in 0..parts {
-        for &(_, t) in range(k) {
+        for &t in range(k) {
             for &v in &dense.triangles[t as usize] {
                 let o = &mut owner[v as usize];
                 *o = if *o == UNUSED || *o == k as u32 { k as u32 } else { SHARED };
@@ -163,7 +177,7 @@ fn first_stage(dense: &DenseMesh, target_faces: usize, part_triangles: usize) ->
         local_of.resize(dense.positions.len(), u32::MAX);
         let mut dense_of = Vec::new();
         let mut indices = Vec::with_capacity(3 * triangles.len());
-        for &(_, t) in triangles {
+        for &t in triangles {
             for &v in &dense.triangles[t as usize] {
                 if local_of[v as usize] == u32::MAX {
                     local_of[v as usize] = dense_of.len() as u32;
