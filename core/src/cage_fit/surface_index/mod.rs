@@ -37,7 +37,7 @@ use parry3d_f64::math::Vector;
 use parry3d_f64::query::{PointQueryWithLocation, Ray, RayCast};
 use parry3d_f64::shape::Triangle;
 use rayon::prelude::*;
-use tree::{Corners, EMPTY, MAX_TRIANGLES, NONE, Node, Pending, Wide, decode, hierarchy, met, morton, refit};
+use tree::{Corners, EMPTY, MAX_TRIANGLES, NONE, Node, Pending, WIDTH, Wide, decode, hierarchy, met, morton, refit};
 
 mod tree;
 
@@ -134,50 +134,37 @@ impl SurfaceIndex {
         self.ids[slot] < self.ids[other]
     }
 
-    /// The closest triangle to `p` nearer than `max`: its slot, the point and where on the
-    /// triangle it lies.
-    fn nearest(&self, p: DVec3, max: f64) -> Option<(usize, Vector, [f64; 3])> {
-        let q = to_parry(p);
-        // A positive bound whose square underflows still admits a point at distance 0.
-        let mut best = if max > 0.0 { (max * max).max(f64::from_bits(1)) } else { max * max };
-        let mut found = None;
+    /// Walks the tree for `search`, depth first: at each node on to the child the search meets
+    /// first, the others pending, and back to the latest pending child whose bound the search
+    /// still keeps.
+    fn walk(&self, search: &mut impl Search) {
         let mut pending = Pending::new();
         let mut current = 0u32;
         loop {
             let (count, at) = decode(current);
             if count > 0 {
                 for slot in at..at + count {
-                    let [a, b, c] = self.corners.get(slot);
-                    let (projection, location) = Triangle::new(a, b, c).project_local_point_and_get_location(q, false);
-                    let d = (projection.point - q).length_squared();
-                    if d < best || (d == best && found.is_some_and(|(first, _, _)| self.first(slot, first))) {
-                        best = d;
-                        // Inside a solid cannot happen for a surface query; weigh the corners evenly.
-                        let weights = location.barycentric_coordinates().unwrap_or([1.0 / 3.0; 3]);
-                        found = Some((slot, projection.point, weights));
-                    }
+                    search.triangle(self, slot, self.corners.get(slot));
                 }
-            } else {
-                let w = &self.wide[at];
-                let d = w.distances_squared(p);
-                // On to the nearest child nearer than the best triangle, the others pending.
-                let near =
-                    std::array::from_fn(
-                        |k| {
-                            if w.child[k] != EMPTY && d[k] < best { met(w.child[k], d[k]) } else { NONE }
-                        },
-                    );
-                if let Some(next) = pending.descend(near) {
-                    current = next;
-                    continue;
-                }
+            } else if let Some(next) = pending.descend(search.children(&self.wide[at])) {
+                current = next;
+                continue;
             }
-            // The next pending child still nearer than the best triangle.
-            match pending.pop(|d| d < best) {
+            match pending.pop(|bound| search.keep(bound)) {
                 Some(next) => current = next,
-                None => return found,
+                None => return,
             }
         }
+    }
+
+    /// The closest triangle to `p` nearer than `max`: its slot, the point and where on the
+    /// triangle it lies.
+    fn nearest(&self, p: DVec3, max: f64) -> Option<(usize, Vector, [f64; 3])> {
+        // A positive bound whose square underflows still admits a point at distance 0.
+        let best = if max > 0.0 { (max * max).max(f64::from_bits(1)) } else { max * max };
+        let mut search = Closest { p, q: to_parry(p), best, found: None };
+        self.walk(&mut search);
+        search.found
     }
 
     /// The closest point of the surface to `p` (`p` itself when `p` is not finite).
@@ -247,41 +234,87 @@ impl SurfaceIndex {
             return None;
         }
         let ray = Ray::new(to_parry(origin), to_parry(direction));
-        let inverse = DVec3::ONE / direction;
-        let mut best = max;
-        let mut found: Option<(f64, usize)> = None;
-        let mut pending = Pending::new();
-        let mut current = 0u32;
-        loop {
-            let (count, at) = decode(current);
-            if count > 0 {
-                for slot in at..at + count {
-                    let [a, b, c] = self.corners.get(slot);
-                    if let Some(t) = Triangle::new(a, b, c).cast_local_ray(&ray, best, false)
-                        && found.is_none_or(|(_, first)| t < best || (t == best && self.first(slot, first)))
-                    {
-                        best = t;
-                        found = Some((t, slot));
-                    }
-                }
-            } else {
-                let w = &self.wide[at];
-                // On to the child the ray enters first before the best hit, the others pending.
-                let entered = std::array::from_fn(|k| match w.entry(k, origin, inverse, best) {
-                    Some(t) if w.child[k] != EMPTY => met(w.child[k], t),
-                    _ => NONE,
-                });
-                if let Some(next) = pending.descend(entered) {
-                    current = next;
-                    continue;
-                }
-            }
-            // The next pending child the ray enters before the best hit.
-            match pending.pop(|t| t <= best) {
-                Some(next) => current = next,
-                None => return found.map(|(t, slot)| (t, self.ids[slot] as usize)),
-            }
+        let mut search = FirstHit { origin, inverse: DVec3::ONE / direction, ray, best: max, found: None };
+        self.walk(&mut search);
+        search.found.map(|(t, slot)| (t, self.ids[slot] as usize))
+    }
+}
+
+/// What a search does at the tree's leaves and nodes ([`SurfaceIndex::walk`] walks for it).
+trait Search {
+    /// Tests the triangle at `slot`, whose corners are given.
+    fn triangle(&mut self, index: &SurfaceIndex, slot: usize, corners: [Vector; 3]);
+    /// Each child of `node` the search meets, with a lower bound of what it can hold ([`met`]),
+    /// or [`NONE`].
+    fn children(&self, node: &Wide) -> [u64; WIDTH];
+    /// Whether a child met with this bound may still hold a better answer.
+    fn keep(&self, bound: f64) -> bool;
+}
+
+/// A closest-point search: squared distances, the best triangle found so far.
+struct Closest {
+    p: DVec3,
+    q: Vector,
+    best: f64,
+    found: Option<(usize, Vector, [f64; 3])>,
+}
+
+impl Search for Closest {
+    #[inline]
+    fn triangle(&mut self, index: &SurfaceIndex, slot: usize, [a, b, c]: [Vector; 3]) {
+        let (projection, location) = Triangle::new(a, b, c).project_local_point_and_get_location(self.q, false);
+        let d = (projection.point - self.q).length_squared();
+        if d < self.best || (d == self.best && self.found.is_some_and(|(first, _, _)| index.first(slot, first))) {
+            self.best = d;
+            // Inside a solid cannot happen for a surface query; weigh the corners evenly.
+            let weights = location.barycentric_coordinates().unwrap_or([1.0 / 3.0; 3]);
+            self.found = Some((slot, projection.point, weights));
         }
+    }
+
+    #[inline]
+    fn children(&self, w: &Wide) -> [u64; WIDTH] {
+        let d = w.distances_squared(self.p);
+        std::array::from_fn(|k| if w.child[k] != EMPTY && d[k] < self.best { met(w.child[k], d[k]) } else { NONE })
+    }
+
+    #[inline]
+    fn keep(&self, bound: f64) -> bool {
+        bound < self.best
+    }
+}
+
+/// A ray cast: ray parameters, the first hit found so far (its parameter and slot).
+struct FirstHit {
+    origin: DVec3,
+    inverse: DVec3,
+    ray: Ray,
+    best: f64,
+    found: Option<(f64, usize)>,
+}
+
+impl Search for FirstHit {
+    #[inline]
+    fn triangle(&mut self, index: &SurfaceIndex, slot: usize, [a, b, c]: [Vector; 3]) {
+        if let Some(t) = Triangle::new(a, b, c).cast_local_ray(&self.ray, self.best, false)
+            && self.found.is_none_or(|(_, first)| t < self.best || (t == self.best && index.first(slot, first)))
+        {
+            self.best = t;
+            self.found = Some((t, slot));
+        }
+    }
+
+    #[inline]
+    fn children(&self, w: &Wide) -> [u64; WIDTH] {
+        std::array::from_fn(|k| match w.entry(k, self.origin, self.inverse, self.best) {
+            Some(t) if w.child[k] != EMPTY => met(w.child[k], t),
+            _ => NONE,
+        })
+    }
+
+    #[inline]
+    fn keep(&self, bound: f64) -> bool {
+        bound <= self.best
     }
 }
 
